@@ -1,0 +1,37 @@
+// Scree: compile-time configuration shared by the core, plugins and kernels.
+//
+// SCREE_HD marks functions that run on both backends (CUDA device and CPU host).
+// SCREE_API marks symbols the core library exports to plugins (everything else is
+// hidden: plugins and the core are built with -fvisibility=hidden, see DESIGN.md).
+#pragma once
+
+#include <cstdint>
+
+#if defined(__CUDACC__)
+#define SCREE_HD __host__ __device__
+#define SCREE_DEVICE __device__
+#define SCREE_INLINE __host__ __device__ __forceinline__
+#else
+#define SCREE_HD
+#define SCREE_DEVICE
+#define SCREE_INLINE inline
+#endif
+
+#if defined(_WIN32)
+#define SCREE_API __declspec(dllexport)
+#else
+#define SCREE_API __attribute__((visibility("default")))
+#endif
+
+namespace scree {
+
+/// Floating-point type of all physical quantities (double precision by default).
+using Real = double;
+/// Particle and node indices. 64-bit so that 10^7..10^9 particles never overflow.
+using Index = std::int64_t;
+
+/// Version of the binary interface between the core and plugins. A plugin built
+/// against another version is refused on load with a message naming both.
+inline constexpr int kPluginAbiVersion = 1;
+
+}  // namespace scree

@@ -1,0 +1,108 @@
+// Memory spaces and typed buffers for the two backends.
+//
+// A Buffer<T> owns n elements in one memory space: host memory (CPU backend) or CUDA
+// device memory (CUDA backend). Kernels get raw pointers (data()); the core's
+// allocation functions below are the only place that calls cudaMalloc/cudaFree, so
+// plugins and the core share one allocator and one CUDA runtime (see DESIGN.md).
+#pragma once
+
+#include <cstddef>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scree/core/config.hpp"
+
+namespace scree {
+
+/// Where a run executes and where its data live.
+enum class Device { cpu, cuda };
+
+SCREE_API const char* to_string(Device d);
+
+namespace mem {
+/// Allocate/free/copy raw bytes in the memory of `d`. Throw std::runtime_error on failure
+/// (with the CUDA error string), or when the CUDA backend is not compiled in.
+SCREE_API void* allocate(std::size_t bytes, Device d);
+SCREE_API void deallocate(void* p, Device d) noexcept;
+SCREE_API void copy(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes);
+SCREE_API void fill_zero(void* p, std::size_t bytes, Device d);
+/// Whether this build has the CUDA backend and at least one usable GPU.
+SCREE_API bool cuda_compiled();
+SCREE_API bool cuda_available();
+/// Block until all work queued on the device has finished (no-op for the CPU).
+SCREE_API void synchronize(Device d);
+/// Bytes currently allocated through this module on `d` and their peak (for benchmarks).
+SCREE_API std::size_t bytes_in_use(Device d);
+SCREE_API std::size_t peak_bytes(Device d);
+SCREE_API void reset_peak(Device d);
+}  // namespace mem
+
+template <class T>
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(std::size_t n, Device d) : device_(d) { resize(n); }
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  Buffer(Buffer&& o) noexcept { swap(o); }
+  Buffer& operator=(Buffer&& o) noexcept {
+    swap(o);
+    return *this;
+  }
+  ~Buffer() { release(); }
+
+  void swap(Buffer& o) noexcept {
+    std::swap(ptr_, o.ptr_);
+    std::swap(n_, o.n_);
+    std::swap(device_, o.device_);
+  }
+  /// Reallocate to n elements (contents are not preserved; new memory is zeroed).
+  void resize(std::size_t n) {
+    release();
+    if (n) {
+      ptr_ = static_cast<T*>(mem::allocate(n * sizeof(T), device_));
+      mem::fill_zero(ptr_, n * sizeof(T), device_);
+    }
+    n_ = n;
+  }
+  void resize(std::size_t n, Device d) {
+    release();
+    device_ = d;
+    resize(n);
+  }
+  void zero() {
+    if (n_) mem::fill_zero(ptr_, n_ * sizeof(T), device_);
+  }
+  T* data() { return ptr_; }
+  const T* data() const { return ptr_; }
+  std::size_t size() const { return n_; }
+  Device device() const { return device_; }
+
+  void copy_from_host(const T* src, std::size_t n) {
+    if (n != n_) resize(n);
+    if (n) mem::copy(ptr_, device_, src, Device::cpu, n * sizeof(T));
+  }
+  void copy_from_host(const std::vector<T>& v) { copy_from_host(v.data(), v.size()); }
+  void copy_to_host(T* dst) const {
+    if (n_) mem::copy(dst, Device::cpu, ptr_, device_, n_ * sizeof(T));
+  }
+  std::vector<T> to_host() const {
+    std::vector<T> v(n_);
+    copy_to_host(v.data());
+    return v;
+  }
+
+ private:
+  void release() noexcept {
+    if (ptr_) mem::deallocate(ptr_, device_);
+    ptr_ = nullptr;
+    n_ = 0;
+  }
+  T* ptr_ = nullptr;
+  std::size_t n_ = 0;
+  Device device_ = Device::cpu;
+};
+
+}  // namespace scree

@@ -1,0 +1,277 @@
+// MaterialBody<D, M>: a body of particles with material M, implementing Body<D>.
+//
+// Instantiated inside the material's plugin by Registry::add_material<M>() (compiled as
+// CUDA when the CUDA backend is on), so each plugin carries its own kernels: the
+// ParticlePass for each shape function, for the CPU (OpenMP) and the CUDA backend.
+//
+// Storage: one allocation of `columns * n` Reals, structure of arrays. Columns:
+//   x[D] v[D] x0[D] F[D*D] sigma[kStressComponents] mass volume0 id C[D*D] state[K]
+// (C only with APIC). Every column is permuted together when particles are sorted.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+#include "scree/material/material.hpp"
+#include "scree/mpm/body.hpp"
+
+#if defined(__CUDACC__)
+#include <thrust/device_ptr.h>
+#include <thrust/execution_policy.h>
+#include <thrust/sequence.h>
+#include <thrust/sort.h>
+#endif
+
+namespace scree {
+
+template <int D, class M>
+class MaterialBody final : public Body<D> {
+ public:
+  using Params = typename M::Params;
+  using State = typename M::State;
+  static constexpr int K = state_size<State>();
+  static constexpr int kSig = kStressComponents<D>;
+
+  MaterialBody(const Params& params, const BodySetup<D>& s)
+      : params_(params),
+        name_(s.name),
+        body_id_(s.body_id),
+        type_(M::type_name),
+        exec_(s.exec),
+        shape_(s.shape),
+        lp_(s.gimp_half_length),
+        transfer_(s.transfer),
+        n_(static_cast<Index>(s.x.size())) {
+    layout();
+    const Index n = n_;
+    std::vector<Real> host(static_cast<std::size_t>(columns_ * n), 0.0);
+    auto col = [&](int c) { return host.data() + static_cast<std::size_t>(c) * n; };
+    const Real rho = M::density(params_);
+    for (Index p = 0; p < n; ++p) {
+      for (int d = 0; d < D; ++d) {
+        col(c_x_ + d)[p] = s.x[p][d];
+        col(c_v_ + d)[p] = s.v.empty() ? 0 : s.v[p][d];
+        col(c_x0_ + d)[p] = s.x[p][d];
+      }
+      for (int i = 0; i < D; ++i) col(c_F_ + i * D + i)[p] = 1;
+      Sym3 sigma = s.sigma.empty() ? Sym3::zero() : s.sigma[p];
+      const State st = M::initial_state(params_, sigma);
+      for (int c = 0; c < kSig; ++c) col(c_sig_ + c)[p] = sigma[c];
+      col(c_mass_)[p] = rho * s.volume[p];
+      col(c_vol0_)[p] = s.volume[p];
+      col(c_id_)[p] = static_cast<Real>(s.first_id + p);
+      if constexpr (K > 0) {
+        Real tmp[K > 0 ? K : 1];
+        std::memcpy(tmp, &st, sizeof(State));
+        for (int k = 0; k < K; ++k) col(c_state_)[static_cast<std::size_t>(k) * n + p] = tmp[k];
+      }
+    }
+    data_.resize(host.size(), exec_.device);
+    data_.copy_from_host(host);
+    bind();
+    OutputFields<M> out;
+    M::describe(out);
+    fields_ = out.fields();
+  }
+
+  const std::string& name() const override { return name_; }
+  const std::string& material_type() const override { return type_; }
+  Index size() const override { return n_; }
+  const ParticleArrays<D>& arrays() const override { return arrays_; }
+  std::size_t bytes_per_particle() const override { return static_cast<std::size_t>(columns_) * sizeof(Real); }
+
+  void pass(const PassParams<D>& pp) override {
+    const Real inv_h = 1 / pp.grid.h;
+    switch (shape_) {
+      case ShapeKind::linear: launch(pp, ShapeLinear{inv_h}); break;
+      case ShapeKind::gimp: launch(pp, ShapeGimp{inv_h, lp_}); break;
+      case ShapeKind::bspline2: launch(pp, ShapeBspline2{inv_h}); break;
+    }
+  }
+
+  Real max_signal_speed(Real h) const override {
+    const auto host = data_.to_host();
+    const Index n = n_;
+    auto col = [&](int c) { return host.data() + static_cast<std::size_t>(c) * n; };
+    Real cmax = 0;
+    for (Index p = 0; p < n; ++p) {
+      State st{};
+      load_state(st, col(c_state_), n, p);
+      Sym3 sig = Sym3::zero();
+      for (int c = 0; c < kSig; ++c) sig[c] = col(c_sig_ + c)[p];
+      Mat<D> F;
+      for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = col(c_F_ + i)[p];
+      const Real vol = std::fabs(col(c_vol0_)[p]) * det(F);
+      const Real rho = vol > 0 ? col(c_mass_)[p] / vol : M::density(params_);
+      Real v2 = 0;
+      for (int d = 0; d < D; ++d) v2 += col(c_v_ + d)[p] * col(c_v_ + d)[p];
+      cmax = std::max(cmax, M::wave_speed(params_, st, sig, rho, h) + std::sqrt(v2));
+    }
+    return cmax;
+  }
+
+  void snapshot(BodySnapshot& out) const override {
+    const auto host = data_.to_host();
+    const Index n = n_;
+    auto col = [&](int c) { return host.data() + static_cast<std::size_t>(c) * n; };
+    out.name = name_;
+    out.body_id = body_id_;
+    out.material_type = type_;
+    out.n = n;
+    out.position.assign(static_cast<std::size_t>(3 * n), 0.0);
+    out.id.resize(n);
+    auto add = [&](std::string nm, int comps, std::string unit, std::string doc) -> Real* {
+      out.fields.push_back({std::move(nm), comps, std::move(unit), std::move(doc),
+                            std::vector<Real>(static_cast<std::size_t>(comps * n), 0.0)});
+      return out.fields.back().values.data();
+    };
+    out.fields.clear();
+    out.fields.reserve(10 + fields_.size());
+    Real* vel = add("velocity", 3, "m/s", "particle velocity");
+    Real* disp = add("displacement", 3, "m", "displacement from the initial position");
+    Real* stress = add("stress", 6, "Pa", "Cauchy stress, tension positive (xx yy zz xy yz zx)");
+    Real* pres = add("pressure", 1, "Pa", "mean stress p = -tr(sigma)/3, compression positive");
+    Real* qdev = add("deviatoricStress", 1, "Pa", "von Mises stress q = sqrt(3/2 s:s)");
+    Real* vol = add("volume", 1, "m^3", "current volume (area per unit thickness in 2D)");
+    Real* pmass = add("mass", 1, "kg", "particle mass (per unit thickness in 2D)");
+    Real* dens = add("density", 1, "kg/m^3", "mass / current volume");
+    Real* bid = add("bodyId", 1, "-", "index of the body in constant/bodies");
+    std::vector<Real*> mat;
+    for (const auto& f : fields_) mat.push_back(add(f.name, f.components, f.unit, f.doc));
+    std::vector<Real> st(K > 0 ? K : 1);
+    for (Index p = 0; p < n; ++p) {
+      Sym3 sig = Sym3::zero();
+      for (int c = 0; c < kSig; ++c) sig[c] = col(c_sig_ + c)[p];
+      for (int d = 0; d < D; ++d) {
+        out.position[3 * p + d] = col(c_x_ + d)[p];
+        vel[3 * p + d] = col(c_v_ + d)[p];
+        disp[3 * p + d] = col(c_x_ + d)[p] - col(c_x0_ + d)[p];
+      }
+      for (int c = 0; c < 6; ++c) stress[6 * p + c] = sig[c];
+      pres[p] = pressure(sig);
+      qdev[p] = deviatoric_stress(sig);
+      Mat<D> F;
+      for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = col(c_F_ + i)[p];
+      vol[p] = std::fabs(col(c_vol0_)[p]) * det(F);
+      pmass[p] = col(c_mass_)[p];
+      dens[p] = vol[p] > 0 ? col(c_mass_)[p] / vol[p] : 0;
+      bid[p] = out.body_id;
+      out.id[p] = static_cast<std::int64_t>(col(c_id_)[p]);
+      for (int k = 0; k < K; ++k) st[k] = col(c_state_)[static_cast<std::size_t>(k) * n + p];
+      for (std::size_t f = 0; f < fields_.size(); ++f)
+        fields_[f].eval(&params_, st.data(), sig, mat[f] + p * fields_[f].components);
+    }
+  }
+
+  void sort_by_cell(const GridGeometry<D>& g) override {
+    if (n_ < 2) return;
+    // Key: the flat index of the cell holding the particle (x fastest).
+    Buffer<Index> keys(n_, exec_.device), perm(n_, exec_.device);
+    Buffer<Real> scratch(static_cast<std::size_t>(n_), exec_.device);
+    const Index n = n_;
+    Index* kp = keys.data();
+    Index* pp = perm.data();
+    ParticleArrays<D> a = arrays_;
+    const GridGeometry<D> geo = g;
+    parallel_for(exec_, n, [=] SCREE_HD(Index p) {
+      Index key = 0, s = 1;
+      for (int d = 0; d < D; ++d) {
+        int c = static_cast<int>(floor((a.x[d][p] - geo.origin[d]) / geo.h));
+        c = c < 0 ? 0 : (c >= geo.n[d] ? geo.n[d] - 1 : c);
+        key += c * s;
+        s *= geo.n[d];
+      }
+      kp[p] = key;
+      pp[p] = p;
+    });
+    if (exec_.device == Device::cuda) {
+#if defined(__CUDACC__)
+      auto pol = thrust::cuda::par.on(static_cast<cudaStream_t>(exec_.stream));
+      thrust::stable_sort_by_key(pol, thrust::device_pointer_cast(kp), thrust::device_pointer_cast(kp + n),
+                                 thrust::device_pointer_cast(pp));
+#endif
+    } else {
+      std::stable_sort(pp, pp + n, [kp](Index i, Index j) { return kp[i] < kp[j]; });
+    }
+    // Gather every column through the permutation.
+    Real* base = data_.data();
+    Real* tmp = scratch.data();
+    for (int c = 0; c < columns_; ++c) {  // the K state rows are columns too
+      Real* column = base + static_cast<std::size_t>(c) * n;
+      parallel_for(exec_, n, [=] SCREE_HD(Index i) { tmp[i] = column[pp[i]]; });
+      mem::copy(column, exec_.device, tmp, exec_.device, static_cast<std::size_t>(n) * sizeof(Real));
+    }
+  }
+
+ private:
+  void layout() {
+    int c = 0;
+    c_x_ = c;
+    c += D;
+    c_v_ = c;
+    c += D;
+    c_x0_ = c;
+    c += D;
+    c_F_ = c;
+    c += D * D;
+    c_sig_ = c;
+    c += kSig;
+    c_mass_ = c++;
+    c_vol0_ = c++;
+    c_id_ = c++;
+    c_C_ = c;
+    if (transfer_ == Transfer::apic) c += D * D;
+    c_state_ = c;
+    c += K;
+    columns_ = c;
+  }
+  void bind() {
+    Real* b = data_.data();
+    const Index n = n_;
+    auto col = [&](int c) { return b + static_cast<std::size_t>(c) * n; };
+    arrays_.n = n;
+    for (int d = 0; d < D; ++d) {
+      arrays_.x[d] = col(c_x_ + d);
+      arrays_.v[d] = col(c_v_ + d);
+    }
+    for (int i = 0; i < D * D; ++i) {
+      arrays_.F[i] = col(c_F_ + i);
+      arrays_.C[i] = transfer_ == Transfer::apic ? col(c_C_ + i) : nullptr;
+    }
+    for (int c = 0; c < kSig; ++c) arrays_.sigma[c] = col(c_sig_ + c);
+    arrays_.mass = col(c_mass_);
+    arrays_.volume0 = col(c_vol0_);
+    arrays_.state = col(c_state_);
+  }
+  template <class Shape>
+  void launch(const PassParams<D>& pp, const Shape& shape) {
+    ParticlePass<D, Shape, M> k{pp, arrays_, shape, params_};
+    parallel_for(exec_, n_, k);
+  }
+
+  Params params_;
+  std::string name_;
+  int body_id_;
+  std::string type_;
+  Exec exec_;
+  ShapeKind shape_;
+  Real lp_;
+  Transfer transfer_;
+  Index n_;
+  int columns_ = 0, c_x_ = 0, c_v_ = 0, c_x0_ = 0, c_F_ = 0, c_sig_ = 0, c_mass_ = 0, c_vol0_ = 0, c_id_ = 0,
+      c_C_ = 0, c_state_ = 0;
+  Buffer<Real> data_;
+  ParticleArrays<D> arrays_{};
+  std::vector<OutputField> fields_;
+};
+
+template <int D, class M>
+std::unique_ptr<Body<D>> make_material_body(const typename M::Params& params, const BodySetup<D>& setup) {
+  return std::make_unique<MaterialBody<D, M>>(params, setup);
+}
+
+}  // namespace scree

@@ -1,0 +1,59 @@
+// A body: one set of particles with one material. The solver sees bodies only through
+// this interface (one virtual call per pass per body); the kernels behind it are
+// instantiated for the body's material inside the material's plugin (material_body.hpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scree/core/tensor.hpp"
+#include "scree/exec/parallel.hpp"
+#include "scree/mpm/grid.hpp"
+#include "scree/mpm/particle_pass.hpp"
+#include "scree/mpm/shape_functions.hpp"
+#include "scree/output/snapshot.hpp"
+
+namespace scree {
+
+/// Everything a material plugin needs to create a body.
+template <int D>
+struct BodySetup {
+  std::string name;            ///< body name (constant/bodies)
+  int body_id = 0;
+  std::string material_name;   ///< entry name in constant/materials
+  Exec exec;                   ///< backend and threads
+  ShapeKind shape = ShapeKind::linear;
+  Real gimp_half_length = 0.25;  ///< uGIMP particle half-length in cells (1/(2 n) for n per cell per axis)
+  Transfer transfer = Transfer::flip;
+  Real cell_size = 0;
+  // Initial particles (host):
+  std::vector<Vec<D>> x;       ///< positions [m]
+  std::vector<Vec<D>> v;       ///< velocities [m/s]
+  std::vector<Real> volume;    ///< volumes [m^3] (areas in 2D: per unit thickness)
+  std::vector<Sym3> sigma;     ///< initial stress (tension positive) [Pa]
+  std::int64_t first_id = 0;   ///< particle ids are first_id, first_id + 1, ...
+};
+
+template <int D>
+class Body {
+ public:
+  virtual ~Body() = default;
+  virtual const std::string& name() const = 0;
+  virtual const std::string& material_type() const = 0;
+  virtual Index size() const = 0;
+  /// Run one particle pass (see particle_pass.hpp) on the body's backend.
+  virtual void pass(const PassParams<D>& pp) = 0;
+  /// Copy to the host and evaluate every output field.
+  virtual void snapshot(BodySnapshot& out) const = 0;
+  /// Largest signal speed c + |v| over the particles (host evaluation, for the time
+  /// step check before the run).
+  virtual Real max_signal_speed(Real cell_size) const = 0;
+  /// Device pointers (for tests and function objects that work on the device).
+  virtual const ParticleArrays<D>& arrays() const = 0;
+  /// Bytes of particle data per particle (benchmarks).
+  virtual std::size_t bytes_per_particle() const = 0;
+  /// Reorder particles by grid cell (locality for P2G atomics); ids move with them.
+  virtual void sort_by_cell(const GridGeometry<D>& g) = 0;
+};
+
+}  // namespace scree

@@ -1,0 +1,94 @@
+// The background grid: a uniform box of nodes, and views of its fields for kernels.
+//
+// Node (i, j[, k]) sits at origin + h (i, j[, k]). The user's domain box [lower, upper]
+// is padded by `ghost` layers of nodes on every side so that the widest stencil
+// (3 nodes: B-spline, GIMP) of a particle inside the domain stays on the grid; walls
+// are boundary conditions on the domain faces, applied to the face nodes and the ghost
+// nodes beyond them. The box may later be a sub-box of a larger one (domain
+// decomposition): `offset` is its first node's index in the global lattice.
+#pragma once
+
+#include "scree/core/config.hpp"
+#include "scree/core/tensor.hpp"
+
+namespace scree {
+
+template <int D>
+struct GridGeometry {
+  Vec<D> origin;  ///< position of node 0 [m]
+  Real h;         ///< cell size [m]
+  int n[D];       ///< nodes per axis (ghosts included)
+  int ghost;      ///< ghost node layers outside the domain on each side
+  Vec<D> lower;   ///< the domain box the user gave [m]
+  Vec<D> upper;
+  int offset[D];  ///< index of node 0 in the global lattice (0 for a single box)
+
+  SCREE_INLINE Index num_nodes() const {
+    Index s = 1;
+    for (int d = 0; d < D; ++d) s *= n[d];
+    return s;
+  }
+  SCREE_INLINE Index stride(int d) const {
+    Index s = 1;
+    for (int e = 0; e < d; ++e) s *= n[e];
+    return s;
+  }
+  /// Flat index of node (idx[0], idx[1], ...), x fastest.
+  SCREE_INLINE Index flat(const int* idx) const {
+    Index f = 0, s = 1;
+    for (int d = 0; d < D; ++d) {
+      f += idx[d] * s;
+      s *= n[d];
+    }
+    return f;
+  }
+  SCREE_INLINE void unflat(Index f, int* idx) const {
+    for (int d = 0; d < D; ++d) {
+      idx[d] = static_cast<int>(f % n[d]);
+      f /= n[d];
+    }
+  }
+  SCREE_INLINE Vec<D> node_position(Index f) const {
+    int idx[D];
+    unflat(f, idx);
+    Vec<D> x;
+    for (int d = 0; d < D; ++d) x[d] = origin[d] + h * idx[d];
+    return x;
+  }
+  SCREE_INLINE Real cell_volume() const {
+    Real v = 1;
+    for (int d = 0; d < D; ++d) v *= h;
+    return v;
+  }
+};
+
+/// One set of grid fields (device pointers). Two sets alternate between steps so that
+/// the G2P of one step and the P2G of the next run in one particle pass.
+template <int D>
+struct GridFields {
+  Real* mass;             ///< nodal mass m_I [kg]
+  Real* momentum[D];      ///< sum N m_p v_p [kg m/s] (P2G); reused for MUSL's second P2G
+  Real* force[D];         ///< internal + external force [N]
+  Real* velocity[D];      ///< v^k = momentum/mass after boundary conditions [m/s]
+                          ///< (MUSL: the velocity re-mapped from updated particle velocities)
+  Real* velocity_new[D];  ///< v^{k+1} = v^k + dt f/m after boundary conditions [m/s]
+};
+
+/// Time control kept in device memory, so that no step needs a host round trip.
+/// Two slots alternate with the step's parity: kernels of step k read slot k%2, and the
+/// last kernel of the step writes slot (k+1)%2 (its thread 0, after the rest of the
+/// step has used slot k%2). The device clamps dt so that t lands on t_target; after
+/// that dt is 0 and steps change nothing until the host sets the next target.
+struct StepControl {
+  Real t[2];          ///< time at the start of the step [s]
+  Real dt[2];         ///< the step's time increment [s]
+  Real max_speed[2];  ///< largest particle signal speed c + |v| seen in the step [m/s]
+  Real t_target;      ///< the time to land on (next write or end) [s]
+  Real dt_max;        ///< fixed step, or the largest adaptive step [s]
+  Real cfl;           ///< CFL number (0: fixed step)
+  Real h;             ///< cell size [m]
+  unsigned long long steps_done;  ///< steps that did work
+  unsigned long long lost;        ///< particles whose stencil left the grid (frozen)
+};
+
+}  // namespace scree

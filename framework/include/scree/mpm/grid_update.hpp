@@ -1,0 +1,49 @@
+// The grid update of the explicit MPM (seed 001, section 2.2, step d), one kernel over
+// the nodes of one grid set, for both backends:
+//
+//   kNormalize:  v_I^k = p_I / m_I, then the boundary constraints         (eq. 6)
+//   kIntegrate:  a_I = (f_I + f_damp) / m_I, v_I^{k+1} = v_I^k + a_I dt, constraints
+//                (f_damp = -alpha |f_I| sign(v_I^k) per component: local damping)
+//   kRemap:      v_I = p_I / m_I, constraints (MUSL: velocity of the updated particles)
+//   kZeroMomentum: p_I = 0 after use (MUSL re-maps momentum into the same set)
+//   kZeroOther:  clear mass, momentum and force of the other set (the next step's P2G)
+//   kAdvance:    (node 0) t <- t + dt and the next dt (fixed, or CFL-adaptive), clamped
+//                so that t lands on the target time
+// Nodes lighter than mass_eps are empty: their velocities are zero.
+#pragma once
+
+#include "scree/boundary/constraints.hpp"
+#include "scree/exec/parallel.hpp"
+#include "scree/mpm/grid.hpp"
+
+namespace scree {
+
+enum GridModes : unsigned {
+  kNormalize = 1u << 0,
+  kIntegrate = 1u << 1,
+  kRemap = 1u << 2,
+  kZeroMomentum = 1u << 3,
+  kZeroOther = 1u << 4,
+  kAdvance = 1u << 5,
+};
+
+template <int D>
+struct GridUpdateParams {
+  unsigned modes = 0;
+  int parity = 0;
+  GridGeometry<D> grid;
+  GridFields<D> cur;    ///< the set being updated
+  GridFields<D> other;  ///< the set cleared by kZeroOther
+  StepControl* control = nullptr;
+  const Constraint* constraints = nullptr;
+  const ConstraintMask* masks = nullptr;
+  Real mass_eps = 0;
+  Real damping = 0;  ///< local damping coefficient alpha
+  Real damping_start = 0, damping_end = 0;
+};
+
+/// Run the grid update on `ex`'s backend (defined in the core, instantiated for D = 2, 3).
+template <int D>
+SCREE_API void grid_update(const Exec& ex, const GridUpdateParams<D>& p);
+
+}  // namespace scree

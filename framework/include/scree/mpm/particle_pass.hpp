@@ -1,0 +1,302 @@
+// The particle kernel of the explicit MPM (seed 001, section 2.2, eqs. 5-11), written once
+// for both backends and templated on dimension, shape function and material.
+//
+// One pass over a body's particles does any combination of these phases (flags), so that
+// each update scheme is a short sequence of passes and grid updates (solver/step.cpp):
+//
+//   gather (from grid set G, weights at the particle's current position x_p):
+//     kStressFromNew / kStressFromVelocity: velocity gradient L_p = sum_I v_I (x) grad N_Ip
+//        (eq. 7) from G.velocity_new or G.velocity; F_p <- (I + L_p dt) F_p (eq. 8);
+//        V_p = det(F_p) V0_p; stress update through the material with the strain
+//        increment sym(L_p) dt and the spin skew(L_p) dt (objective, ERRATA 001 item 6)
+//     kGatherVelocity: particle velocity from the grid: FLIP (eq. 10)
+//        v_p <- v_p + sum N (v_I^{k+1} - v_I^k), blended with PIC v_p <- sum N v_I^{k+1}
+//        by pic_fraction; or APIC (Jiang et al. 2015): v_p <- sum N v^{k+1}, C_p affine
+//     kGatherPosition: x_p <- x_p + dt sum N v_I^{k+1} (eq. 11)
+//   scatter (into grid set S, weights at the updated position):
+//     kScatterMassMomentum: m_I += N m_p (eq. 5), p_I += N m_p (v_p + C_p (x_I - x_p)) (eq. 6)
+//     kScatterForce: f_I += -V_p sigma_p grad N_Ip + N_Ip m_p g (internal + gravity)
+//     kScatterMomentum: p_I += N m_p v_p only (MUSL's re-mapping of updated velocities)
+//
+// Sign convention: stress tension positive. Units: SI.
+#pragma once
+
+#include "scree/core/config.hpp"
+#include "scree/core/tensor.hpp"
+#include "scree/exec/parallel.hpp"
+#include "scree/material/material.hpp"
+#include "scree/mpm/grid.hpp"
+#include "scree/mpm/shape_functions.hpp"
+
+namespace scree {
+
+enum PassFlags : unsigned {
+  kGatherVelocity = 1u << 0,
+  kGatherPosition = 1u << 1,
+  kStressFromNew = 1u << 2,
+  kStressFromVelocity = 1u << 3,
+  kScatterMassMomentum = 1u << 4,
+  kScatterForce = 1u << 5,
+  kScatterMomentum = 1u << 6,
+};
+inline constexpr unsigned kAnyGather = kGatherVelocity | kGatherPosition | kStressFromNew | kStressFromVelocity;
+inline constexpr unsigned kAnyScatter = kScatterMassMomentum | kScatterForce | kScatterMomentum;
+
+enum class Transfer : int { flip = 0, apic = 1 };
+
+/// Number of stored stress components: 2D plane strain keeps xx, yy, zz, xy; 3D all six.
+template <int D>
+inline constexpr int kStressComponents = D == 2 ? 4 : 6;
+
+/// Device pointers to one body's particle arrays (structure of arrays).
+template <int D>
+struct ParticleArrays {
+  Index n = 0;
+  Real* x[D];              ///< position [m]
+  Real* v[D];              ///< velocity [m/s]
+  Real* F[D * D];          ///< deformation gradient, row-major [-]
+  Real* sigma[kStressComponents<D>];  ///< Cauchy stress (xx yy zz xy [yz zx]) [Pa]
+  Real* mass;              ///< [kg] (per unit thickness in 2D)
+  Real* volume0;           ///< initial volume [m^3] (area in 2D)
+  Real* C[D * D];          ///< APIC affine velocity matrix [1/s] (null for FLIP)
+  Real* state;             ///< material state, component k of particle i at state[k n + i]
+};
+
+/// Per-pass parameters (passed by value to the kernel).
+template <int D>
+struct PassParams {
+  unsigned flags = 0;
+  int parity = 0;         ///< parity of the current step (its StepControl slot)
+  int gather_parity = 0;  ///< parity of the step whose grid set G is gathered from: its dt
+                          ///< drives the gather phases; dt = 0 makes them a no-op
+  GridGeometry<D> grid;
+  GridFields<D> gather;   ///< the set G read by gather phases
+  GridFields<D> scatter;  ///< the set S written by scatter phases (zeroed beforehand)
+  StepControl* control = nullptr;
+  Vec<D> gravity;
+  Real pic_fraction = 0;  ///< FLIP/PIC blend: 0 = pure FLIP (the paper's eq. 10), 1 = PIC
+  Transfer transfer = Transfer::flip;
+  bool serial = false;    ///< CPU loop on one thread: plain adds instead of atomics
+};
+
+namespace detail {
+
+template <int D>
+SCREE_INLINE Sym3 load_stress(Real* const* s, Index p) {
+  if constexpr (D == 2) return Sym3{{s[0][p], s[1][p], s[2][p], s[3][p], 0, 0}};
+  else return Sym3{{s[0][p], s[1][p], s[2][p], s[3][p], s[4][p], s[5][p]}};
+}
+template <int D>
+SCREE_INLINE void store_stress(Real* const* s, Index p, const Sym3& v) {
+  for (int c = 0; c < kStressComponents<D>; ++c) s[c][p] = v[c];
+}
+
+/// Shape-function weights of a particle at x over its stencil.
+template <int D, class Shape>
+struct Stencil {
+  static constexpr int S = Shape::kStencil;
+  static constexpr int kNodes = D == 2 ? S * S : S * S * S;
+  int base[D];
+  Real w[D][S], dw[D][S];
+  bool inside;
+
+  SCREE_INLINE Stencil(const Shape& sh, const GridGeometry<D>& g, const Vec<D>& x) {
+    inside = true;
+    for (int d = 0; d < D; ++d) {
+      sh.eval((x[d] - g.origin[d]) / g.h, base[d], w[d], dw[d]);
+      if (base[d] < 0 || base[d] + S > g.n[d]) inside = false;
+    }
+  }
+  /// Node k of the stencil: flat index, weight N, gradient grad N, offset x_I - x_p.
+  SCREE_INLINE void node(int k, const GridGeometry<D>& g, const Vec<D>& x, Index& I, Real& N, Vec<D>& gradN,
+                         Vec<D>& dx) const {
+    int a[D];
+    int r = k;
+    for (int d = 0; d < D; ++d) {
+      a[d] = r % S;
+      r /= S;
+    }
+    int idx[D];
+    N = 1;
+    for (int d = 0; d < D; ++d) {
+      idx[d] = base[d] + a[d];
+      N *= w[d][a[d]];
+      dx[d] = g.origin[d] + g.h * idx[d] - x[d];
+    }
+    for (int d = 0; d < D; ++d) {
+      Real gdx = dw[d][a[d]];
+      for (int e = 0; e < D; ++e)
+        if (e != d) gdx *= w[e][a[e]];
+      gradN[d] = gdx;
+    }
+    I = g.flat(idx);
+  }
+};
+
+/// APIC's inverse inertia factor D_p^{-1} = (4 / h^2) I for the quadratic B-spline; for
+/// the other shapes C_p is taken as sum v_I (x) grad N_I, which also reproduces affine
+/// velocity fields exactly.
+template <class Shape>
+inline constexpr bool kApicFromInertia = Shape::kStencil == 3 && sizeof(Shape) == sizeof(Real);
+
+}  // namespace detail
+
+template <int D, class Shape, class M>
+struct ParticlePass {
+  PassParams<D> pp;
+  ParticleArrays<D> pa;
+  Shape shape;
+  typename M::Params mp;
+
+  SCREE_HD void operator()(Index p) const {
+    StepControl* ctl = pp.control;
+    const Real dt = ctl->dt[pp.gather_parity];
+    const GridGeometry<D>& g = pp.grid;
+    // A zero step (the run reached its target time) changes no particle.
+    const unsigned flags = dt > 0 ? pp.flags : (pp.flags & ~kAnyGather);
+    const Real mass = pa.mass[p];
+    if (pa.volume0[p] < 0) return;  // frozen: it left the grid earlier
+
+    Vec<D> x, v;
+    for (int d = 0; d < D; ++d) {
+      x[d] = pa.x[d][p];
+      v[d] = pa.v[d][p];
+    }
+    Mat<D> C = Mat<D>::zero();
+    const bool apic = pp.transfer == Transfer::apic;
+    if (apic)
+      for (int i = 0; i < D * D; ++i) C.a[i / D][i % D] = pa.C[i][p];
+
+    // ---------------- gather phases (weights at the current position) ----------------
+    if (flags & kAnyGather) {
+      const detail::Stencil<D, Shape> st(shape, g, x);
+      if (!st.inside) {
+        lost(p);  // the stencil left the grid: freeze the particle (the solver warns)
+        return;
+      }
+      Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero(), x_inc = Vec<D>::zero();
+      Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
+      const bool from_new = flags & kStressFromNew;
+      for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+        Index I;
+        Real N;
+        Vec<D> gradN, dx;
+        st.node(k, g, x, I, N, gradN, dx);
+        Vec<D> vi, vn;
+        for (int d = 0; d < D; ++d) {
+          vi[d] = pp.gather.velocity[d][I];
+          vn[d] = pp.gather.velocity_new[d][I];
+        }
+        v_pic += N * vn;
+        dv += N * (vn - vi);
+        L += outer(from_new ? vn : vi, gradN);  // eq. (7)
+        if (apic) {
+          if constexpr (detail::kApicFromInertia<Shape>) B += outer(vn, dx) * N;
+          else Lnew += outer(vn, gradN);
+        }
+      }
+      x_inc = v_pic;
+
+      if (flags & (kStressFromNew | kStressFromVelocity)) stress_update(p, L, dt, v, mass);
+
+      if (flags & kGatherVelocity) {
+        if (apic) {
+          v = v_pic;
+          if constexpr (detail::kApicFromInertia<Shape>) C = B * (4 / (g.h * g.h));
+          else C = Lnew;
+        } else {
+          // FLIP (eq. 10) blended with PIC.
+          const Real a = pp.pic_fraction;
+          for (int d = 0; d < D; ++d) v[d] = a * v_pic[d] + (1 - a) * (v[d] + dv[d]);
+        }
+      }
+      if (flags & kGatherPosition) x += dt * x_inc;  // eq. (11)
+    }
+
+    // ---------------- scatter phases (weights at the updated position) ----------------
+    if (flags & kAnyScatter) {
+      const detail::Stencil<D, Shape> st(shape, g, x);
+      if (!st.inside) {
+        lost(p);
+        return;
+      }
+      Sym3 sig = Sym3::zero();
+      Real vol = 0;
+      if (flags & kScatterForce) {
+        sig = detail::load_stress<D>(pa.sigma, p);
+        vol = pa.volume0[p] * det(load_F(p));
+      }
+      const bool serial = pp.serial;
+      for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+        Index I;
+        Real N;
+        Vec<D> gradN, dx;
+        st.node(k, g, x, I, N, gradN, dx);
+        if (N == 0 && (flags & kScatterForce) == 0) continue;
+        if (flags & kScatterMassMomentum) {
+          atomic_add(&pp.scatter.mass[I], N * mass, serial);  // eq. (5)
+          Vec<D> vI = v;
+          if (apic) vI += C * dx;
+          for (int d = 0; d < D; ++d) atomic_add(&pp.scatter.momentum[d][I], N * mass * vI[d], serial);  // eq. (6)
+        }
+        if (flags & kScatterMomentum)
+          for (int d = 0; d < D; ++d) atomic_add(&pp.scatter.momentum[d][I], N * mass * v[d], serial);
+        if (flags & kScatterForce) {
+          for (int d = 0; d < D; ++d) {
+            Real s = 0;
+            for (int e = 0; e < D; ++e) s += sig(d, e) * gradN[e];
+            atomic_add(&pp.scatter.force[d][I], -vol * s + N * mass * pp.gravity[d], serial);
+          }
+        }
+      }
+    }
+
+    for (int d = 0; d < D; ++d) {
+      pa.x[d][p] = x[d];
+      pa.v[d][p] = v[d];
+    }
+    if (apic)
+      for (int i = 0; i < D * D; ++i) pa.C[i][p] = C.a[i / D][i % D];
+  }
+
+  SCREE_INLINE Mat<D> load_F(Index p) const {
+    Mat<D> F;
+    for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
+    return F;
+  }
+
+  /// eqs. (8)-(9) with an objective stress update, and the step's largest signal speed.
+  SCREE_INLINE void stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass) const {
+    Mat<D> F = load_F(p);
+    F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
+    for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
+    const Real J = det(F);
+    StrainIncrement inc;
+    inc.deps = sym3_from(L) * dt;
+    inc.spin = spin_from(L);
+    inc.spin.xy *= dt;
+    inc.spin.yz *= dt;
+    inc.spin.zx *= dt;
+    inc.dt = dt;
+    inc.J = J;
+    Sym3 sigma = corotate(detail::load_stress<D>(pa.sigma, p), inc.spin);
+    typename M::State s;
+    load_state(s, pa.state, pa.n, p);
+    M::update(mp, s, sigma, inc);
+    store_state(s, pa.state, pa.n, p);
+    detail::store_stress<D>(pa.sigma, p, sigma);
+    const Real vol = pa.volume0[p] * J;
+    const Real rho = vol > 0 ? mass / vol : Real(0);
+    const Real c = M::wave_speed(mp, s, sigma, rho, pp.grid.h) + norm(v);
+    atomic_max_nonneg(&pp.control->max_speed[pp.parity], c, pp.serial);
+  }
+
+  /// Freeze a particle whose stencil left the grid (negative volume0 marks it) and
+  /// count it once; the solver reports the count.
+  SCREE_INLINE void lost(Index p) const {
+    pa.volume0[p] = -fabs(pa.volume0[p]);
+    atomic_increment(&pp.control->lost, pp.serial);
+  }
+};
+
+}  // namespace scree

@@ -1,0 +1,31 @@
+// Function-object plugins (OpenFOAM's term): run-time post-processing such as a run-out
+// tracker or particle probes. Each runs at its own interval (`executeControl timeStep |
+// runTime`, `executeInterval`, declared by the core for every function object) on a
+// host Snapshot, and writes under <case>/postProcessing/<name>/.
+//
+// Long runs never lose finished results: write and flush each row as it is produced
+// (or rewrite files atomically), so a killed run keeps everything up to its last row.
+//
+//   struct MyFO : FunctionObject {
+//     static constexpr const char* type_name = "myFO";
+//     static ParamSpec spec();
+//     MyFO(const ParamReader& r, const SolverContext& ctx);
+//     void execute(const Snapshot& s) override;
+//   };
+//   SCREE_PLUGIN(r) { r.add_function_object<MyFO>(); }
+#pragma once
+
+#include "scree/output/snapshot.hpp"
+#include "scree/params/spec.hpp"
+#include "scree/solver/context.hpp"
+
+namespace scree {
+
+class SCREE_API FunctionObject {
+ public:
+  virtual ~FunctionObject();
+  virtual void execute(const Snapshot& s) = 0;
+  virtual void finish() {}
+};
+
+}  // namespace scree

@@ -1,0 +1,57 @@
+// A host copy of the particle (and optionally grid) data at one output time. Writers and
+// function objects read snapshots only, never device memory, so they run on the host
+// (on a writer thread) while the solver goes on.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scree/core/config.hpp"
+
+namespace scree {
+
+/// One named field over the particles of a body: `components` values per particle,
+/// interleaved (particle i's values at [i*components, (i+1)*components)).
+/// Symmetric tensors have 6 components in Voigt order (xx yy zz xy yz zx).
+struct FieldData {
+  std::string name;
+  int components = 1;
+  std::string unit;
+  std::string doc;
+  std::vector<Real> values;
+};
+
+struct BodySnapshot {
+  std::string name;       ///< the body's name in constant/bodies
+  int body_id = 0;
+  std::string material;   ///< the material's entry name in constant/materials
+  std::string material_type;
+  Index n = 0;
+  std::vector<Real> position;      ///< 3 per particle (z = 0 in 2D) [m]
+  std::vector<std::int64_t> id;    ///< particle ids (unique over the case, stable)
+  std::vector<FieldData> fields;   ///< velocity, displacement, stress, ... and material fields
+  const FieldData* find(const std::string& name) const {
+    for (auto& f : fields)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
+};
+
+struct GridSnapshot {
+  int n[3] = {1, 1, 1};  ///< nodes per axis
+  Real origin[3] = {0, 0, 0};
+  Real h = 0;
+  std::vector<FieldData> fields;  ///< mass, velocity, ... per node
+};
+
+struct Snapshot {
+  Real time = 0;
+  std::int64_t step = 0;
+  int dimension = 2;
+  std::vector<BodySnapshot> bodies;
+  bool has_grid = false;
+  GridSnapshot grid;
+};
+
+}  // namespace scree

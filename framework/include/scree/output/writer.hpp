@@ -1,0 +1,43 @@
+// Output-writer plugins: write particle (and grid) data at the case's write times.
+//
+// Writers run on the host from a Snapshot (a copy taken off the device), on a writer
+// thread, so a slow disk does not stall the run. A writer must never leave a
+// half-written file in the output directory: write to a temporary name and rename
+// (write_file_atomically below).
+//
+//   struct MyWriter : Writer {
+//     static constexpr const char* type_name = "myWriter";
+//     static ParamSpec spec();
+//     MyWriter(const ParamReader& r, const SolverContext& ctx);
+//     void write(const Snapshot& s) override;
+//   };
+//   SCREE_PLUGIN(r) { r.add_writer<MyWriter>(); }
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "scree/output/snapshot.hpp"
+#include "scree/params/spec.hpp"
+#include "scree/solver/context.hpp"
+
+namespace scree {
+
+class SCREE_API Writer {
+ public:
+  virtual ~Writer();
+  /// Write one time. Called in time order, never concurrently with itself.
+  virtual void write(const Snapshot& s) = 0;
+  /// After the last write (close series files and the like).
+  virtual void finish() {}
+  /// Whether the writer wants grid fields in its snapshots.
+  virtual bool wants_grid() const { return false; }
+};
+
+/// Write a file through `fill(temporary_path)` then rename it into place, so that the
+/// target is either the old file or the complete new one.
+SCREE_API void write_file_atomically(const std::filesystem::path& target,
+                                     const std::function<void(const std::filesystem::path&)>& fill);
+
+}  // namespace scree

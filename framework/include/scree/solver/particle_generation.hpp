@@ -1,0 +1,33 @@
+// Filling a body's region with particles (constant/bodies).
+//
+// The region (rectangle/box, or polygon in 2D) is filled with n points per cell along
+// each axis, at the centres of the n^D sub-cells of each background cell, keeping the
+// points inside the region; each point carries the volume (h/n)^D of its sub-cell.
+// Optional initial velocity, and geostatic initial stress:
+//   sigma_v = -rho |g| (s - z),  sigma_h = K0 sigma_v  (tension positive)
+// with z the elevation along -g and s the free-surface elevation (default: the top of
+// the body), so a column of height H starts with sigma_v = -rho g H at its base.
+#pragma once
+
+#include <vector>
+
+#include "scree/core/tensor.hpp"
+#include "scree/io/dictionary.hpp"
+#include "scree/mpm/grid.hpp"
+
+namespace scree {
+
+template <int D>
+struct GeneratedParticles {
+  std::vector<Vec<D>> x, v;
+  std::vector<Real> volume;
+  std::vector<Sym3> sigma;
+};
+
+/// Generate the particles of one body dictionary (validated against CoreSpecs::body).
+/// `density` is the material's initial mass density (for the geostatic stress).
+template <int D>
+SCREE_API GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& grid,
+                                                   Real density, const Vec<D>& gravity);
+
+}  // namespace scree

@@ -1,0 +1,70 @@
+// Running a case: the time loop, output scheduling and progress.
+//
+//   PluginRuntime rt;  rt.load_default_plugins();
+//   Case c = Case::read("cases/columnCollapse", rt);
+//   Simulation sim(c, rt, RunOptions{});
+//   sim.run();                 // to endTime, writing output and running function objects
+//
+// Tests and tools can also step a case themselves (advance_to, snapshot).
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+
+#include "scree/exec/memory.hpp"
+#include "scree/output/snapshot.hpp"
+#include "scree/plugin/loader.hpp"
+#include "scree/solver/case.hpp"
+
+namespace scree {
+
+struct RunOptions {
+  Device device = Device::cpu;
+  int threads = 1;             ///< CPU threads (OpenMP)
+  bool output = true;          ///< writers and function objects (off for benchmarks)
+  bool use_graphs = true;      ///< CUDA: replay steps as CUDA graphs
+  std::int64_t max_steps = -1; ///< stop after this many steps (benchmarks); -1: no limit
+  bool progress = true;        ///< progress line on stdout
+  std::ostream* log = nullptr; ///< messages (default std::cout)
+};
+
+struct RunStats {
+  std::int64_t steps = 0;
+  double simulated_time = 0;   ///< [s]
+  double wall_seconds = 0;     ///< time-loop wall time, setup excluded [s]
+  double output_seconds = 0;   ///< of which spent waiting for snapshots/output [s]
+  std::int64_t particles = 0;
+  std::int64_t nodes = 0;
+  std::size_t bytes_per_particle = 0;
+  std::size_t peak_device_bytes = 0;
+  std::uint64_t lost_particles = 0;
+};
+
+class SCREE_API Simulation {
+ public:
+  Simulation(const Case& c, PluginRuntime& rt, const RunOptions& options);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  int dimension() const;
+  /// Run to endTime with output; returns the statistics.
+  RunStats run();
+  /// Advance to time t (no output unless `with_output`).
+  void advance_to(double t, bool with_output = false);
+  /// Run exactly n steps (no output).
+  void run_steps(std::int64_t n);
+  /// A host copy of every body (pending particle updates are applied first).
+  Snapshot snapshot(bool with_grid = false);
+  double time() const;
+  std::int64_t steps() const;
+  RunStats stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace scree

@@ -1,0 +1,160 @@
+// Regions of grid nodes and the constraint set built from boundary conditions.
+#include <cmath>
+#include <stdexcept>
+
+#include "scree/boundary/boundary_condition.hpp"
+
+namespace scree {
+
+BoundaryCondition::~BoundaryCondition() = default;
+
+void BoundaryCondition::declare_time_window(ParamSpec& spec) {
+  spec.scalar("startTime", "s", "the condition acts from this time").default_value(-1e300);
+  spec.scalar("endTime", "s", "the condition acts until this time (e.g. a gate removed at 0.2 s)")
+      .default_value(1e300);
+}
+
+void BoundaryCondition::read_time_window(const ParamReader& r, Constraint& c) {
+  c.t_start = r.scalar("startTime");
+  c.t_end = r.scalar("endTime");
+}
+
+void BoundaryCondition::declare_normal(ParamSpec& spec) {
+  spec.vector("normal", "-", "wall normal pointing into the material (default: the face's or half-space's)")
+      .size(-1)
+      .optional();
+}
+
+void BoundaryCondition::read_normal(const ParamReader& r, const Region& region, Constraint& c) {
+  std::vector<Real> n = region.normal();
+  if (r.has("normal")) n = r.scalars("normal");
+  Real len = 0;
+  for (Real x : n) len += x * x;
+  len = std::sqrt(len);
+  if (len == 0)
+    throw InputError(r.dict().where(), "'" + r.dict().name() + "': a wall on a " + region.description() +
+                                           " needs `normal (..)`, the direction pointing into the material");
+  for (std::size_t d = 0; d < n.size() && d < 3; ++d) c.normal[d] = n[d] / len;
+}
+
+void Region::declare(ParamSpec& spec) {
+  spec.word("face", "a face of the domain box: the nodes on it and the ghost nodes beyond")
+      .choices({"xMin", "xMax", "yMin", "yMax", "zMin", "zMax"})
+      .optional();
+  auto box = std::make_shared<ParamSpec>("box", "nodes inside an axis-aligned box");
+  box->vector("min", "m", "lower corner").size(-1);
+  box->vector("max", "m", "upper corner").size(-1);
+  spec.dict("box", "nodes inside an axis-aligned box { min (..); max (..); } (bounds included)")
+      .sub_spec(box)
+      .optional();
+  auto half = std::make_shared<ParamSpec>("halfSpace", "nodes on or behind a plane");
+  half->vector("point", "m", "a point on the plane").size(-1);
+  half->vector("normal", "-", "normal pointing from the selected nodes into the material").size(-1);
+  spec.dict("halfSpace", "nodes on or behind a plane { point (..); normal (..); }").sub_spec(half).optional();
+  spec.check([](const Dictionary& d, std::vector<InputError>& errors) {
+    const int n = int(d.has("face")) + int(d.has("box")) + int(d.has("halfSpace"));
+    if (n != 1)
+      errors.emplace_back(d.where(), "'" + d.name() + "': give exactly one region: face, box or halfSpace (found " +
+                                         std::to_string(n) + ")");
+  });
+}
+
+RegionConstraint::RegionConstraint(const ParamReader& r, const SolverContext& ctx)
+    : region_(Region::read(r, ctx)), name_(ctx.name) {
+  read_time_window(r, constraint_);
+}
+
+void RegionConstraint::constrain(ConstraintSet& set) const {
+  set.add(constraint_, [this](const Real* x) { return region_.contains(x); }, name_);
+}
+
+Region Region::read(const ParamReader& r, const SolverContext& ctx) {
+  Region g;
+  g.dim_ = ctx.dimension;
+  g.tol_ = 1e-6 * ctx.cell_size;
+  const Dictionary& d = r.dict();
+  if (d.has("face")) {
+    g.kind_ = Kind::face;
+    const std::string f = d.get_word("face");
+    g.axis_ = f[0] - 'x';
+    g.upper_ = f.substr(1) == "Max";
+    if (g.axis_ >= g.dim_)
+      throw InputError(d.at("face").where(), "face " + f + " does not exist in a " + std::to_string(g.dim_) +
+                                                 "D case");
+    g.plane_ = g.upper_ ? ctx.domain_upper[g.axis_] : ctx.domain_lower[g.axis_];
+    g.normal_.assign(g.dim_, 0.0);
+    g.normal_[g.axis_] = g.upper_ ? -1 : 1;
+    g.description_ = "face " + f;
+  } else if (d.has("box")) {
+    g.kind_ = Kind::box;
+    const Dictionary& b = d.sub("box");
+    g.lo_ = b.at("min").as_scalar_list();
+    g.hi_ = b.at("max").as_scalar_list();
+    g.normal_.assign(g.dim_, 0.0);
+    g.description_ = "box";
+  } else {
+    g.kind_ = Kind::halfSpace;
+    const Dictionary& h = d.sub("halfSpace");
+    g.point_ = h.at("point").as_scalar_list();
+    g.normal_ = h.at("normal").as_scalar_list();
+    Real len = 0;
+    for (Real c : g.normal_) len += c * c;
+    len = std::sqrt(len);
+    if (len == 0) throw InputError(h.at("normal").where(), "normal: must not be zero");
+    for (Real& c : g.normal_) c /= len;
+    g.description_ = "halfSpace";
+  }
+  return g;
+}
+
+bool Region::contains(const Real* x) const {
+  switch (kind_) {
+    case Kind::face:
+      return upper_ ? x[axis_] >= plane_ - tol_ : x[axis_] <= plane_ + tol_;
+    case Kind::box:
+      for (int d = 0; d < dim_; ++d)
+        if (x[d] < lo_[d] - tol_ || x[d] > hi_[d] + tol_) return false;
+      return true;
+    case Kind::halfSpace: {
+      Real s = 0;
+      for (int d = 0; d < dim_; ++d) s += (x[d] - point_[d]) * normal_[d];
+      return s <= tol_;
+    }
+  }
+  return false;
+}
+
+ConstraintSet::ConstraintSet(const SolverContext& grid) : grid_(grid) {
+  Index n = 1;
+  for (int d = 0; d < grid.dimension; ++d) n *= grid.grid_nodes[d];
+  masks_.assign(static_cast<std::size_t>(n), 0);
+}
+
+int ConstraintSet::add(const Constraint& c, Selector select, const std::string& owner) {
+  if (static_cast<int>(table_.size()) >= kMaxConstraints)
+    throw std::runtime_error("too many boundary constraints (at most " + std::to_string(kMaxConstraints) +
+                             " per case); " + owner + " is one too many");
+  const int index = static_cast<int>(table_.size());
+  table_.push_back(c);
+  owners_.push_back(owner);
+  const int D = grid_.dimension;
+  Index count = 0;
+  Real x[3] = {0, 0, 0};
+  int idx[3] = {0, 0, 0};
+  for (std::size_t f = 0; f < masks_.size(); ++f) {
+    Index r = static_cast<Index>(f);
+    for (int d = 0; d < D; ++d) {
+      idx[d] = static_cast<int>(r % grid_.grid_nodes[d]);
+      r /= grid_.grid_nodes[d];
+      x[d] = grid_.grid_origin[d] + grid_.cell_size * idx[d];
+    }
+    if (select(x)) {
+      masks_[f] |= ConstraintMask(1) << index;
+      ++count;
+    }
+  }
+  counts_.push_back(count);
+  return index;
+}
+
+}  // namespace scree

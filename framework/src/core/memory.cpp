@@ -1,0 +1,174 @@
+// Allocation and copies for both memory spaces. The only place that calls the CUDA
+// runtime's allocator, so every buffer of the core and of plugins goes through one
+// runtime (DESIGN.md: shared cudart, one primary context).
+#include "scree/exec/memory.hpp"
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "scree/exec/parallel.hpp"
+
+#if defined(SCREE_HAVE_CUDA)
+#include <cuda_runtime_api.h>
+#endif
+
+namespace scree {
+
+const char* to_string(Device d) { return d == Device::cuda ? "cuda" : "cpu"; }
+
+namespace {
+struct Usage {
+  std::mutex m;
+  std::unordered_map<void*, std::size_t> sizes;
+  std::size_t in_use = 0, peak = 0;
+};
+Usage& usage(Device d) {
+  static Usage u[2];
+  return u[d == Device::cuda ? 1 : 0];
+}
+void track_alloc(Device d, void* p, std::size_t bytes) {
+  auto& u = usage(d);
+  std::lock_guard lock(u.m);
+  u.sizes[p] = bytes;
+  u.in_use += bytes;
+  if (u.in_use > u.peak) u.peak = u.in_use;
+}
+void track_free(Device d, void* p) {
+  auto& u = usage(d);
+  std::lock_guard lock(u.m);
+  auto it = u.sizes.find(p);
+  if (it != u.sizes.end()) {
+    u.in_use -= it->second;
+    u.sizes.erase(it);
+  }
+}
+#if defined(SCREE_HAVE_CUDA)
+void check(cudaError_t e, const char* what) {
+  if (e != cudaSuccess)
+    throw std::runtime_error(std::string("CUDA error in ") + what + ": " + cudaGetErrorString(e));
+}
+#endif
+[[noreturn]] void no_cuda() {
+  throw std::runtime_error("this build of Scree has no CUDA backend (rebuild with -DSCREE_WITH_CUDA=ON)");
+}
+}  // namespace
+
+void check_cuda_launch(const char* what) {
+#if defined(SCREE_HAVE_CUDA)
+  check(cudaGetLastError(), what);
+#else
+  (void)what;
+#endif
+}
+
+namespace mem {
+
+void* allocate(std::size_t bytes, Device d) {
+  if (bytes == 0) return nullptr;
+  void* p = nullptr;
+  if (d == Device::cpu) {
+    // 64-byte alignment: whole cache lines, and SIMD-friendly.
+    p = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
+    if (!p) throw std::bad_alloc();
+  } else {
+#if defined(SCREE_HAVE_CUDA)
+    check(cudaMalloc(&p, bytes), "cudaMalloc");
+#else
+    no_cuda();
+#endif
+  }
+  track_alloc(d, p, bytes);
+  return p;
+}
+
+void deallocate(void* p, Device d) noexcept {
+  if (!p) return;
+  track_free(d, p);
+  if (d == Device::cpu) {
+    std::free(p);
+  } else {
+#if defined(SCREE_HAVE_CUDA)
+    cudaFree(p);
+#endif
+  }
+}
+
+void copy(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes) {
+  if (bytes == 0) return;
+  if (dst_space == Device::cpu && src_space == Device::cpu) {
+    std::memcpy(dst, src, bytes);
+    return;
+  }
+#if defined(SCREE_HAVE_CUDA)
+  check(cudaMemcpy(dst, src, bytes, cudaMemcpyDefault), "cudaMemcpy");
+#else
+  no_cuda();
+#endif
+}
+
+void fill_zero(void* p, std::size_t bytes, Device d) {
+  if (bytes == 0) return;
+  if (d == Device::cpu) {
+    std::memset(p, 0, bytes);
+    return;
+  }
+#if defined(SCREE_HAVE_CUDA)
+  check(cudaMemset(p, 0, bytes), "cudaMemset");
+#else
+  no_cuda();
+#endif
+}
+
+bool cuda_compiled() {
+#if defined(SCREE_HAVE_CUDA)
+  return true;
+#else
+  return false;
+#endif
+}
+
+bool cuda_available() {
+#if defined(SCREE_HAVE_CUDA)
+  int n = 0;
+  if (cudaGetDeviceCount(&n) != cudaSuccess) {
+    cudaGetLastError();  // clear the sticky "no device" error
+    return false;
+  }
+  return n > 0;
+#else
+  return false;
+#endif
+}
+
+void synchronize(Device d) {
+#if defined(SCREE_HAVE_CUDA)
+  if (d == Device::cuda) check(cudaDeviceSynchronize(), "cudaDeviceSynchronize");
+#else
+  (void)d;
+#endif
+}
+
+std::size_t bytes_in_use(Device d) {
+  auto& u = usage(d);
+  std::lock_guard lock(u.m);
+  return u.in_use;
+}
+std::size_t peak_bytes(Device d) {
+  auto& u = usage(d);
+  std::lock_guard lock(u.m);
+  return u.peak;
+}
+void reset_peak(Device d) {
+  auto& u = usage(d);
+  std::lock_guard lock(u.m);
+  u.peak = u.in_use;
+}
+
+}  // namespace mem
+}  // namespace scree

@@ -1,0 +1,79 @@
+// The grid-update kernel (compiled as CUDA when the CUDA backend is on).
+#include "scree/mpm/grid_update.hpp"
+
+#include <cmath>
+
+namespace scree {
+namespace {
+
+template <int D>
+struct GridUpdate {
+  GridUpdateParams<D> p;
+
+  SCREE_HD void operator()(Index I) const {
+    StepControl* ctl = p.control;
+    const int par = p.parity;
+    const Real t = ctl->t[par], dt = ctl->dt[par];
+    const GridFields<D>& g = p.cur;
+    const Real m = g.mass[I];
+    const bool has_mass = m > p.mass_eps;
+    const ConstraintMask mask = p.masks ? p.masks[I] : 0;
+
+    if (p.modes & (kNormalize | kRemap)) {
+      Real v[D];
+      for (int d = 0; d < D; ++d) v[d] = has_mass ? g.momentum[d][I] / m : Real(0);
+      if (mask) apply_constraints<D>(p.constraints, mask, v, t);
+      for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
+    }
+    if (p.modes & kIntegrate) {
+      Real v[D];
+      const bool damp = p.damping > 0 && t >= p.damping_start && t < p.damping_end;
+      for (int d = 0; d < D; ++d) {
+        const Real vk = g.velocity[d][I];
+        Real f = g.force[d][I];
+        if (damp && vk != 0) f -= p.damping * fabs(f) * (vk > 0 ? Real(1) : Real(-1));
+        v[d] = has_mass ? vk + dt * f / m : Real(0);
+      }
+      if (mask) apply_constraints<D>(p.constraints, mask, v, t);
+      for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
+    }
+    if (p.modes & kZeroMomentum)
+      for (int d = 0; d < D; ++d) g.momentum[d][I] = 0;
+    if (p.modes & kZeroOther) {
+      p.other.mass[I] = 0;
+      for (int d = 0; d < D; ++d) {
+        p.other.momentum[d][I] = 0;
+        p.other.force[d][I] = 0;
+      }
+    }
+    if ((p.modes & kAdvance) && I == 0) advance(ctl, par, t, dt);
+  }
+
+  /// Time control for the next step (slot 1 - par). Only node 0's thread runs this; it
+  /// writes slots nobody else reads in this step.
+  SCREE_HD static void advance(StepControl* c, int par, Real t, Real dt) {
+    const Real t1 = t + dt;
+    Real dt1 = c->dt_max;
+    if (c->cfl > 0 && c->max_speed[par] > 0) dt1 = fmin(dt1, c->cfl * c->h / c->max_speed[par]);
+    const Real remaining = c->t_target - t1;
+    // Land exactly on the target; never leave a sliver shorter than 1e-6 dt.
+    if (remaining <= Real(1e-9) * dt1) dt1 = 0;
+    else if (remaining < dt1 * (1 + Real(1e-6))) dt1 = remaining;
+    c->t[1 - par] = t1;
+    c->dt[1 - par] = dt1;
+    c->max_speed[par] = 0;
+    if (dt > 0) c->steps_done += 1;
+  }
+};
+
+}  // namespace
+
+template <int D>
+void grid_update(const Exec& ex, const GridUpdateParams<D>& p) {
+  parallel_for(ex, p.grid.num_nodes(), GridUpdate<D>{p});
+}
+
+template void grid_update<2>(const Exec&, const GridUpdateParams<2>&);
+template void grid_update<3>(const Exec&, const GridUpdateParams<3>&);
+
+}  // namespace scree

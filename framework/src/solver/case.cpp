@@ -1,0 +1,271 @@
+// Reading and validating a whole case (see case.hpp for the layout).
+#include "scree/solver/case.hpp"
+
+#include <set>
+
+namespace fs = std::filesystem;
+
+namespace scree {
+
+const CoreSpecs& CoreSpecs::get() {
+  static const CoreSpecs specs = [] {
+    CoreSpecs s;
+    // ---- system/controlDict ----
+    auto c = std::make_shared<ParamSpec>("controlDict", "time control, output and plugins (system/controlDict)");
+    c->word("application", "the solver (informational)").default_value("scree");
+    c->scalar("startTime", "s", "start time (restart is not supported yet: 0)").default_value(0.0).range(0, 0);
+    c->scalar("endTime", "s", "end time").positive();
+    c->scalar("deltaT", "s", "time step (the first step when adjustTimeStep is on)").positive();
+    c->boolean("adjustTimeStep", "adapt the time step to the CFL condition with maxCo").default_value("no");
+    c->scalar("maxCo", "-", "CFL number for adjustTimeStep: dt = maxCo h / max(c + |v|)")
+        .default_value(0.5)
+        .range(0, 1)
+        .open_min();
+    c->scalar("maxDeltaT", "s", "largest time step with adjustTimeStep (default: deltaT)").optional().positive();
+    c->word("writeControl", "when to write: timeStep (every writeInterval steps), runTime or "
+                            "adjustableRunTime (every writeInterval seconds of simulated time)")
+        .choices({"timeStep", "runTime", "adjustableRunTime"})
+        .default_value("adjustableRunTime");
+    c->scalar("writeInterval", "s or steps", "interval between writes (see writeControl)").positive();
+    c->word_list("libs", "extra plugin libraries to load, e.g. (\"libmyMaterial.so\")").optional();
+    c->dict("writers", "output writers: name { type vtk; ... }").optional();
+    c->dict("functions", "function objects: name { type runOut; ... }").optional();
+    c->integer("progressInterval", "steps between progress reports (0: automatic, about 2 per second)")
+        .default_value(0.0)
+        .non_negative();
+    c->allow_keys({"FoamFile"});
+    s.control = c;
+
+    // ---- system/mpmSchemes ----
+    auto m = std::make_shared<ParamSpec>("mpmSchemes", "MPM algorithm choices (system/mpmSchemes)");
+    m->word("updateScheme", "USF: stress from the velocity mapped at the start of the step (the paper's); "
+                            "USL: stress from the updated grid velocity (one fused particle pass per step); "
+                            "MUSL: USL with the velocity re-mapped from the updated particles")
+        .choices({"USF", "USL", "MUSL"})
+        .default_value("USF");
+    m->word("shapeFunction", "linear: the paper's tent functions; gimp: uGIMP; bspline2: quadratic B-spline "
+                             "(the last two remove cell-crossing noise)")
+        .choices({"linear", "gimp", "bspline2"})
+        .default_value("linear");
+    m->word("transfer", "particle velocity update: FLIP (blended with PIC by picFraction) or APIC")
+        .choices({"FLIP", "APIC"})
+        .default_value("FLIP");
+    m->scalar("picFraction", "-", "PIC share of the FLIP/PIC blend (0: pure FLIP, the paper's eq. 10)")
+        .default_value(0.0)
+        .range(0, 1);
+    auto damp = std::make_shared<ParamSpec>("damping", "local non-viscous damping (Cundall)");
+    damp->word("type", "damping model").choices({"local", "none"}).default_value("local");
+    damp->scalar("coefficient", "-", "fraction of the unbalanced nodal force removed against the motion")
+        .range(0, 1);
+    damp->scalar("startTime", "s", "damping acts from this time").default_value(0.0);
+    damp->scalar("endTime", "s", "damping acts until this time (e.g. the end of a consolidation stage)")
+        .default_value(1e300);
+    m->dict("damping", "optional local damping, e.g. during a consolidation stage").sub_spec(damp).optional();
+    m->integer("sortInterval", "re-sort particles by cell every this many steps (0: never)")
+        .default_value(0.0)
+        .non_negative();
+    m->scalar("massTolerance", "-", "nodes lighter than this fraction of the lightest particle are empty")
+        .default_value(1e-6)
+        .range(0, 1);
+    m->allow_keys({"FoamFile"});
+    s.schemes = m;
+
+    // ---- system/gridDict ----
+    auto g = std::make_shared<ParamSpec>("gridDict", "background grid (system/gridDict)");
+    g->integer("dimension", "2 (plane strain) or 3").range(2, 3);
+    g->vector("lower", "m", "lower corner of the domain").size(-1);
+    g->vector("upper", "m", "upper corner of the domain").size(-1);
+    g->scalar("cellSize", "m", "cell size h (square/cubic cells)").positive();
+    g->integer("ghostLayers", "node layers added outside the domain for the stencils")
+        .default_value(2.0)
+        .range(1, 8);
+    g->allow_keys({"FoamFile"});
+    g->check([](const Dictionary& d, std::vector<InputError>& errors) {
+      const auto lo = d.at("lower").as_scalar_list(), hi = d.at("upper").as_scalar_list();
+      for (std::size_t i = 0; i < lo.size() && i < hi.size(); ++i)
+        if (!(hi[i] > lo[i]))
+          errors.emplace_back(d.at("upper").where(), "upper: each component must exceed lower's (component " +
+                                                         std::to_string(i) + ")");
+    });
+    s.grid = g;
+
+    // ---- constant/g ----
+    auto gr = std::make_shared<ParamSpec>("g", "gravitational acceleration (constant/g)");
+    gr->vector("value", "m/s^2", "gravity vector, e.g. (0 -9.81)").size(-1);
+    gr->any("dimensions", "OpenFOAM dimension set (ignored)").optional();
+    gr->allow_keys({"FoamFile"});
+    s.gravity = gr;
+
+    // ---- a body in constant/bodies ----
+    auto b = std::make_shared<ParamSpec>("body", "a set of particles with one material (constant/bodies)");
+    b->word("material", "name of a material in constant/materialProperties");
+    auto region = std::make_shared<ParamSpec>("region", "where the particles are");
+    region->word("type", "rectangle (2D) / box (3D): lower..upper; polygon (2D): points")
+        .choices({"rectangle", "box", "polygon"});
+    region->vector("lower", "m", "lower corner (rectangle, box)").size(-1).optional();
+    region->vector("upper", "m", "upper corner (rectangle, box)").size(-1).optional();
+    region->list("points", "polygon vertices ((x0 y0) (x1 y1) ...), in order").optional();
+    region->check([](const Dictionary& d, std::vector<InputError>& errors) {
+      const std::string t = d.get_word("type");
+      if ((t == "rectangle" || t == "box") && (!d.has("lower") || !d.has("upper")))
+        errors.emplace_back(d.where(), "region of type " + t + " needs lower and upper");
+      if (t == "polygon" && !d.has("points")) errors.emplace_back(d.where(), "region of type polygon needs points");
+    });
+    b->dict("region", "the region filled with particles").sub_spec(region);
+    b->integer("particlesPerCell", "particles per cell along each axis (2: 4 per cell in 2D)")
+        .default_value(2.0)
+        .range(1, 8);
+    b->vector("velocity", "m/s", "initial velocity").size(-1).optional();
+    auto init = std::make_shared<ParamSpec>("initialStress", "initial stress");
+    init->word("type", "none, or geostatic: sigma_v = -rho |g| depth, sigma_h = K0 sigma_v")
+        .choices({"none", "geostatic"});
+    init->scalar("K0", "-", "lateral earth pressure coefficient (geostatic)").default_value(0.5).non_negative();
+    init->scalar("surface", "m", "elevation of the free surface along -g (default: top of the body)").optional();
+    b->dict("initialStress", "initial stress (default none)").sub_spec(init).optional();
+    s.body = b;
+    return s;
+  }();
+  return specs;
+}
+
+namespace {
+
+/// Read a case file; a parse error is recorded and an empty dictionary returned.
+Dictionary read_or_record(const fs::path& dir, const std::string& rel, std::vector<InputError>& errors,
+                          bool required = true) {
+  const fs::path p = dir / rel;
+  std::error_code ec;
+  if (!fs::exists(p, ec)) {
+    if (required) errors.emplace_back(SourceLocation{std::make_shared<std::string>(rel), 0, 0},
+                                      "missing case file (expected " + p.string() + ")");
+    Dictionary d(rel, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
+    return d;
+  }
+  try {
+    return Dictionary::read_file(p, rel);
+  } catch (const InputError& e) {
+    errors.push_back(e);
+  } catch (const InputErrors& e) {
+    for (auto& x : e.errors()) errors.push_back(x);
+  }
+  return Dictionary(rel, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
+}
+
+/// Validate each `name { type X; ... }` entry of `d` against the spec of plugin X.
+void validate_plugin_entries(const Dictionary& d, PluginKind kind, const Registry& reg,
+                             std::vector<InputError>& errors, int dim,
+                             const std::vector<std::string>& extra_keys = {}) {
+  for (const Entry& e : d.entries()) {
+    if (e.key() == "FoamFile") continue;
+    if (!e.is_dict()) {
+      errors.emplace_back(e.where(), "'" + e.key() + "': expected a dictionary { type ...; ... }, found " +
+                                         e.value_string());
+      continue;
+    }
+    const Dictionary& sub = e.dict();
+    const Entry* type = sub.find("type");
+    if (!type) {
+      errors.emplace_back(sub.where(), "'" + sub.name() + "': missing entry 'type' (the " +
+                                           std::string(to_string(kind)) + " to use)");
+      continue;
+    }
+    try {
+      const PluginEntry& pe = reg.get(kind, type->as_word(), type->where());
+      if (extra_keys.empty()) {
+        validate(*pe.spec, sub, errors, dim);
+      } else {
+        ParamSpec s = *pe.spec;
+        s.allow_keys(extra_keys);
+        validate(s, sub, errors, dim);
+      }
+    } catch (const InputError& err) {
+      errors.push_back(err);
+    }
+  }
+}
+
+}  // namespace
+
+Case Case::read(const fs::path& dir, PluginRuntime& rt) {
+  Case c;
+  c.dir_ = dir;
+  std::vector<InputError> errors;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw InputError(SourceLocation{std::make_shared<std::string>(dir.string()), 0, 0},
+                     "not a case directory (it must contain system/ and constant/)");
+
+  c.control_ = read_or_record(dir, "system/controlDict", errors);
+  c.schemes_ = read_or_record(dir, "system/mpmSchemes", errors, false);
+  c.grid_ = read_or_record(dir, "system/gridDict", errors);
+  c.gravity_ = read_or_record(dir, "constant/g", errors);
+  c.materials_ = read_or_record(dir, "constant/materialProperties", errors);
+  c.bodies_ = read_or_record(dir, "constant/bodies", errors);
+  c.boundaries_ = read_or_record(dir, "constant/boundaryConditions", errors, false);
+
+  // Plugins named by the case come first: their specs are needed below.
+  try {
+    rt.load_libs(c.control_, dir);
+  } catch (const InputError& e) {
+    errors.push_back(e);
+  }
+
+  const CoreSpecs& cs = CoreSpecs::get();
+  if (const Entry* d = c.grid_.find("dimension")) {
+    try {
+      c.dimension_ = static_cast<int>(d->as_integer());
+    } catch (const InputError&) {
+    }
+  }
+  const int dim = (c.dimension_ == 3) ? 3 : 2;
+  validate(*cs.control, c.control_, errors, dim);
+  validate(*cs.schemes, c.schemes_, errors, dim);
+  validate(*cs.grid, c.grid_, errors, dim);
+  validate(*cs.gravity, c.gravity_, errors, dim);
+
+  const Registry& reg = rt.registry();
+  validate_plugin_entries(c.materials_, PluginKind::material, reg, errors, dim);
+  validate_plugin_entries(c.boundaries_, PluginKind::boundaryCondition, reg, errors, dim);
+  if (const Entry* w = c.control_.find("writers"); w && w->is_dict())
+    validate_plugin_entries(w->dict(), PluginKind::writer, reg, errors, dim);
+  if (const Entry* f = c.control_.find("functions"); f && f->is_dict())
+    validate_plugin_entries(f->dict(), PluginKind::functionObject, reg, errors, dim);
+
+  // Bodies: the core spec, and the material must exist.
+  std::vector<std::string> materials;
+  for (const Entry& e : c.materials_.entries())
+    if (e.is_dict() && e.key() != "FoamFile") materials.push_back(e.key());
+  int nbodies = 0;
+  for (const Entry& e : c.bodies_.entries()) {
+    if (e.key() == "FoamFile") continue;
+    if (!e.is_dict()) {
+      errors.emplace_back(e.where(), "'" + e.key() + "': expected a body dictionary { material ...; region {...} }");
+      continue;
+    }
+    ++nbodies;
+    const Dictionary& b = e.dict();
+    validate(*cs.body, b, errors, dim);
+    if (const Entry* m = b.find("material")) {
+      try {
+        const std::string name = m->as_word();
+        if (std::find(materials.begin(), materials.end(), name) == materials.end()) {
+          std::string msg = "material: '" + name + "' is not defined in constant/materialProperties";
+          const std::string near = nearest_name(name, materials);
+          if (!near.empty()) msg += "; did you mean '" + near + "'?";
+          msg += " Defined: ";
+          for (std::size_t i = 0; i < materials.size(); ++i) msg += (i ? ", " : "") + materials[i];
+          errors.emplace_back(m->where(), msg);
+        }
+      } catch (const InputError& err) {
+        errors.push_back(err);
+      }
+    }
+  }
+  if (nbodies == 0 && c.bodies_.where().line >= 0)
+    errors.emplace_back(c.bodies_.where(), "constant/bodies defines no body (name { material ...; region {...} })");
+
+  if (!errors.empty()) throw InputErrors(std::move(errors));
+  return c;
+}
+
+}  // namespace scree

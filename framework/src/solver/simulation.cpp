@@ -1,0 +1,49 @@
+// Simulation: dispatches to Solver<2> or Solver<3> by the case's dimension.
+#include "scree/solver/simulation.hpp"
+
+#include <variant>
+
+#include "solver.hpp"
+
+namespace scree {
+
+struct Simulation::Impl {
+  std::variant<std::unique_ptr<Solver<2>>, std::unique_ptr<Solver<3>>> solver;
+  template <class F>
+  decltype(auto) visit(F&& f) {
+    return std::visit([&](auto& s) -> decltype(auto) { return f(*s); }, solver);
+  }
+};
+
+Simulation::Simulation(const Case& c, PluginRuntime& rt, const RunOptions& o) : impl_(std::make_unique<Impl>()) {
+  if (c.dimension() == 3)
+    impl_->solver = std::make_unique<Solver<3>>(c, rt, o);
+  else
+    impl_->solver = std::make_unique<Solver<2>>(c, rt, o);
+}
+Simulation::~Simulation() = default;
+
+int Simulation::dimension() const { return impl_->solver.index() == 0 ? 2 : 3; }
+RunStats Simulation::run() {
+  return impl_->visit([](auto& s) { return s.run(); });
+}
+void Simulation::advance_to(double t, bool with_output) {
+  impl_->visit([&](auto& s) { s.advance_to(t, with_output); });
+}
+void Simulation::run_steps(std::int64_t n) {
+  impl_->visit([&](auto& s) { s.run_steps(n); });
+}
+Snapshot Simulation::snapshot(bool with_grid) {
+  return impl_->visit([&](auto& s) { return s.snapshot(with_grid); });
+}
+double Simulation::time() const {
+  return std::visit([](auto& s) { return s->time(); }, impl_->solver);
+}
+std::int64_t Simulation::steps() const {
+  return std::visit([](auto& s) { return s->steps(); }, impl_->solver);
+}
+RunStats Simulation::stats() const {
+  return std::visit([](auto& s) { return s->stats(); }, impl_->solver);
+}
+
+}  // namespace scree

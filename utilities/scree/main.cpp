@@ -1,0 +1,169 @@
+// scree: the solver executable.
+//
+//   scree [--case DIR] [--device cpu|cuda] [--threads N]    run a case
+//   scree --case DIR --check                                  validate a case and exit
+//   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
+//   scree --version | --help
+//
+// Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message),
+// 2 bad command line, 3 a failure while running.
+#include <omp.h>
+
+#include <boost/program_options.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include "scree/exec/memory.hpp"
+#include "scree/plugin/loader.hpp"
+#include "scree/solver/case.hpp"
+#include "scree/solver/simulation.hpp"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+void print_plugins(const scree::PluginRuntime& rt, const std::string& only) {
+  using scree::PluginKind;
+  bool any = false;
+  if (only.empty() || only == "case") {
+    const auto& cs = scree::CoreSpecs::get();
+    std::cout << "== case dictionaries ==\n\n";
+    for (auto* s : {cs.control.get(), cs.schemes.get(), cs.grid.get(), cs.gravity.get(), cs.body.get()}) {
+      std::cout << s->name() << ": " << s->doc() << "\n" << s->describe(4) << "\n";
+    }
+    any = true;
+  }
+  for (PluginKind k : scree::all_plugin_kinds()) {
+    if (!only.empty() && only != scree::to_string(k)) continue;
+    any = true;
+    std::cout << "== " << scree::to_string(k) << " ==\n\n";
+    for (const scree::PluginEntry* e : rt.registry().entries(k)) {
+      std::cout << e->name << "  (" << fs::path(e->library).filename().string() << ")\n";
+      std::cout << "    " << e->spec->doc() << "\n";
+      if (e->spec->params().empty())
+        std::cout << "    (no parameters)\n";
+      else
+        std::cout << e->spec->describe(4);
+      std::cout << "\n";
+    }
+  }
+  if (!any) {
+    std::cerr << "scree: --list-plugins: unknown kind '" << only
+              << "'; valid: material, boundaryCondition, writer, functionObject, case\n";
+    std::exit(2);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  po::options_description opts("scree: GPU material point method for granular flows and soils\n\nOptions");
+  opts.add_options()
+      ("help,h", "print this help")
+      ("version", "print the version")
+      ("case,c", po::value<std::string>()->default_value("."), "case directory")
+      ("device,d", po::value<std::string>(), "backend: cpu or cuda (default: cuda when a GPU is present)")
+      ("threads,t", po::value<int>(), "CPU threads (default: all cores)")
+      ("check", "validate the case (every dictionary and plugin) and exit")
+      ("list-plugins", po::value<std::string>()->implicit_value(""),
+       "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
+      ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
+      ("no-output", "run without writers and function objects (benchmarks)")
+      ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs");
+  po::variables_map vm;
+  try {
+    po::store(po::parse_command_line(argc, argv, opts), vm);
+    po::notify(vm);
+  } catch (const std::exception& e) {
+    std::cerr << "scree: " << e.what() << "\n" << opts << "\n";
+    return 2;
+  }
+  if (vm.count("help")) {
+    std::cout << opts << "\n";
+    return 0;
+  }
+  if (vm.count("version")) {
+    std::cout << "scree " << SCREE_VERSION << " (plugin ABI " << scree::kPluginAbiVersion << ", CUDA backend "
+              << (scree::mem::cuda_compiled() ? "compiled" : "not compiled") << ")\n";
+    return 0;
+  }
+
+  scree::PluginRuntime rt;
+  try {
+    rt.load_default_plugins();
+  } catch (const scree::InputError& e) {
+    std::cerr << "scree: " << e.what() << "\n";
+    return 1;
+  }
+  if (vm.count("list-plugins")) {
+    print_plugins(rt, vm["list-plugins"].as<std::string>());
+    return 0;
+  }
+
+  // Backend.
+  scree::RunOptions opt;
+  const bool gpu = scree::mem::cuda_available();
+  if (vm.count("device")) {
+    const std::string d = vm["device"].as<std::string>();
+    if (d == "cpu") {
+      opt.device = scree::Device::cpu;
+    } else if (d == "cuda") {
+      if (!scree::mem::cuda_compiled()) {
+        std::cerr << "scree: --device cuda: this build has no CUDA backend (configure with -DSCREE_WITH_CUDA=ON)\n";
+        return 2;
+      }
+      if (!gpu) {
+        std::cerr << "scree: --device cuda: no usable CUDA GPU found\n";
+        return 2;
+      }
+      opt.device = scree::Device::cuda;
+    } else {
+      std::cerr << "scree: --device: expected cpu or cuda, found '" << d << "'\n";
+      return 2;
+    }
+  } else {
+    opt.device = gpu ? scree::Device::cuda : scree::Device::cpu;
+    std::cout << "scree: backend " << scree::to_string(opt.device)
+              << (gpu ? " (a CUDA GPU is present)"
+                      : (scree::mem::cuda_compiled() ? " (no CUDA GPU found)" : " (built without CUDA)"))
+              << "\n";
+  }
+  opt.threads = vm.count("threads") ? vm["threads"].as<int>() : omp_get_max_threads();
+  if (opt.threads < 1) {
+    std::cerr << "scree: --threads: expected a positive number\n";
+    return 2;
+  }
+  opt.max_steps = vm["max-steps"].as<long long>();
+  opt.output = !vm.count("no-output");
+  opt.use_graphs = !vm.count("no-graphs");
+
+  const fs::path dir = vm["case"].as<std::string>();
+  try {
+    scree::Case c = scree::Case::read(dir, rt);
+    if (vm.count("check")) {
+      std::cout << "scree: case " << dir.string() << " is valid\n";
+      return 0;
+    }
+    scree::Simulation sim(c, rt, opt);
+    const scree::RunStats st = sim.run();
+    std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in "
+              << st.wall_seconds << " s wall (" << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0)
+              << " steps/s, " << st.particles << " particles)\n";
+    if (st.lost_particles)
+      std::cout << "scree: warning: " << st.lost_particles << " particle(s) left the grid during the run\n";
+  } catch (const scree::InputErrors& e) {
+    for (const auto& err : e.errors()) std::cerr << err.what() << "\n";
+    std::cerr << "scree: " << e.errors().size() << " error(s) in case " << dir.string() << "; nothing was run\n";
+    return 1;
+  } catch (const scree::InputError& e) {
+    std::cerr << e.what() << "\nscree: error in case " << dir.string() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "scree: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}
