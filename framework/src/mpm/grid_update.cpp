@@ -16,13 +16,22 @@ struct GridUpdate {
     const Real t = ctl->t[par], dt = ctl->dt[par];
     const GridFields<D>& g = p.cur;
     const Real m = g.mass[I];
-    const bool has_mass = m > p.mass_eps;
+    // Any node with mass gets a velocity p/m (a ratio of weighted sums, well defined);
+    // only nodes heavier than mass_eps are accelerated by f/m: a node at the far edge of
+    // a particle's stencil has a tiny mass but an O(1/h) share of its internal force.
+    const bool has_mass = m > 0;
+    const bool accelerate = m > p.mass_eps;
     const ConstraintMask mask = p.masks ? p.masks[I] : 0;
+    Real x[D];
+    if (mask) {
+      const Vec<D> xn = p.grid.node_position(I);
+      for (int d = 0; d < D; ++d) x[d] = xn[d];
+    }
 
     if (p.modes & (kNormalize | kRemap)) {
       Real v[D];
       for (int d = 0; d < D; ++d) v[d] = has_mass ? g.momentum[d][I] / m : Real(0);
-      if (mask) apply_constraints<D>(p.constraints, mask, v, t);
+      if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
     if (p.modes & kIntegrate) {
@@ -32,9 +41,9 @@ struct GridUpdate {
         const Real vk = g.velocity[d][I];
         Real f = g.force[d][I];
         if (damp && vk != 0) f -= p.damping * fabs(f) * (vk > 0 ? Real(1) : Real(-1));
-        v[d] = has_mass ? vk + dt * f / m : Real(0);
+        v[d] = accelerate ? vk + dt * f / m : vk;
       }
-      if (mask) apply_constraints<D>(p.constraints, mask, v, t);
+      if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }
     if (p.modes & kZeroMomentum)

@@ -64,10 +64,16 @@ const CoreSpecs& CoreSpecs::get() {
     m->integer("sortInterval", "re-sort particles by cell every this many steps (0: never)")
         .default_value(0.0)
         .non_negative();
-    m->scalar("massTolerance", "-", "nodes lighter than this fraction of the lightest particle are empty")
+    m->scalar("massTolerance", "-", "nodes lighter than this fraction of the lightest particle are not accelerated")
         .default_value(1e-6)
         .range(0, 1);
     m->allow_keys({"FoamFile"});
+    m->check([](const Dictionary& d, std::vector<InputError>& errors) {
+      if (d.get_word_or("transfer", "FLIP") == "APIC" && d.get_word_or("shapeFunction", "linear") == "linear")
+        errors.emplace_back(d.has("transfer") ? d.at("transfer").where() : d.where(),
+                            "transfer APIC needs shapeFunction gimp or bspline2: with linear shape functions "
+                            "its affine velocity (sum v_I grad N_I) amplifies round-off after cell crossings");
+    });
     s.schemes = m;
 
     // ---- system/gridDict ----
@@ -116,9 +122,22 @@ const CoreSpecs& CoreSpecs::get() {
         .default_value(2.0)
         .range(1, 8);
     b->vector("velocity", "m/s", "initial velocity").size(-1).optional();
+    b->scalar_list("angularVelocity", "rad/s",
+                   "initial rigid rotation: (omega_z) in 2D (counter-clockwise positive), (wx wy wz) in 3D")
+        .optional();
+    b->vector("rotationCentre", "m", "centre of angularVelocity (default: the body's centroid)").size(-1).optional();
     auto init = std::make_shared<ParamSpec>("initialStress", "initial stress");
-    init->word("type", "none, or geostatic: sigma_v = -rho |g| depth, sigma_h = K0 sigma_v")
-        .choices({"none", "geostatic"});
+    init->word("type", "none; geostatic: sigma_v = -rho |g| depth, sigma_h = K0 sigma_v; uniform: `stress`")
+        .choices({"none", "geostatic", "uniform"});
+    init->scalar_list("stress", "Pa", "uniform initial stress (xx yy zz xy yz zx), tension positive").optional();
+    init->check([](const Dictionary& d, std::vector<InputError>& errors) {
+      if (d.get_word("type") == "uniform") {
+        if (!d.has("stress"))
+          errors.emplace_back(d.where(), "initialStress of type uniform needs stress (xx yy zz xy yz zx)");
+        else if (d.at("stress").as_scalar_list().size() != 6)
+          errors.emplace_back(d.at("stress").where(), "stress: expected 6 components (xx yy zz xy yz zx)");
+      }
+    });
     init->scalar("K0", "-", "lateral earth pressure coefficient (geostatic)").default_value(0.5).non_negative();
     init->scalar("surface", "m", "elevation of the free surface along -g (default: top of the body)").optional();
     b->dict("initialStress", "initial stress (default none)").sub_spec(init).optional();

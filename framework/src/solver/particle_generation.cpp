@@ -113,9 +113,43 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
     for (int d = 0; d < D; ++d) v0[d] = v[d];
   }
   out.v.assign(out.x.size(), v0);
+  if (const Entry* e = body.find("angularVelocity")) {
+    const auto w = e->as_scalar_list();
+    if (static_cast<int>(w.size()) != (D == 2 ? 1 : 3))
+      throw InputError(e->where(), std::string("angularVelocity: expected ") +
+                                       (D == 2 ? "(omega_z): one component in 2D" : "(wx wy wz) in 3D") +
+                                       ", found " + e->value_string());
+    Vec<D> c = Vec<D>::zero();
+    if (const Entry* ce = body.find("rotationCentre")) {
+      const auto cc = ce->as_scalar_list();
+      for (int d = 0; d < D; ++d) c[d] = cc[d];
+    } else {
+      for (auto& x : out.x) c += x;
+      c *= Real(1) / static_cast<Real>(out.x.size());
+    }
+    // Omega (skew) with Omega r = w x r.
+    Mat<D> W = Mat<D>::zero();
+    if constexpr (D == 2) {
+      W.a[0][1] = -w[0];
+      W.a[1][0] = w[0];
+    } else {
+      W.a[0][1] = -w[2];
+      W.a[1][0] = w[2];
+      W.a[0][2] = w[1];
+      W.a[2][0] = -w[1];
+      W.a[1][2] = -w[0];
+      W.a[2][1] = w[0];
+    }
+    for (std::size_t p = 0; p < out.x.size(); ++p) out.v[p] += W * (out.x[p] - c);
+    out.velocity_gradient = W;
+  }
 
   // Initial stress.
   out.sigma.assign(out.x.size(), Sym3::zero());
+  if (const Entry* e = body.find("initialStress"); e && e->dict().get_word("type") == "uniform") {
+    const auto v = e->dict().at("stress").as_scalar_list();
+    out.sigma.assign(out.x.size(), Sym3{{v[0], v[1], v[2], v[3], v[4], v[5]}});
+  }
   if (const Entry* e = body.find("initialStress"); e && e->dict().get_word("type") == "geostatic") {
     const Dictionary& s = e->dict();
     const Real K0 = s.get_scalar_or("K0", 0.5);

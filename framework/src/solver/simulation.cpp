@@ -36,6 +36,9 @@ void Simulation::run_steps(std::int64_t n) {
 Snapshot Simulation::snapshot(bool with_grid) {
   return impl_->visit([&](auto& s) { return s.snapshot(with_grid); });
 }
+void Simulation::set_velocities(std::size_t body, const std::vector<double>& v) {
+  impl_->visit([&](auto& s) { s.set_velocities(body, v); });
+}
 double Simulation::time() const {
   return std::visit([](auto& s) { return s->time(); }, impl_->solver);
 }

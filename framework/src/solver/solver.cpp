@@ -245,6 +245,7 @@ void Solver<D>::setup_bodies() {
     s.v = std::move(gp.v);
     s.volume = std::move(gp.volume);
     s.sigma = std::move(gp.sigma);
+    s.velocity_gradient = gp.velocity_gradient;
     s.first_id = next_id;
     next_id += static_cast<std::int64_t>(s.x.size());
     for (Real v : s.volume) min_mass = std::min(min_mass, v * density);
@@ -703,6 +704,13 @@ Snapshot Solver<D>::snapshot(bool with_grid) {
     s.grid.fields.push_back(std::move(vel));
   }
   return s;
+}
+
+template <int D>
+void Solver<D>::set_velocities(std::size_t body, const std::vector<Real>& v) {
+  if (step_ > 0) throw std::logic_error("set_velocities: only before the first step");
+  bodies_.at(body)->set_velocities(v);
+  check_time_step();
 }
 
 template <int D>

@@ -72,6 +72,7 @@ class Solver {
   void advance_to(double t, bool with_output);
   void run_steps(std::int64_t n);
   Snapshot snapshot(bool with_grid);
+  void set_velocities(std::size_t body, const std::vector<Real>& v);
   double time() const { return host_ctl_.t[step_ % 2]; }
   std::int64_t steps() const { return step_; }
   RunStats stats() const;

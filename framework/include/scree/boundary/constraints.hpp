@@ -23,6 +23,7 @@ enum class ConstraintType : int {
   fixed = 0,     ///< v = prescribed value (zero: no-slip)
   slip = 1,      ///< v.n = 0 (roller), or only v.n >= 0 when `separable` (contact)
   friction = 2,  ///< Coulomb friction on a wall with normal n (pointing into the material)
+  rotation = 3,  ///< v = omega x (x_node - centre): a rigidly rotating wall or drive
 };
 
 struct Constraint {
@@ -30,16 +31,26 @@ struct Constraint {
   Real normal[3] = {0, 0, 0};  ///< unit normal pointing into the material (slip, friction)
   Real value[3] = {0, 0, 0};   ///< prescribed velocity (fixed) [m/s]
   Real mu = 0;                 ///< friction coefficient (friction)
+  Real omega[3] = {0, 0, 0};   ///< angular velocity (rotation; 2D uses omega[2]) [rad/s]
+  Real centre[3] = {0, 0, 0};  ///< centre of rotation (rotation) [m]
   Real t_start = -1e300;       ///< active for t_start <= t < t_end [s]
   Real t_end = 1e300;
   int separable = 0;           ///< slip/friction: the material may leave the wall
 
-  /// Apply to a nodal velocity v (D components) at time t.
+  /// Apply to the velocity v (D components) of the node at position x, at time t.
   template <int D>
-  SCREE_INLINE void apply(Real* v, Real t) const {
+  SCREE_INLINE void apply(Real* v, const Real* x, Real t) const {
     if (t < t_start || t >= t_end) return;
     if (type == ConstraintType::fixed) {
       for (int d = 0; d < D; ++d) v[d] = value[d];
+      return;
+    }
+    if (type == ConstraintType::rotation) {
+      Real r[3] = {0, 0, 0};
+      for (int d = 0; d < D; ++d) r[d] = x[d] - centre[d];
+      const Real w[3] = {omega[0], omega[1], omega[2]};
+      const Real c[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2], w[0] * r[1] - w[1] * r[0]};
+      for (int d = 0; d < D; ++d) v[d] = c[d];
       return;
     }
     Real vn = 0;
@@ -64,14 +75,14 @@ struct Constraint {
 
 /// Apply every constraint whose bit is set in `mask`, in index order.
 template <int D>
-SCREE_INLINE void apply_constraints(const Constraint* table, ConstraintMask mask, Real* v, Real t) {
+SCREE_INLINE void apply_constraints(const Constraint* table, ConstraintMask mask, Real* v, const Real* x, Real t) {
   while (mask) {
 #if defined(__CUDA_ARCH__)
     const int b = __ffs(static_cast<int>(mask)) - 1;
 #else
     const int b = __builtin_ctz(mask);
 #endif
-    table[b].template apply<D>(v, t);
+    table[b].template apply<D>(v, x, t);
     mask &= mask - 1;
   }
 }

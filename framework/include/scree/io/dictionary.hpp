@@ -14,7 +14,9 @@
 //                                 `$:a.b` starts at the top-level dictionary.
 //                                 As a whole entry (`$defaults;`) inside a dictionary,
 //                                 a sub-dictionary's entries are merged in.
+//                                 `${name}` is the same as `$name`.
 //   #include "file"               file relative to the including file's directory
+//   #inputMode merge|overwrite    accepted for OpenFOAM compatibility and ignored
 //
 // Later entries with the same key replace earlier ones (OpenFOAM semantics); the
 // location kept is the one of the entry that wins.

@@ -58,6 +58,8 @@ class MaterialBody final : public Body<D> {
         col(c_x0_ + d)[p] = s.x[p][d];
       }
       for (int i = 0; i < D; ++i) col(c_F_ + i * D + i)[p] = 1;
+      if (transfer_ == Transfer::apic)
+        for (int i = 0; i < D * D; ++i) col(c_C_ + i)[p] = s.velocity_gradient.a[i / D][i % D];
       Sym3 sigma = s.sigma.empty() ? Sym3::zero() : s.sigma[p];
       const State st = M::initial_state(params_, sigma);
       for (int c = 0; c < kSig; ++c) col(c_sig_ + c)[p] = sigma[c];
@@ -164,6 +166,16 @@ class MaterialBody final : public Body<D> {
       for (int k = 0; k < K; ++k) st[k] = col(c_state_)[static_cast<std::size_t>(k) * n + p];
       for (std::size_t f = 0; f < fields_.size(); ++f)
         fields_[f].eval(&params_, st.data(), sig, mat[f] + p * fields_[f].components);
+    }
+  }
+
+  void set_velocities(const std::vector<Real>& v) override {
+    if (v.size() != static_cast<std::size_t>(D * n_))
+      throw std::invalid_argument("set_velocities: expected " + std::to_string(D * n_) + " values");
+    std::vector<Real> col(static_cast<std::size_t>(n_));
+    for (int d = 0; d < D; ++d) {
+      for (Index p = 0; p < n_; ++p) col[p] = v[static_cast<std::size_t>(D * p + d)];
+      mem::copy(arrays_.v[d], exec_.device, col.data(), Device::cpu, col.size() * sizeof(Real));
     }
   }
 

@@ -31,6 +31,7 @@ struct BodySetup {
   std::vector<Vec<D>> v;       ///< velocities [m/s]
   std::vector<Real> volume;    ///< volumes [m^3] (areas in 2D: per unit thickness)
   std::vector<Sym3> sigma;     ///< initial stress (tension positive) [Pa]
+  Mat<D> velocity_gradient = Mat<D>::zero();  ///< of the initial velocity field (APIC's C_p) [1/s]
   std::int64_t first_id = 0;   ///< particle ids are first_id, first_id + 1, ...
 };
 
@@ -52,6 +53,9 @@ class Body {
   virtual const ParticleArrays<D>& arrays() const = 0;
   /// Bytes of particle data per particle (benchmarks).
   virtual std::size_t bytes_per_particle() const = 0;
+  /// Overwrite particle velocities (D values per particle, interleaved), e.g. to start
+  /// from a mode shape (tests, scripted initial conditions). Only before the first step.
+  virtual void set_velocities(const std::vector<Real>& v) = 0;
   /// Reorder particles by grid cell (locality for P2G atomics); ids move with them.
   virtual void sort_by_cell(const GridGeometry<D>& g) = 0;
 };

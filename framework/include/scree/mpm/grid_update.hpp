@@ -9,7 +9,8 @@
 //   kZeroOther:  clear mass, momentum and force of the other set (the next step's P2G)
 //   kAdvance:    (node 0) t <- t + dt and the next dt (fixed, or CFL-adaptive), clamped
 //                so that t lands on the target time
-// Nodes lighter than mass_eps are empty: their velocities are zero.
+// Nodes without mass have zero velocity; nodes lighter than mass_eps keep v^{k+1} = v^k
+// (no acceleration from an O(1/h) force share divided by a vanishing mass).
 #pragma once
 
 #include "scree/boundary/constraints.hpp"

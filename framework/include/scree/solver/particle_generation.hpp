@@ -3,7 +3,9 @@
 // The region (rectangle/box, or polygon in 2D) is filled with n points per cell along
 // each axis, at the centres of the n^D sub-cells of each background cell, keeping the
 // points inside the region; each point carries the volume (h/n)^D of its sub-cell.
-// Optional initial velocity, and geostatic initial stress:
+// Initial velocity: uniform `velocity`, plus a rigid rotation `angularVelocity` about
+// the region's centroid (or `rotationCentre`): v = v0 + omega x (x - c).
+// Geostatic initial stress:
 //   sigma_v = -rho |g| (s - z),  sigma_h = K0 sigma_v  (tension positive)
 // with z the elevation along -g and s the free-surface elevation (default: the top of
 // the body), so a column of height H starts with sigma_v = -rho g H at its base.
@@ -22,6 +24,7 @@ struct GeneratedParticles {
   std::vector<Vec<D>> x, v;
   std::vector<Real> volume;
   std::vector<Sym3> sigma;
+  Mat<D> velocity_gradient = Mat<D>::zero();  ///< of the initial velocity field
 };
 
 /// Generate the particles of one body dictionary (validated against CoreSpecs::body).

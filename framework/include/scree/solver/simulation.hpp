@@ -12,6 +12,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "scree/exec/memory.hpp"
 #include "scree/output/snapshot.hpp"
@@ -58,6 +59,9 @@ class SCREE_API Simulation {
   void run_steps(std::int64_t n);
   /// A host copy of every body (pending particle updates are applied first).
   Snapshot snapshot(bool with_grid = false);
+  /// Set the velocities of body `body` (index in constant/bodies) before the first step:
+  /// dimension() values per particle, in the order of snapshot().bodies[body].
+  void set_velocities(std::size_t body, const std::vector<double>& v);
   double time() const;
   std::int64_t steps() const;
   RunStats stats() const;

@@ -1,0 +1,99 @@
+// Helpers shared by Scree's tests: temporary case directories, the plugin runtime, and
+// the backend a test runs on (CPU by default; `--device=cuda` or SCREE_TEST_DEVICE=cuda
+// runs the same test on the GPU, which the `gpu`-labelled CTest entries do).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "scree/exec/memory.hpp"
+#include "scree/plugin/loader.hpp"
+#include "scree/solver/case.hpp"
+#include "scree/solver/simulation.hpp"
+
+namespace scree::test {
+
+/// The backend chosen for this test process.
+inline Device& test_device() {
+  static Device d = [] {
+    const char* e = std::getenv("SCREE_TEST_DEVICE");
+    return (e && std::string(e) == "cuda") ? Device::cuda : Device::cpu;
+  }();
+  return d;
+}
+
+/// Call from main() (or use SCREE_TEST_MAIN) to accept --device=cuda|cpu.
+inline void parse_device_flag(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--device=cuda") test_device() = Device::cuda;
+    if (a == "--device=cpu") test_device() = Device::cpu;
+  }
+}
+
+/// A plugin runtime with every plugin of the build tree loaded (one per process).
+inline PluginRuntime& runtime() {
+  // Never destroyed: plugins stay loaded until the process exits.
+  static PluginRuntime* rt = [] {
+    auto* r = new PluginRuntime();
+    r->load_default_plugins();
+    return r;
+  }();
+  return *rt;
+}
+
+/// A case directory under the system temp directory, removed when the object dies.
+class TempCase {
+ public:
+  explicit TempCase(const std::string& tag) {
+    static std::mt19937_64 rng(std::random_device{}());
+    dir_ = std::filesystem::temp_directory_path() / ("scree_test_" + tag + "_" + std::to_string(rng() % 1000000000));
+    std::filesystem::create_directories(dir_ / "system");
+    std::filesystem::create_directories(dir_ / "constant");
+  }
+  ~TempCase() {
+    if (!std::getenv("SCREE_KEEP_TEST_CASES")) {
+      std::error_code ec;
+      std::filesystem::remove_all(dir_, ec);
+    }
+  }
+  TempCase(const TempCase&) = delete;
+  TempCase& operator=(const TempCase&) = delete;
+
+  /// Write `text` to `rel` (e.g. "system/controlDict").
+  void write(const std::string& rel, const std::string& text) const {
+    std::ofstream(dir_ / rel) << text;
+  }
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+inline RunOptions options(int threads = 2) {
+  RunOptions o;
+  o.device = test_device();
+  o.threads = threads;
+  o.progress = false;
+  o.output = false;
+  static std::ostringstream sink;
+  o.log = &sink;
+  return o;
+}
+
+}  // namespace scree::test
+
+/// main() for test executables that accept --device=cuda.
+#define SCREE_TEST_MAIN()                               \
+  int main(int argc, char** argv) {                     \
+    ::testing::InitGoogleTest(&argc, argv);             \
+    ::scree::test::parse_device_flag(argc, argv);       \
+    return RUN_ALL_TESTS();                             \
+  }

@@ -1,0 +1,275 @@
+// Verification of the MPM core on elastic problems with known answers (issue 3).
+// Each runs on the CPU backend in CI and, with --device=cuda, on the GPU.
+#include <cmath>
+#include <array>
+#include <map>
+#include <numeric>
+
+#include "scree_test.hpp"
+
+namespace scree::test {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string control(double end, double dt) {
+  return "endTime " + std::to_string(end) + ";\ndeltaT " + std::to_string(dt) +
+         ";\nwriteInterval " + std::to_string(end) + ";\n";
+}
+
+const FieldData& field(const BodySnapshot& b, const char* name) {
+  const FieldData* f = b.find(name);
+  if (!f) throw std::runtime_error(std::string("no field ") + name);
+  return *f;
+}
+
+// ---------------------------------------------------------------------------------
+// 1D axially vibrating bar, fixed at x = 0, free at x = L, started in its first mode
+// v(x, 0) = v0 sin(pi x / 2L). Exact: u(x,t) = (v0/w) sin(w t) sin(pi x / 2L),
+// w = (pi / 2L) c, c = sqrt(E / rho) (nu = 0: no lateral coupling). Lateral faces are
+// rollers, so the 2D plane-strain bar is exactly 1D. Period T = 4L/c.
+// Tolerances: the issue's 2% on period and amplitude (the discretisation error of the
+// first mode with 20 cells is ~(kh)^2/24 ~ 3e-4); energy drift < 1%.
+struct BarResult {
+  double period, amplitude, period_exact, amplitude_exact, energy_drift;
+};
+
+BarResult vibrating_bar(const std::string& scheme, const std::string& shape, const std::string& transfer) {
+  const double L = 1.0, h = 0.05, E = 100.0, rho = 1.0, v0 = 0.01;
+  const double c = std::sqrt(E / rho), w = kPi / (2 * L) * c, T = 2 * kPi / w;
+  const double dt = 0.1 * h / c, end = 3 * T;
+  TempCase tc("bar");
+  tc.write("system/controlDict", control(end, dt));
+  tc.write("system/gridDict", "dimension 2; lower (0 0); upper (1 0.05); cellSize 0.05;");
+  tc.write("system/mpmSchemes", "updateScheme " + scheme + "; shapeFunction " + shape + "; transfer " + transfer + ";");
+  tc.write("constant/g", "value (0 0);");
+  tc.write("constant/materialProperties", "bar { type linearElastic; E 100; nu 0; rho 1; }");
+  tc.write("constant/bodies", "bar { material bar; region { type rectangle; lower (0 0); upper (1 0.05); } }");
+  tc.write("constant/boundaryConditions",
+           "fixedEnd { type fixed; face xMin; } bottom { type slip; face yMin; } top { type slip; face yMax; }");
+  Case cs = Case::read(tc.dir(), runtime());
+  Simulation sim(cs, runtime(), options());
+  Snapshot s0 = sim.snapshot();
+  const BodySnapshot& b0 = s0.bodies[0];
+  std::vector<double> v(2 * b0.n, 0.0);
+  std::size_t tip = 0;
+  for (Index p = 0; p < b0.n; ++p) {
+    const double x = b0.position[3 * p];
+    v[2 * p] = v0 * std::sin(kPi * x / (2 * L));
+    if (x > b0.position[3 * tip]) tip = p;
+  }
+  sim.set_velocities(0, v);
+  const double x_tip = b0.position[3 * tip];
+  const std::int64_t tip_id = b0.id[tip];
+  const double mass_total = std::accumulate(field(b0, "mass").values.begin(), field(b0, "mass").values.end(), 0.0);
+
+  auto energy = [&](const BodySnapshot& b) {
+    const auto& vel = field(b, "velocity").values;
+    const auto& m = field(b, "mass").values;
+    const auto& sig = field(b, "stress").values;
+    const auto& vol = field(b, "volume").values;
+    double e = 0;
+    for (Index p = 0; p < b.n; ++p) {
+      e += 0.5 * m[p] * (vel[3 * p] * vel[3 * p] + vel[3 * p + 1] * vel[3 * p + 1]);
+      e += 0.5 * sig[6 * p] * sig[6 * p] / E * vol[p];  // 1D: sigma_xx^2 / 2E
+    }
+    return e;
+  };
+  const double e0 = 0.25 * mass_total * v0 * v0;  // (1/2) M v0^2 <sin^2>
+  // Sample the tip displacement and find its zero crossings (downward) and peaks.
+  std::vector<double> ts, us;
+  double emax_dev = 0;
+  const int samples = 600;
+  for (int k = 1; k <= samples; ++k) {
+    sim.advance_to(end * k / samples);
+    Snapshot s = sim.snapshot();
+    const BodySnapshot& b = s.bodies[0];
+    for (Index p = 0; p < b.n; ++p)
+      if (b.id[p] == tip_id) {
+        ts.push_back(s.time);
+        us.push_back(field(b, "displacement").values[3 * p]);
+      }
+    emax_dev = std::max(emax_dev, std::fabs(energy(b) - e0) / e0);
+  }
+  std::vector<double> crossings;
+  for (std::size_t i = 1; i < us.size(); ++i)
+    if (us[i - 1] > 0 && us[i] <= 0) crossings.push_back(ts[i - 1] + (ts[i] - ts[i - 1]) * us[i - 1] / (us[i - 1] - us[i]));
+  BarResult r{};
+  r.period = crossings.size() >= 2 ? (crossings.back() - crossings.front()) / (crossings.size() - 1) : 0;
+  r.amplitude = *std::max_element(us.begin(), us.end());
+  r.period_exact = T;
+  r.amplitude_exact = v0 / w * std::sin(kPi * x_tip / (2 * L));
+  r.energy_drift = emax_dev;
+  return r;
+}
+
+class VibratingBar : public ::testing::TestWithParam<std::tuple<std::string, std::string, std::string>> {};
+
+TEST_P(VibratingBar, PeriodAmplitudeAndEnergyMatchTheAnalyticSolution) {
+  const auto [scheme, shape, transfer] = GetParam();
+  const BarResult r = vibrating_bar(scheme, shape, transfer);
+  EXPECT_NEAR(r.period / r.period_exact, 1.0, 0.02) << "period " << r.period << " vs " << r.period_exact;
+  EXPECT_NEAR(r.amplitude / r.amplitude_exact, 1.0, 0.02) << "amplitude " << r.amplitude << " vs " << r.amplitude_exact;
+  EXPECT_LT(r.energy_drift, 0.01) << "largest relative deviation of the total energy";
+}
+
+INSTANTIATE_TEST_SUITE_P(Schemes, VibratingBar,
+                         ::testing::Values(std::make_tuple("USF", "linear", "FLIP"),
+                                           std::make_tuple("USL", "linear", "FLIP"),
+                                           std::make_tuple("MUSL", "linear", "FLIP"),
+                                           std::make_tuple("USF", "bspline2", "FLIP"),
+                                           std::make_tuple("USF", "gimp", "FLIP"),
+                                           std::make_tuple("USF", "bspline2", "APIC")));
+
+// ---------------------------------------------------------------------------------
+// Elastic column settling under gravity between lateral rollers, on a no-slip floor,
+// damped to rest (seed 001, Fig. 9b check). Equilibrium: sigma_yy equals the weight of
+// the material above, -rho0 g (H - y0) in terms of the initial height y0 (exact whatever
+// the compression), and the lateral stress is K0 = nu/(1-nu) times it (laterally
+// confined linear elasticity). Tolerance: 2% of rho g H (the issue's), on averages over
+// the particles of each initial cell row, compared with the exact stress at the row's
+// centre: linear-shape MPM resolves stress cell by cell, so single particles carry an
+// O(rho g h) scatter that averages out over a cell.
+// `skip_cells` rows next to the floor are not checked (see the B-spline note below).
+struct ColumnSetup {
+  int dim;
+  std::string scheme, shape;
+  int skip_cells = 0;
+};
+
+void column_settles(const ColumnSetup& cs_) {
+  const int D = cs_.dim;
+  const double rho = 1000, g = 9.81, nu = D == 2 ? 0.3 : 0.25, E = 1e7;
+  const double H = D == 2 ? 1.0 : 0.6, h = D == 2 ? 0.05 : 0.1, width = 0.2;
+  const double M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)), c = std::sqrt(M / rho);
+  const double end = D == 2 ? 4.0 : 2.5;
+  TempCase tc("column");
+  tc.write("system/controlDict", control(end, 0.4 * h / c));
+  tc.write("system/mpmSchemes", "updateScheme " + cs_.scheme + "; shapeFunction " + cs_.shape +
+                                    "; damping { coefficient 0.1; }");
+  const std::string mat = "soil { type linearElastic; E 1e7; nu " + std::to_string(nu) + "; rho 1000; }";
+  tc.write("constant/materialProperties", mat);
+  if (D == 2) {
+    tc.write("system/gridDict", "dimension 2; lower (0 0); upper (0.2 1.2); cellSize 0.05;");
+    tc.write("constant/g", "value (0 -9.81);");
+    tc.write("constant/bodies", "column { material soil; region { type rectangle; lower (0 0); upper (0.2 1); } }");
+    tc.write("constant/boundaryConditions",
+             "floor { type fixed; face yMin; } left { type slip; face xMin; } right { type slip; face xMax; }");
+  } else {
+    tc.write("system/gridDict", "dimension 3; lower (0 0 0); upper (0.2 0.2 0.7); cellSize 0.1;");
+    tc.write("constant/g", "value (0 0 -9.81);");
+    tc.write("constant/bodies", "column { material soil; region { type box; lower (0 0 0); upper (0.2 0.2 0.6); } }");
+    tc.write("constant/boundaryConditions",
+             "floor { type fixed; face zMin; } x0 { type slip; face xMin; } x1 { type slip; face xMax; } "
+             "y0 { type slip; face yMin; } y1 { type slip; face yMax; }");
+  }
+  (void)width;
+  Case cs = Case::read(tc.dir(), runtime());
+  Simulation sim(cs, runtime(), options());
+  sim.advance_to(end);
+  Snapshot s = sim.snapshot();
+  const BodySnapshot& b = s.bodies[0];
+  const auto& sig = field(b, "stress").values;
+  const auto& disp = field(b, "displacement").values;
+  const int up = D - 1;  // the vertical axis
+  std::map<long, std::array<double, 3>> rows;  // per initial cell row: sum sigma_v, sum sigma_h, count
+  for (Index p = 0; p < b.n; ++p) {
+    const double z0 = b.position[3 * p + up] - disp[3 * p + up];
+    auto& r = rows[static_cast<long>(std::floor(z0 / h))];
+    r[0] += sig[6 * p + up];
+    r[1] += sig[6 * p];
+    r[2] += 1;
+  }
+  const double scale = rho * g * H;
+  int checked = 0;
+  for (auto& [row, r] : rows) {
+    if (row < cs_.skip_cells) continue;
+    const double depth = H - (row + 0.5) * h, exact = -rho * g * depth;
+    EXPECT_NEAR(r[0] / r[2], exact, 0.02 * scale) << cs_.scheme << "/" << cs_.shape << " " << D << "D, depth " << depth;
+    EXPECT_NEAR(r[1] / r[2], nu / (1 - nu) * exact, 0.02 * scale) << "lateral stress at depth " << depth;
+    ++checked;
+  }
+  EXPECT_GT(checked, 4);
+}
+
+TEST(ElasticColumn, GeostaticStressUSFLinear) { column_settles({2, "USF", "linear"}); }
+TEST(ElasticColumn, GeostaticStressMUSLLinear) { column_settles({2, "MUSL", "linear"}); }
+TEST(ElasticColumn, GeostaticStressUSLGimp) { column_settles({2, "USL", "gimp"}); }
+// Quadratic B-splines: the ghost nodes below a no-slip floor are fixed too, and their
+// basis functions reach half a cell into the material, which stiffens a boundary layer
+// of about three cells (a known property of B-spline MPM without boundary-modified
+// splines, Steffen et al. 2008). The rest of the column must meet the 2% check.
+TEST(ElasticColumn, GeostaticStressUSFBsplineAwayFromTheFloor) { column_settles({2, "USF", "bspline2", 3}); }
+TEST(Elastic3D, ColumnGeostaticStress) { column_settles({3, "USF", "linear"}); }
+
+// ---------------------------------------------------------------------------------
+// Objectivity. (a) A free elastic block in rigid translation stays stress-free to
+// round-off. (b) A pre-stressed block turned rigidly by a quarter turn (every grid node
+// driven by rotatingWall, so the motion is exactly rigid and the velocity gradient
+// exactly skew): a non-objective strain measure (seed 001 eq. 9, ERRATA item 6) would
+// create stress; the objective update must carry the initial stress round unchanged in
+// the rotating frame: sigma_xx = -1000 Pa becomes sigma_yy = -1000 Pa, and zero stress
+// would stay zero. Tolerances: 1e-9 of the 1e6 Pa modulus for (a) (round-off); for (b)
+// the Hughes-Winget rotation's angle error (omega dt)^2/12 per unit angle (~1e-7) on
+// 1000 Pa gives 1e-3 Pa: checked within 0.01 Pa.
+Snapshot run_block(const std::string& motion, const std::string& schemes, const std::string& extra_bcs,
+                   double end) {
+  TempCase tc("rigid");
+  tc.write("system/controlDict", control(end, 1e-3));
+  tc.write("system/gridDict", "dimension 2; lower (-1 -1); upper (1 1); cellSize 0.1;");
+  tc.write("system/mpmSchemes", schemes);
+  tc.write("constant/g", "value (0 0);");
+  tc.write("constant/materialProperties", "m { type linearElastic; E 1e6; nu 0.25; rho 1000; }");
+  tc.write("constant/bodies", "block { material m; region { type rectangle; lower (-0.3 -0.2); upper (0.3 0.2); } " +
+                                  motion + " }");
+  tc.write("constant/boundaryConditions", extra_bcs);
+  Case cs = Case::read(tc.dir(), runtime());
+  Simulation sim(cs, runtime(), options());
+  sim.advance_to(end);
+  return sim.snapshot();
+}
+
+double max_abs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+TEST(Objectivity, RigidTranslationStaysStressFree) {
+  for (const char* schemes : {"updateScheme USF; shapeFunction linear;", "updateScheme USL; shapeFunction gimp;",
+                              "updateScheme MUSL; shapeFunction bspline2; transfer APIC;"}) {
+    const Snapshot s = run_block("velocity (0.3 -0.2);", schemes, "", 0.5);
+    EXPECT_LT(max_abs(field(s.bodies[0], "stress").values), 1e-9 * 1e6) << schemes;
+    EXPECT_NEAR(field(s.bodies[0], "displacement").values[0], 0.15, 1e-9) << schemes;
+  }
+}
+
+TEST(Objectivity, RigidRotationCarriesTheStressRound) {
+  const double quarter = kPi / 2;  // rad, turned in 1 s
+  const std::string drive = "spin { type rotatingWall; box { min (-1.2 -1.2); max (1.2 1.2); } angularVelocity (" +
+                            std::to_string(quarter) + "); centre (0 0); }";
+  for (const char* shape : {"linear", "bspline2"}) {
+    const Snapshot s = run_block("initialStress { type uniform; stress (-1000 0 0 0 0 0); }",
+                                 std::string("updateScheme USF; shapeFunction ") + shape + ";", drive, 1.0);
+    const auto& sig = field(s.bodies[0], "stress").values;
+    for (Index p = 0; p < s.bodies[0].n; ++p) {
+      ASSERT_NEAR(sig[6 * p + 0], 0.0, 0.01) << shape;
+      ASSERT_NEAR(sig[6 * p + 1], -1000.0, 0.01) << shape;
+      ASSERT_NEAR(sig[6 * p + 3], 0.0, 0.01) << shape;
+    }
+    // The block turned by a quarter: the particle that started at (0.275, 0.175) is near (-0.175, 0.275).
+    const auto& disp = field(s.bodies[0], "displacement").values;
+    double best = 1e9;
+    for (Index p = 0; p < s.bodies[0].n; ++p) {
+      const double x0 = s.bodies[0].position[3 * p] - disp[3 * p], y0 = s.bodies[0].position[3 * p + 1] - disp[3 * p + 1];
+      if (std::hypot(x0 - 0.275, y0 - 0.175) < 1e-9)
+        best = std::hypot(s.bodies[0].position[3 * p] + 0.175, s.bodies[0].position[3 * p + 1] - 0.275);
+    }
+    EXPECT_LT(best, 2e-3) << "rotated position (forward-Euler drift of the particle path ~ r (omega dt)/2 per turn)";
+  }
+}
+
+}  // namespace
+}  // namespace scree::test
+
+SCREE_TEST_MAIN()
