@@ -1,6 +1,7 @@
 // Reading and validating a whole case (see case.hpp for the layout).
 #include "scree/solver/case.hpp"
 
+#include <algorithm>
 #include <set>
 
 namespace fs = std::filesystem;
@@ -283,7 +284,22 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   if (nbodies == 0 && c.bodies_.where().line >= 0)
     errors.emplace_back(c.bodies_.where(), "constant/bodies defines no body (name { material ...; region {...} })");
 
-  if (!errors.empty()) throw InputErrors(std::move(errors));
+  if (!errors.empty()) {
+    // Report in file order (files in the order read, then line and column).
+    std::vector<std::string> order;
+    for (const auto& e : errors) {
+      const std::string f = e.where().file ? *e.where().file : "";
+      if (std::find(order.begin(), order.end(), f) == order.end()) order.push_back(f);
+    }
+    std::stable_sort(errors.begin(), errors.end(), [&](const InputError& a, const InputError& b) {
+      const auto fa = std::find(order.begin(), order.end(), a.where().file ? *a.where().file : "");
+      const auto fb = std::find(order.begin(), order.end(), b.where().file ? *b.where().file : "");
+      if (fa != fb) return fa < fb;
+      if (a.where().line != b.where().line) return a.where().line < b.where().line;
+      return a.where().column < b.where().column;
+    });
+    throw InputErrors(std::move(errors));
+  }
   return c;
 }
 

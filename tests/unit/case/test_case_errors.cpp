@@ -1,0 +1,107 @@
+// Case validation (issue 2): every error of a case is reported together, each with
+// file:line and what was expected, with a non-zero exit, before anything is written.
+#include <cstdio>
+#include <fstream>
+#include <sys/wait.h>
+#include <sstream>
+
+#include "scree_test.hpp"
+
+namespace scree::test {
+namespace {
+
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+Result run_scree(const std::string& args) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto out = dir / "scree_test_stdout.txt", err = dir / "scree_test_stderr.txt";
+  const std::string cmd = std::string(SCREE_BINARY_DIR) + "/bin/scree " + args + " >" + out.string() + " 2>" + err.string();
+  const int rc = std::system(cmd.c_str());
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  return {WEXITSTATUS(rc), slurp(out), slurp(err)};
+}
+
+void write_valid_case(const TempCase& tc) {
+  tc.write("system/controlDict",
+           "FoamFile { version 2.0; format ascii; class dictionary; object controlDict; }\n"
+           "endTime 0.01;\ndeltaT 1e-3;\nwriteInterval 0.005;\n");
+  tc.write("system/gridDict", "dimension 2;\nlower (0 0);\nupper (1 1);\ncellSize 0.1;\n");
+  tc.write("constant/g", "value (0 -9.81);\n");
+  tc.write("constant/materialProperties", "soil\n{\n    type linearElastic;\n    E 1e6;\n    nu 0.3;\n    rho 1000;\n}\n");
+  tc.write("constant/bodies", "block\n{\n    material soil;\n    region { type rectangle; lower (0 0); upper (0.5 0.5); }\n}\n");
+  tc.write("constant/boundaryConditions", "floor { type fixed; face yMin; }\n");
+}
+
+TEST(CaseErrors, ValidCaseChecksClean) {
+  TempCase tc("valid");
+  write_valid_case(tc);
+  const Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+TEST(CaseErrors, MisspelledKeyOutOfRangeAndUnknownTypeAllReportedBeforeAnyOutput) {
+  TempCase tc("broken");
+  write_valid_case(tc);
+  // line 2: unknown key (typo), line 3: out of range, and an unknown material type.
+  tc.write("constant/materialProperties",
+           "soil\n{\n    type linearElastic;\n    E 1e6;\n    nuu 0.3;\n    rho -1000;\n}\n"
+           "clay\n{\n    type linearElastik;\n}\n");
+  tc.write("constant/bodies", "block\n{\n    material soil;\n    region { type rectangle; lower (0 0); upper (0.5 0.5); }\n}\n");
+  tc.write("system/controlDict",
+           "endTime 0.01;\ndeltaT 1e-3;\nwriteInterval 0.005;\n"
+           "writers { vtk { type vtk; } }\nfunctions { }\n");
+  const Result r = run_scree("--case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  const std::string& e = r.err;
+  EXPECT_NE(e.find("constant/materialProperties:5:5: unknown entry 'nuu'"), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean 'nu'?"), std::string::npos) << e;
+  EXPECT_NE(e.find("constant/materialProperties:6:5: rho: expected a number > 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("constant/materialProperties:10:5: unknown material type 'linearElastik'; did you mean "
+                   "'linearElastic'?"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("missing required entry 'nu'"), std::string::npos) << e;
+  // Nothing was written.
+  EXPECT_FALSE(std::filesystem::exists(tc.dir() / "VTK"));
+  EXPECT_FALSE(std::filesystem::exists(tc.dir() / "postProcessing"));
+}
+
+TEST(CaseErrors, SyntaxErrorsOfSeveralFilesReportedTogether) {
+  TempCase tc("syntax");
+  write_valid_case(tc);
+  tc.write("system/controlDict", "endTime 0.01\ndeltaT 1e-3;\nwriteInterval 0.005;\n");
+  tc.write("system/gridDict", "dimension 2;\nlower (0 0;\n");
+  const Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("system/gridDict:"), std::string::npos) << r.err;
+}
+
+TEST(CaseErrors, MissingCaseFilesAndBadCommandLine) {
+  TempCase tc("empty");
+  Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict: missing case file"), std::string::npos) << r.err;
+  r = run_scree("--device gpu --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("expected cpu or cuda"), std::string::npos) << r.err;
+}
+
+TEST(CaseErrors, ListPluginsDocumentsParameters) {
+  const Result r = run_scree("--list-plugins material");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("linearElastic"), std::string::npos);
+  EXPECT_NE(r.out.find("Young's modulus"), std::string::npos);
+  EXPECT_NE(r.out.find("[Pa]"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace scree::test
