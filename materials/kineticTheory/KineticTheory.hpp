@@ -1,0 +1,165 @@
+// kineticTheory: purely collisional granular material (kinetic theory of dense granular
+// gases, Garzó & Dufty 1999; seed 001 section 3.3, eqs. 19-28, Appendices A-B).
+//
+//   sigma = sigma_col = -p_col(e, T) I + 2 eta(e, T) dev(D) + gamma(e, T) tr(D) I   (eq. 19)
+//   3/2 rho_p V dT/dt = sigma_col : D - Gamma(e, T, tr D)                        (eq. 27)
+//
+// The stress is not incremental: it is recomputed every step from the granular temperature T
+// (integrated exactly over the step, kinetic_theory.hpp) and the strain rate D = deps/dt.
+// The void ratio follows the volume: 1 + e <- (1 + e) exp(tr deps).
+//
+// As the paper notes (section 4.1.3), this material alone cannot carry a static load (no
+// stress at rest once T has decayed); it is meant for element tests and as the collisional
+// half of phaseTransition. Formulas, decisions and parameters: README.md in this folder.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "kinetic_theory.hpp"
+#include "scree/material/material.hpp"
+
+namespace scree::materials {
+
+struct KineticTheory {
+  static constexpr const char* type_name = "kineticTheory";
+
+  struct Params {
+    kt::Params c;  ///< collisional constants
+    Real e0;       ///< initial void ratio [-]
+    Real T0;       ///< initial granular temperature [m^2/s^2]
+  };
+  struct State {
+    Real e;     ///< void ratio [-]
+    Real T;     ///< granular temperature [m^2/s^2]
+    Real rate;  ///< equivalent deviatoric strain rate of the last step sqrt(2/3 dev D:dev D) [1/s]
+    Real trD;   ///< volumetric strain rate of the last step tr D [1/s] (tension positive)
+  };
+
+  // ---- parameters shared with phaseTransition (one spec, one reader) ----
+  static void add_collisional_spec(ParamSpec& s) {
+    s.scalar("particleDensity", "kg/m^3", "grain density rho_p (Table 2-3); bulk density is rho_p/(1+e0)")
+        .positive();
+    s.scalar("diameter", "m", "grain diameter d (eqs. 21, 22, 28)").positive();
+    s.scalar("voidRatioSd", "-",
+             "e_sd: void ratio of the densest disordered packing, V_sd = 1/(1+e_sd) (eq. 25; Table 3). "
+             "Give this or solidFractionSd")
+        .positive()
+        .optional();
+    s.scalar("solidFractionSd", "-", "V_sd: solid fraction of the densest disordered packing (eq. 25; Table 2)")
+        .range(0.0, 1.0)
+        .open_min()
+        .open_max()
+        .optional();
+    s.scalar("solidFractionM", "-", "V_m: solid fraction where the dense branch of g0 starts (eq. 26)")
+        .range(0.0, 1.0)
+        .open_min()
+        .open_max()
+        .default_value(0.4);
+    s.scalar("restitutionCoefficient", "-", "normal restitution coefficient eps_n (eq. 24)")
+        .range(0.0, 1.0)
+        .open_max();
+    s.scalar("particleFriction", "-", "inter-particle friction coefficient mu_p (eq. 24), typically 0..0.5")
+        .range(0.0, 2.0)
+        .default_value(0.0);
+    s.scalar("maxRadialDistribution", "-",
+             "cap of g0 (eq. 25) as V -> V_sd: V is limited to V_sd - 2/g0max")
+        .min(10.0)
+        .default_value(1000.0);
+    s.boolean("firstOrderCooling", "include the divergence term zeta1* of the dissipation (B11-B14)")
+        .default_value("true");
+    s.scalar("initialGranularTemperature", "m^2/s^2",
+             "T0 (Table 3 gives 1e-15 'x 10^3 m^2/s^2'; only needs to be negligibly small, ERRATA 7)")
+        .non_negative()
+        .default_value(1e-12);
+    s.check([](const Dictionary& d, std::vector<InputError>& errors) {
+      const bool a = d.has("voidRatioSd"), b = d.has("solidFractionSd");
+      if (a == b)
+        errors.emplace_back(d.where(), std::string("'") + d.name() +
+                                           "': give exactly one of voidRatioSd (e_sd) and solidFractionSd (V_sd)");
+      const double vm = d.has("solidFractionM") ? d.get_scalar("solidFractionM") : 0.4;
+      const double vsd = a ? 1.0 / (1.0 + d.get_scalar("voidRatioSd")) : (b ? d.get_scalar("solidFractionSd") : 1.0);
+      if ((a || b) && !(vsd > vm))
+        errors.emplace_back(d.where(), std::string("'") + d.name() + "': V_sd = " + std::to_string(vsd) +
+                                           " must exceed solidFractionM V_m = " + std::to_string(vm) +
+                                           " (eq. 26)");
+    });
+  }
+  static kt::Params read_collisional(const ParamReader& r) {
+    kt::Params c{};
+    c.rho_p = r.scalar("particleDensity");
+    c.d = r.scalar("diameter");
+    c.Vsd = r.has("voidRatioSd") ? 1 / (1 + r.scalar("voidRatioSd")) : r.scalar("solidFractionSd");
+    c.Vm = r.scalar("solidFractionM");
+    c.eps = kt::effective_restitution(r.scalar("restitutionCoefficient"), r.scalar("particleFriction"));
+    c.Vcap = kt::cap_solid_fraction(c.Vsd, c.Vm, r.scalar("maxRadialDistribution"));
+    c.Vmin = 1e-3;
+    c.zeta1 = r.boolean("firstOrderCooling") ? 1 : 0;
+    return c;
+  }
+
+  static ParamSpec spec() {
+    ParamSpec s(type_name,
+                "Purely collisional granular material: kinetic theory (Garzo-Dufty 1999) with the granular "
+                "temperature from the fluctuation-energy balance (seed 001 eqs. 19-28)");
+    add_collisional_spec(s);
+    s.scalar("initialVoidRatio", "-", "e0").positive();
+    return s;
+  }
+  static Params read(const ParamReader& r) {
+    Params p{};
+    p.c = read_collisional(r);
+    p.e0 = r.scalar("initialVoidRatio");
+    p.T0 = r.scalar("initialGranularTemperature");
+    return p;
+  }
+  static Real density(const Params& p) { return p.c.rho_p / (1 + p.e0); }
+
+  /// The stress is a function of T: any initial stress is replaced by -p_col(e0, T0) I.
+  static State initial_state(const Params& p, Sym3& sigma) {
+    State s{p.e0, p.T0, 0, 0};
+    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, p.e0));
+    sigma = kt::collisional_stress(c, p.T0, Sym3::zero());
+    return s;
+  }
+
+  SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    const Real tr = inc.deps.trace();
+    s.e = fmax((1 + s.e) * exp(tr) - 1, Real(1e-6));  // 1 + e follows the volume
+    const Real inv_dt = inc.dt > 0 ? 1 / inc.dt : Real(0);
+    const Sym3 D = inc.deps * inv_dt;
+    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+    const kt::RateInvariants ri = kt::rate_invariants(D);
+    s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27), exact for frozen coefficients
+    sigma = kt::collisional_stress(c, s.T, D);          // eq. (19)
+    s.rate = sqrt(Real(2) / 3 * ri.dev2);
+    s.trD = ri.tr;
+  }
+
+  SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
+    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+    return kt::sound_speed(p.c, c, s.T) + kt::viscous_speed(c, s.T, rho, h);
+  }
+
+  static void describe(OutputFields<KineticTheory>& out) {
+    out.state("voidRatio", &State::e, "-", "void ratio e");
+    out.state("granularTemperature", &State::T, "m^2/s^2", "granular temperature T");
+    out.state("deviatoricStrainRate", &State::rate, "1/s",
+              "equivalent deviatoric strain rate sqrt(2/3 dev D : dev D) of the last step (gamma_dot/sqrt(3) "
+              "in simple shear)");
+    out.derived("collisionalPressure", "Pa", "p_col = -tr(sigma_col)/3 (compression positive)",
+                [](const Params&, const State&, const Sym3& sig) { return pressure(sig); });
+    out.derived("collisionalDeviatoricStress", "Pa", "q_col = sqrt(3/2 s:s) of sigma_col",
+                [](const Params&, const State&, const Sym3& sig) { return deviatoric_stress(sig); });
+    out.derived("shearViscosity", "Pa s", "eta (eq. 21)", [](const Params& p, const State& s, const Sym3&) {
+      const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+      return c.eta_hat * sqrt(fmax(s.T, Real(0)));
+    });
+    out.derived("bulkViscosity", "Pa s", "gamma (eq. 22)", [](const Params& p, const State& s, const Sym3&) {
+      const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+      return c.gam_hat * sqrt(fmax(s.T, Real(0)));
+    });
+  }
+};
+
+}  // namespace scree::materials

@@ -1,0 +1,228 @@
+// Kinetic theory of dense granular flows: collisional stress and granular temperature.
+//
+// One formula in one place: the kineticTheory material (KineticTheory.hpp) and the
+// phaseTransition material (../phaseTransition/PhaseTransition.hpp) both call these free
+// functions. Every line cites the equation it implements: "eq. N" is the phase-transition
+// paper (Feng, Liang, Yin & Hu 2025, IJNAMG, seed 001), "(A.n)"/"(B.n)" its appendices,
+// "GD99" Garzó & Dufty (1999) Phys. Rev. E 59:5895, "CS13" Chialvo & Sundaresan (2013)
+// Phys. Fluids 25:070603, "ERRATA n" ../../shared/seeds/ERRATA.md (seed 001). README.md in
+// this folder lists every decision.
+//
+// Units: SI. Granular temperature T in m^2/s^2 (the fluctuation kinetic energy per unit mass
+// is 3/2 T). Solid fraction V = 1/(1+e). Stress tension positive; p_col is a pressure
+// (compression positive). D is the strain-rate tensor (tension positive), D = deps/dt.
+//
+// Device code: only <cmath> functions, no exceptions, no allocation, no recursion.
+#pragma once
+
+#include <cmath>
+
+#include "scree/core/config.hpp"
+#include "scree/core/tensor.hpp"
+
+namespace scree::materials::kt {
+
+inline constexpr Real kPi = 3.14159265358979323846;
+inline constexpr Real kSqrtPi = 1.77245385090551602730;
+
+/// Parameters of the collisional part (host-prepared, trivially copyable).
+struct Params {
+  Real rho_p;    ///< particle (grain) density rho_p [kg/m^3]
+  Real d;        ///< particle diameter d [m]
+  Real Vsd;      ///< solid fraction of the densest disordered packing V_sd = 1/(1+e_sd) [-]
+  Real Vm;       ///< solid fraction where the dense branch of g0 starts, V_m [-] (eq. 26)
+  Real eps;      ///< effective restitution coefficient eps_r (eq. 24, CS13), in [0, 1)
+  Real Vcap;     ///< largest solid fraction used in the theory (g0 cap, see cap_solid_fraction)
+  Real Vmin;     ///< smallest solid fraction used (very loose states; avoids 1/V)
+  Real zeta1;    ///< 1: include the first-order cooling rate zeta1* (B11-B14), 0: omit it
+};
+
+/// eq. (24) (CS13): effective restitution coefficient accounting for tangential friction,
+/// eps_r = eps_n - 3/2 mu_p exp(-3 mu_p); clamped to [0, 1 - 1e-9] (a negative value has no
+/// meaning as a restitution coefficient; eps_r = 1 would remove all dissipation).
+SCREE_HD inline Real effective_restitution(Real eps_n, Real mu_p) {
+  const Real e = eps_n - Real(1.5) * mu_p * exp(-3 * mu_p);  // eq. (24)
+  return fmin(fmax(e, Real(0)), Real(1) - Real(1e-9));
+}
+
+/// The solid fraction at which g0 (eq. 25) reaches g0max: V_cap = V_sd - 2/g0max, from the
+/// dense branch g0 ~ 2/(V_sd - V) near V_sd (where f(e) -> 0, eq. 26). Kept >= V_m.
+inline Real cap_solid_fraction(Real Vsd, Real Vm, Real g0max) {
+  const Real v = Vsd - 2 / g0max;
+  return v > Vm ? v : Real(0.5) * (Vm + Vsd);
+}
+
+/// Solid fraction used by the theory: V = 1/(1+e) clamped to [Vmin, Vcap] (regularises
+/// g0 -> infinity as V -> V_sd and V > V_sd, where eqs. 25-26 have no meaning).
+SCREE_HD inline Real solid_fraction(const Params& P, Real e) {
+  const Real V = 1 / (1 + fmax(e, Real(0)));
+  return fmin(fmax(V, P.Vmin), P.Vcap);
+}
+
+/// Radial distribution function at contact g0(V), eqs. (25)-(26) (CS13 form):
+/// Carnahan-Starling below V_m, blended with the dense 2/(V_sd - V) branch above.
+SCREE_HD inline Real radial_distribution(const Params& P, Real V) {
+  const Real cs = (2 - V) / (2 * (1 - V) * (1 - V) * (1 - V));  // eq. (25), first term
+  if (V < P.Vm) return cs;                                        // eq. (26), f = 1
+  const Real f = (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) /
+                 (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd);  // eq. (26)
+  return f * cs + (1 - f) * 2 / (P.Vsd - V);                       // eq. (25)
+}
+
+/// Coefficients of the constitutive functions at one solid fraction, such that
+///   p_col = p_hat T,  eta = eta_hat sqrt(T),  gamma = gam_hat sqrt(T),
+///   Gamma = diss_hat T^{3/2} + div_hat T tr(D)          (dissipation rate per volume)
+struct Coefficients {
+  Real V;         ///< solid fraction used [-]
+  Real g0;        ///< radial distribution at contact [-]
+  Real G;         ///< G = V g0 (eq. 23, ERRATA 1) [-]
+  Real p_star;    ///< p* = 1 + 2 (1 + eps) G = 4 G F (eq. 20 with A1) [-]
+  Real cstar;     ///< c* (A9) [-]
+  Real zeta0;     ///< zeta0* (A7 = B10) [-]
+  Real eta_star;  ///< eta* (A4) [-]
+  Real gam_star;  ///< gamma* (A5, GD99 form) [-]
+  Real p_hat;     ///< [kg/m^3]
+  Real eta_hat;   ///< [kg/m^2]
+  Real gam_hat;   ///< [kg/m^2]
+  Real diss_hat;  ///< [kg/m^4]
+  Real div_hat;   ///< [kg/m^3]
+  Real energy;    ///< 3/2 rho_p V: fluctuation energy per volume per unit T [kg/m^3] (eq. 27)
+};
+
+SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
+  Coefficients c;
+  const Real e = P.eps, e2 = e * e, e3 = e2 * e;
+  c.V = V;
+  c.g0 = radial_distribution(P, V);
+  c.G = V * c.g0;                                                        // eq. (23), ERRATA 1
+  c.p_star = 1 + 2 * (1 + e) * c.G;                                      // 4GF, eq. (20)+(A1)
+  c.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9), ERRATA 4
+  c.zeta0 = Real(5) / 12 * c.g0 * (1 - e2) * (1 + 3 * c.cstar / 32);    // (A7) = (B10)
+  const Real nu_eta = c.g0 * (1 - Real(0.25) * (1 - e) * (1 - e)) * (1 - c.cstar / 64);  // (A8)
+  const Real eta_k = (1 - Real(0.4) * (1 + e) * (1 - 3 * e) * c.G) /
+                     (nu_eta - Real(0.5) * c.zeta0);                     // (A6)
+  // (A5): GD99 has phi^2 chi = V G; the paper's "G" drops one factor V (README, item KT-3).
+  c.gam_star = Real(128) / (5 * kPi) * V * c.G * (1 + e) * (1 - c.cstar / 32);
+  c.eta_star = eta_k * (1 + Real(0.8) * c.G * (1 + e)) + Real(0.6) * c.gam_star;  // (A4)
+  // eqs. (21)-(22) with (A2)-(A3) and rho = rho_p V: the G, (1+e) and V factors cancel to
+  // eta = eta0 eta*, eta0 = 5 sqrt(pi)/96 rho_p d sqrt(T) (GD99's dilute viscosity).
+  const Real eta0 = 5 * kSqrtPi / 96 * P.rho_p * P.d;
+  c.eta_hat = fmax(eta0 * c.eta_star, Real(0));                          // eq. (21)
+  c.gam_hat = fmax(eta0 * c.gam_star, Real(0));                          // eq. (22)
+  c.p_hat = P.rho_p * V * c.p_star;                                      // eq. (20)
+  // eq. (28) with rho = rho_p V (ERRATA 2; (B8) lacks a factor V):
+  // Gamma0 = 144/(5 sqrt(pi)) rho_p V^2 zeta0* T^{3/2} / d
+  //        = 12/sqrt(pi) (1-eps^2)(1+3c*/32) rho_p V^2 g0 T^{3/2} / d.
+  c.diss_hat = 144 / (5 * kSqrtPi) * P.rho_p * V * V * c.zeta0 / P.d;
+  c.div_hat = 0;
+  if (P.zeta1 > 0) {
+    // (B11)-(B14): zeta1* = (5/96) d (1+e_void) sqrt(pi/T) [-(1-eps)(p*-1)
+    //   + 5/32 (1-eps^2)(1+3c*/64) g0 C] tr(D), with (B12) C = N/Dn below. Inserted into
+    // eq. (28): Gamma1 = 3/2 rho_p V T [ ... ] tr(D) (the d, sqrt(T) and (1+e_void) V cancel).
+    const Real lam = Real(0.375) * ((1 - e) * (5 * e2 + 4 * e - 1) +
+                                    c.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));  // (B14), ERRATA 3
+    const Real nu_gam = (1 + e) / 48 * c.g0 *
+                        (128 - 96 * e + 15 * e2 - 15 * e3 +
+                         c.cstar / 64 * (15 * e3 - 15 * e2 + 498 * e - 434));  // (B13)
+    const Real N = Real(4) / 15 * lam * c.G + (c.p_star - 1) * (Real(2) / 3 - e) * c.cstar;  // (B12) num.
+    const Real Dn = Real(0.5) * c.zeta0 + nu_gam +
+                    Real(5) / 64 * c.cstar * (1 + 3 * c.cstar / 64) * c.g0 * (1 - e2);     // (B12) den.
+    const Real br = -(1 - e) * (c.p_star - 1) +
+                    Real(5) / 32 * (1 - e2) * (1 + 3 * c.cstar / 64) * c.g0 * (N / Dn);  // (B11)
+    c.div_hat = Real(1.5) * P.rho_p * V * br;
+  }
+  c.energy = Real(1.5) * P.rho_p * V;  // eq. (27): 3/2 rho_p/(1+e) dT/dt
+  return c;
+}
+
+/// Strain-rate invariants used by the energy balance: |dev D|^2 = dev D : dev D, tr D.
+struct RateInvariants {
+  Real dev2;
+  Real tr;
+};
+SCREE_HD inline RateInvariants rate_invariants(const Sym3& D) {
+  const Sym3 dd = deviator(D);
+  return RateInvariants{ddot(dd, dd), D.trace()};
+}
+
+/// Exact solution over dt of the Riccati equation dx/dt = (a + b x - k x^2)/2 with constant
+/// coefficients, a >= 0, k >= 0, x0 >= 0. It is eq. (27) without flux written for x = sqrt(T):
+/// dT/dt = a sqrt(T) + b T - k T^{3/2} (production by viscous work is linear in sqrt(T), the
+/// pressure work and Gamma1 linear in T, the dissipation Gamma0 ~ T^{3/2}). Unconditionally
+/// stable, non-negative for any dt, and exact in the steady state (x -> x_plus).
+SCREE_HD inline Real riccati_sqrt_temperature(Real x0, Real a, Real b, Real k, Real dt) {
+  x0 = fmax(x0, Real(0));
+  if (!(dt > 0)) return x0;
+  if (a <= 0 && x0 <= 0) return 0;  // x = 0 is a fixed point without production
+  const Real h = Real(0.5) * dt;
+  if (!(k > 0)) {  // no dissipation: linear equation x' = (a + b x)/2
+    const Real bh = b * h;
+    const Real phi = fabs(bh) > Real(1e-12) ? expm1(bh) / b : h;  // (e^{bh} - 1)/b
+    return fmax(x0 + (a + b * x0) * phi, Real(0));
+  }
+  const Real s = sqrt(b * b + 4 * k * a);                 // discriminant, >= |b|
+  const Real xp = b >= 0 ? (b + s) / (2 * k) : 2 * a / (s - b);  // positive root (stable form)
+  const Real E = exp(-s * h);
+  const Real y0 = x0 - xp;
+  // y(t) = y0 E / (1 + k y0 (1-E)/s); the denominator written as a sum of non-negative
+  // terms: [(s - b) + E (b + s)]/(2 s) + (1 - E) k x0 / s, with s - b = 4 k a/(s + b).
+  if (s * h < Real(1e-12)) {  // s ~ 0 (a = b = 0): x' = -k x^2/2
+    return x0 / (1 + k * x0 * h);
+  }
+  const Real smb = b >= 0 ? 4 * k * a / (s + b) : s - b;
+  const Real den = (smb + E * (b + s)) / (2 * s) + (1 - E) * k * x0 / s;
+  const Real x = xp + y0 * E / den;
+  return fmax(x, Real(0));
+}
+
+/// Granular temperature after one step of eq. (27) (no flux) with the rate D held constant
+/// over dt and the solid fraction frozen at c.V.
+SCREE_HD inline Real update_temperature(const Coefficients& c, Real T0, const RateInvariants& r, Real dt) {
+  // energy * dT/dt = 2 eta dev2 + gamma tr^2 - p tr - Gamma0 - Gamma1   (eq. 27, sigma_col:D
+  // with sigma_col = -p I + 2 eta dev D + gamma tr(D) I, tension positive, ERRATA 5)
+  const Real a = (2 * c.eta_hat * r.dev2 + c.gam_hat * r.tr * r.tr) / c.energy;  // ~ sqrt(T)
+  const Real b = -(c.p_hat + c.div_hat) * r.tr / c.energy;                        // ~ T
+  const Real k = c.diss_hat / c.energy;                                           // ~ T^{3/2}
+  // dT/dt = a x + b x^2 - k x^3 with x = sqrt(T)  <=>  dx/dt = (a + b x - k x^2)/2
+  const Real x = riccati_sqrt_temperature(sqrt(fmax(T0, Real(0))), a, b, k, dt);
+  return x * x;
+}
+
+/// eq. (19) in Scree's sign convention (tension positive):
+/// sigma_col = -p_col I + 2 eta dev(D) + gamma tr(D) I. Its work sigma_col : D =
+/// -p tr D + 2 eta |dev D|^2 + gamma tr(D)^2 is non-negative in isochoric shear (ERRATA 5).
+SCREE_HD inline Sym3 collisional_stress(const Coefficients& c, Real T, const Sym3& D) {
+  const Real x = sqrt(fmax(T, Real(0)));
+  const Real p = c.p_hat * T;          // eq. (20)
+  const Real eta = c.eta_hat * x;      // eq. (21)
+  const Real gam = c.gam_hat * x;      // eq. (22)
+  const Real tr = D.trace();
+  Sym3 s = deviator(D) * (2 * eta);
+  const Real iso = -p + gam * tr;
+  s[0] += iso;
+  s[1] += iso;
+  s[2] += iso;
+  return s;
+}
+
+/// Adiabatic sound speed of the granular gas at (V, T): c^2 = T [p* + V dp*/dV + 2/3 p*^2]
+/// ((dp/drho)_T + T (dp/dT)_rho^2 / (rho^2 c_v), c_v = 3/2); dp*/dV by central differences.
+SCREE_HD inline Real sound_speed(const Params& P, const Coefficients& c, Real T) {
+  const Real dV = Real(1e-6);
+  const Real Va = fmax(c.V - dV, P.Vmin), Vb = fmin(c.V + dV, P.Vcap);
+  const Real pa = 2 * (1 + P.eps) * Va * radial_distribution(P, Va);
+  const Real pb = 2 * (1 + P.eps) * Vb * radial_distribution(P, Vb);
+  const Real dpdV = Vb > Va ? (pb - pa) / (Vb - Va) : Real(0);
+  const Real c2 = fmax(T, Real(0)) * (c.p_star + c.V * fmax(dpdV, Real(0)) + Real(2) / 3 * c.p_star * c.p_star);
+  return sqrt(c2);
+}
+
+/// Explicit-diffusion limit written as a speed (material.hpp): c_visc = 2 mu_eff/(rho h)
+/// with mu_eff = 4/3 eta + gamma (the longitudinal viscosity).
+SCREE_HD inline Real viscous_speed(const Coefficients& c, Real T, Real rho, Real h) {
+  if (!(rho > 0) || !(h > 0)) return 0;
+  const Real x = sqrt(fmax(T, Real(0)));
+  return 2 * (Real(4) / 3 * c.eta_hat * x + c.gam_hat * x) / (rho * h);
+}
+
+}  // namespace scree::materials::kt

@@ -1,0 +1,142 @@
+// phaseTransition: frictional (SIMSAND-type) + collisional (kinetic theory) stresses in
+// parallel (seed 001 section 3, eq. 1):
+//
+//   sigma = sigma_f + sigma_col                                                     (eq. 1)
+//
+// Both parts see the same strain increment and share the void ratio e (1 + e follows the
+// volume). sigma_f is integrated incrementally (simsand_model.hpp, eqs. 12-18) and stored in
+// the state (co-rotated here with the step's spin, Hughes-Winget); sigma_col is recomputed
+// every step from the granular temperature T and the strain rate D = deps/dt
+// (kinetic_theory.hpp, eqs. 19-28), T being integrated exactly over the step.
+//
+// p and q outputs are compression positive. README.md lists the parameters and decisions.
+#pragma once
+
+#include <cmath>
+
+#include "../kineticTheory/KineticTheory.hpp"
+#include "../simsand/Simsand.hpp"
+#include "scree/material/material.hpp"
+
+namespace scree::materials {
+
+struct PhaseTransition {
+  static constexpr const char* type_name = "phaseTransition";
+
+  struct Params {
+    simsand::Params f;  ///< frictional constants
+    kt::Params c;       ///< collisional constants
+    Real e0;            ///< initial void ratio [-]
+    Real T0;            ///< initial granular temperature [m^2/s^2]
+  };
+  struct State {
+    Sym3 sigf;   ///< frictional stress sigma_f (tension positive) [Pa]
+    Real e;      ///< void ratio [-]
+    Real T;      ///< granular temperature [m^2/s^2]
+    Real epsEq;  ///< equivalent plastic strain [-]
+    Real kappa;  ///< deviatoric plastic strain eps_d^p (hardening variable) [-]
+    Real rate;   ///< equivalent deviatoric strain rate sqrt(2/3 dev D:dev D) of the last step [1/s]
+    Real trD;    ///< volumetric strain rate tr D of the last step (tension positive) [1/s]
+  };
+
+  static ParamSpec spec() {
+    ParamSpec s(type_name,
+                "Phase-transition granular model (seed 001): SIMSAND-type frictional stress + kinetic-theory "
+                "collisional stress driven by the granular temperature, sigma = sigma_f + sigma_col (eq. 1)");
+    KineticTheory::add_collisional_spec(s);  // includes particleDensity and initialGranularTemperature
+    Simsand::add_frictional_spec(s);
+    s.scalar("initialVoidRatio", "-", "e0 (shared by both parts)").positive();
+    return s;
+  }
+  static Params read(const ParamReader& r) {
+    Params p{};
+    p.f = Simsand::read_frictional(r);
+    p.c = KineticTheory::read_collisional(r);
+    p.e0 = r.scalar("initialVoidRatio");
+    p.T0 = r.scalar("initialGranularTemperature");
+    return p;
+  }
+  static Real density(const Params& p) { return p.c.rho_p / (1 + p.e0); }
+
+  /// The initial stress is taken as total; sigma_f = sigma + p_col(e0, T0) I (sigma_col is
+  /// isotropic at rest), then made admissible (no tension, on or inside the yield surface).
+  static State initial_state(const Params& p, Sym3& sigma) {
+    State s{};
+    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, p.e0));
+    const Sym3 scol = kt::collisional_stress(c, p.T0, Sym3::zero());
+    Sym3 sf = sigma - scol;
+    const simsand::Vars v = simsand::initial_vars(p.f, sf, p.e0);
+    s.sigf = sf;
+    s.e = v.e;
+    s.T = p.T0;
+    s.epsEq = v.epsEq;
+    s.kappa = v.kappa;
+    sigma = sf + scol;
+    return s;
+  }
+
+  SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
+    Sym3 sf = corotate(s.sigf, inc.spin);
+    simsand::Vars v{s.e, s.kappa, s.epsEq};
+    simsand::integrate(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
+    s.sigf = sf;
+    s.e = v.e;
+    s.kappa = v.kappa;
+    s.epsEq = v.epsEq;
+    // collisional part at the shared void ratio
+    const Real inv_dt = inc.dt > 0 ? 1 / inc.dt : Real(0);
+    const Sym3 D = inc.deps * inv_dt;
+    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+    const kt::RateInvariants ri = kt::rate_invariants(D);
+    s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
+    sigma = sf + kt::collisional_stress(c, s.T, D);     // eq. (1) with eq. (19)
+    s.rate = sqrt(Real(2) / 3 * ri.dev2);
+    s.trD = ri.tr;
+  }
+
+  SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
+    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+    return simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, s.T) +
+           kt::viscous_speed(c, s.T, rho, h);
+  }
+
+  static Real collisional_fraction(const State& s, const Sym3& sig) {
+    const Real qf = deviatoric_stress(s.sigf), qc = deviatoric_stress(sig - s.sigf);
+    return qf + qc > 0 ? qc / (qf + qc) : Real(0);
+  }
+
+  static void describe(OutputFields<PhaseTransition>& out) {
+    out.state("voidRatio", &State::e, "-", "void ratio e (shared)");
+    out.state("granularTemperature", &State::T, "m^2/s^2", "granular temperature T");
+    out.state("plasticStrain", &State::epsEq, "-", "equivalent plastic strain, integral of sqrt(2/3 deps^p:deps^p)");
+    out.state("deviatoricPlasticStrain", &State::kappa, "-", "eps_d^p, the hardening variable of eq. (14)");
+    out.state("deviatoricStrainRate", &State::rate, "1/s",
+              "equivalent deviatoric strain rate sqrt(2/3 dev D:dev D) of the last step (gamma_dot/sqrt(3) in "
+              "simple shear)");
+    out.state("frictionalStress", &State::sigf, "Pa", "sigma_f, tension positive");
+    out.derived("frictionalPressure", "Pa", "p_f = -tr(sigma_f)/3 (compression positive)",
+                [](const Params&, const State& s, const Sym3&) { return pressure(s.sigf); });
+    out.derived("frictionalDeviatoricStress", "Pa", "q_f = sqrt(3/2 s_f:s_f)",
+                [](const Params&, const State& s, const Sym3&) { return deviatoric_stress(s.sigf); });
+    out.derived("collisionalPressure", "Pa", "p_col = -tr(sigma - sigma_f)/3 (compression positive)",
+                [](const Params&, const State& s, const Sym3& sig) { return pressure(sig - s.sigf); });
+    out.derived("collisionalDeviatoricStress", "Pa", "q_col of sigma_col = sigma - sigma_f",
+                [](const Params&, const State& s, const Sym3& sig) { return deviatoric_stress(sig - s.sigf); });
+    out.derived("shearViscosity", "Pa s", "eta (eq. 21)", [](const Params& p, const State& s, const Sym3&) {
+      const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+      return c.eta_hat * sqrt(fmax(s.T, Real(0)));
+    });
+    out.derived("bulkViscosity", "Pa s", "gamma (eq. 22)", [](const Params& p, const State& s, const Sym3&) {
+      const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+      return c.gam_hat * sqrt(fmax(s.T, Real(0)));
+    });
+    out.derived("collisionalFraction", "-", "K_col = q_col/(q_col + q_f) (section 4.1.2)",
+                [](const Params&, const State& s, const Sym3& sig) { return collisional_fraction(s, sig); });
+    out.derived("criticalVoidRatio", "-", "e_c(p_f), eq. (16)", [](const Params& p, const State& s, const Sym3&) {
+      return simsand::critical_void_ratio(p.f, pressure(s.sigf));
+    });
+  }
+};
+
+}  // namespace scree::materials

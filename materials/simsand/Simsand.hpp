@@ -1,0 +1,142 @@
+// simsand: SIMSAND-type critical-state frictional model (seed 001 section 3.2, eqs. 12-18).
+//
+// Nonlinear elasticity K(e, p) (eq. 13), a Mohr-Coulomb-type yield surface with hyperbolic
+// hardening towards the void-ratio dependent peak ratio M_p (eq. 14, ERRATA 8), stress-
+// dilatancy (eq. 15), a curved critical-state line (eq. 16) and the interlocking laws for the
+// peak and phase-transformation friction angles (eqs. 17-18), 3D with a Lode-angle
+// dependent M. The formulas and the stress integration live in simsand_model.hpp (shared
+// with phaseTransition); README.md lists the parameters and every decision.
+//
+// This is the purely frictional model that the paper compares with (section 4.1.3).
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "scree/material/material.hpp"
+#include "simsand_model.hpp"
+
+namespace scree::materials {
+
+struct Simsand {
+  static constexpr const char* type_name = "simsand";
+
+  struct Params {
+    simsand::Params m;  ///< model constants
+    Real rho_p;         ///< grain density [kg/m^3]
+    Real e0;            ///< initial void ratio [-]
+  };
+  struct State {
+    Real e;      ///< void ratio [-]
+    Real kappa;  ///< deviatoric plastic strain eps_d^p (hardening variable of eq. 14) [-]
+    Real epsEq;  ///< equivalent plastic strain [-]
+    Real rate;   ///< equivalent deviatoric strain rate of the last step [1/s]
+  };
+
+  // ---- parameters shared with phaseTransition (one spec, one reader) ----
+  static void add_frictional_spec(ParamSpec& s) {
+    s.scalar("referenceBulkModulus", "-", "K_0: dimensionless reference bulk modulus (eq. 13)").positive();
+    s.scalar("poissonRatio", "-", "nu: Poisson's ratio; G = 3(1-2nu)/(2(1+nu)) K").range(0.0, 0.5).open_max();
+    s.scalar("elasticExponent", "-", "n: pressure exponent of the stiffness (eq. 13)").range(0.0, 0.95);
+    s.scalar("atmosphericPressure", "Pa", "p_at: reference pressure of eqs. (13) and (16)")
+        .positive()
+        .default_value(101300.0);
+    s.scalar("criticalFrictionAngle", "deg", "phi_c: critical-state friction angle (M_c = 6 sin/(3 - sin))")
+        .range(0.0, 60.0)
+        .open_min();
+    s.scalar("referenceCriticalVoidRatio", "-", "e_ref: critical void ratio at p = 0 (eq. 16)").positive();
+    s.scalar("criticalStateLambda", "-", "lambda: slope parameter of the critical-state line (eq. 16)")
+        .non_negative();
+    s.scalar("criticalStateXi", "-", "xi: nonlinearity of the critical-state line (eq. 16)").positive();
+    s.scalar("dilatancyConstant", "-", "A_d: stress-dilatancy constant (eq. 15)").non_negative();
+    s.scalar("plasticModulusConstant", "-", "k_p: hardening constant of eq. (14)").positive();
+    s.scalar("peakStrengthExponent", "-", "n_p: interlocking exponent of the peak friction angle (eq. 17)")
+        .non_negative();
+    s.scalar("phaseTransformationExponent", "-",
+             "n_d: interlocking exponent of the phase-transformation angle (eq. 18)")
+        .non_negative();
+    s.word("lodeDependence", "M(theta): 'sheng' (Mohr-Coulomb vertices, smooth) or 'none' (M_c everywhere)")
+        .choices({"sheng", "none"})
+        .default_value("sheng");
+    s.scalar("minPressure", "Pa", "p_min: stiffness regularisation, K uses p + p_min (free surfaces)")
+        .positive()
+        .default_value(1.0);
+    s.scalar("integrationTolerance", "-", "relative local error tolerance of the substepping")
+        .range(1e-10, 1e-1)
+        .default_value(1e-4);
+  }
+  static simsand::Params read_frictional(const ParamReader& r) {
+    return simsand::make_params(r.scalar("referenceBulkModulus"), r.scalar("poissonRatio"),
+                                r.scalar("elasticExponent"), r.scalar("atmosphericPressure"),
+                                r.scalar("criticalFrictionAngle"), r.scalar("referenceCriticalVoidRatio"),
+                                r.scalar("criticalStateLambda"), r.scalar("criticalStateXi"),
+                                r.scalar("dilatancyConstant"), r.scalar("plasticModulusConstant"),
+                                r.scalar("peakStrengthExponent"), r.scalar("phaseTransformationExponent"),
+                                r.scalar("minPressure"), r.scalar("integrationTolerance"),
+                                r.word("lodeDependence") == "sheng");
+  }
+
+  static ParamSpec spec() {
+    ParamSpec s(type_name,
+                "SIMSAND-type critical-state frictional model (seed 001 eqs. 12-18): nonlinear elasticity, "
+                "hyperbolic hardening, stress-dilatancy, interlocking, Lode-angle dependence");
+    s.scalar("particleDensity", "kg/m^3", "grain density rho_p; bulk density is rho_p/(1+e0)").positive();
+    add_frictional_spec(s);
+    s.scalar("initialVoidRatio", "-", "e0").positive();
+    return s;
+  }
+  static Params read(const ParamReader& r) {
+    Params p{};
+    p.m = read_frictional(r);
+    p.rho_p = r.scalar("particleDensity");
+    p.e0 = r.scalar("initialVoidRatio");
+    return p;
+  }
+  static Real density(const Params& p) { return p.rho_p / (1 + p.e0); }
+
+  static State initial_state(const Params& p, Sym3& sigma) {
+    const simsand::Vars v = simsand::initial_vars(p.m, sigma, p.e0);
+    return State{v.e, v.kappa, v.epsEq, 0};
+  }
+
+  SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    simsand::Vars v{s.e, s.kappa, s.epsEq};
+    simsand::integrate(p.m, sigma, v, inc.deps);
+    s.e = v.e;
+    s.kappa = v.kappa;
+    s.epsEq = v.epsEq;
+    s.rate = inc.dt > 0 ? equivalent_deviatoric_strain(inc.deps) / inc.dt : Real(0);
+  }
+
+  SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3& sigma, Real rho, Real) {
+    return simsand::pwave_speed(p.m, s.e, pressure(sigma), rho);
+  }
+
+  static void describe(OutputFields<Simsand>& out) {
+    out.state("voidRatio", &State::e, "-", "void ratio e");
+    out.state("plasticStrain", &State::epsEq, "-", "equivalent plastic strain, integral of sqrt(2/3 deps^p:deps^p)");
+    out.state("deviatoricPlasticStrain", &State::kappa, "-", "eps_d^p, the hardening variable of eq. (14)");
+    out.state("deviatoricStrainRate", &State::rate, "1/s",
+              "equivalent deviatoric strain rate sqrt(2/3 dev D:dev D) of the last step (gamma_dot/sqrt(3) in "
+              "simple shear)");
+    out.derived_tensor("frictionalStress", "Pa", "sigma_f (= sigma for this model), tension positive",
+                       [](const Params&, const State&, const Sym3& sig) { return sig; });
+    out.derived("frictionalPressure", "Pa", "p_f = -tr(sigma)/3 (compression positive)",
+                [](const Params&, const State&, const Sym3& sig) { return pressure(sig); });
+    out.derived("frictionalDeviatoricStress", "Pa", "q_f = sqrt(3/2 s:s)",
+                [](const Params&, const State&, const Sym3& sig) { return deviatoric_stress(sig); });
+    out.derived("criticalVoidRatio", "-", "e_c(p_f), eq. (16)", [](const Params& p, const State&, const Sym3& sig) {
+      return simsand::critical_void_ratio(p.m, pressure(sig));
+    });
+    out.derived("peakStressRatio", "-", "M_p (eq. 17, triaxial compression)",
+                [](const Params& p, const State& s, const Sym3& sig) {
+                  return simsand::ratios(p.m, s.e, pressure(sig)).Mp;
+                });
+    out.derived("phaseTransformationRatio", "-", "M_pt (eq. 18, triaxial compression)",
+                [](const Params& p, const State& s, const Sym3& sig) {
+                  return simsand::ratios(p.m, s.e, pressure(sig)).Mpt;
+                });
+  }
+};
+
+}  // namespace scree::materials

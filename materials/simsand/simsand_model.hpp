@@ -1,0 +1,564 @@
+// SIMSAND-type critical-state frictional model: formulas and stress integration.
+//
+// One formula in one place: the simsand material (Simsand.hpp) and the frictional half of
+// phaseTransition (../phaseTransition/PhaseTransition.hpp) both call these free functions.
+// "eq. N" is the phase-transition paper (Feng, Liang, Yin & Hu 2025, IJNAMG, seed 001),
+// "ERRATA n" is ../../shared/seeds/ERRATA.md (seed 001). README.md in this folder lists the
+// parameters and every decision.
+//
+// Conventions: sigma is the Cauchy stress, tension positive (Scree). p = -tr(sigma)/3 and
+// q = sqrt(3/2 s:s) are compression positive; the volumetric strain eps_v = tr(eps) is
+// tension positive (so compression is -tr(deps)). Angles in radians.
+//
+// Model (per unit increment, in p-q-theta form):
+//   K = K0 p_at (2.97 - e)^2/(1 + e) ((p + p_min)/p_at)^n,  G = 3(1-2nu)/(2(1+nu)) K   eq. (13)
+//   f = q/(p g(theta)) - M_p eps_d^p/(k_p + eps_d^p)                                  eq. (14)
+//   dg/dp = A_d (M_pt - q/(p g(theta))),  dg/dq = 1 (flow radial in the deviatoric plane) eq. (15)
+//   e_c = e_ref exp(-lambda (p/p_at)^xi)                                             eq. (16)
+//   tan phi_p = (e_c/e)^n_p tan phi_c,  tan phi_pt = (e/e_c)^n_d tan phi_c           eqs. (17)-(18)
+//   M = 6 sin phi/(3 - sin phi) for M_c, M_p, M_pt (triaxial compression)
+//   g(theta) = [2c^4/(1 + c^4 - (1 - c^4) sin 3theta)]^{1/4}, c = (3 - sin phi_c)/(3 + sin phi_c)
+//              (Sheng, Sloan & Yu 2000; g = 1 in compression, c in extension = Mohr-Coulomb
+//               vertices), or g = 1 (lodeDependence none)
+//   1 + e follows the volume: 1 + e <- (1 + e) exp(tr deps)   (paper: de = -(1+e) d eps_v,
+//              compression-positive eps_v; here tension positive)
+//
+// Integration: elastic predictor integrated exactly (secant moduli of the power law, e frozen
+// at mid-increment), Pegasus search of the yield crossing, then Sloan et al.'s (2001)
+// modified-Euler substepping with local error control and drift correction. See README.md.
+//
+// Device code: only <cmath> functions; no exceptions, allocation, recursion or lambdas.
+#pragma once
+
+#include <cmath>
+
+#include "scree/core/config.hpp"
+#include "scree/core/tensor.hpp"
+
+namespace scree::materials::simsand {
+
+/// Host-prepared constants (trivially copyable).
+struct Params {
+  Real K0;       ///< dimensionless reference bulk modulus K_0 (eq. 13)
+  Real nu;       ///< Poisson's ratio
+  Real n;        ///< elastic exponent n (eq. 13), in [0, 1)
+  Real pat;      ///< atmospheric pressure p_at [Pa]
+  Real tanphic;  ///< tan(phi_c)
+  Real Mc;       ///< 6 sin phi_c/(3 - sin phi_c)
+  Real eref;     ///< e_ref (eq. 16)
+  Real lambda;   ///< lambda (eq. 16)
+  Real xi;       ///< xi (eq. 16)
+  Real Ad;       ///< A_d (eq. 15)
+  Real kp;       ///< k_p (eq. 14)
+  Real np;       ///< n_p (eq. 17)
+  Real nd;       ///< n_d (eq. 18)
+  Real pmin;     ///< stiffness regularisation pressure p_min [Pa]: K uses p + p_min
+  Real papex;    ///< below this mean stress the state is the stress-free apex [Pa]
+  Real stol;     ///< relative local error tolerance of the substepping
+  Real rG;       ///< G/K = 3 (1 - 2 nu)/(2 (1 + nu))
+  Real c4;       ///< c^4 of the Lode function (1 when lode == 0)
+  Real lode;     ///< 1: Lode-angle dependent M (Sheng), 0: M independent of theta
+  // derived constants of the elastic power law
+  Real m;        ///< 1 - n
+  Real inv_m;    ///< 1/(1 - n)
+  Real Amin;     ///< p_min^(1-n)
+  Real Cfac;     ///< K0 p_at^(1-n): K = Cfac F(e) (p + p_min)^n
+};
+
+/// Internal variables integrated together with the stress.
+struct Vars {
+  Real e;      ///< void ratio
+  Real kappa;  ///< deviatoric plastic strain eps_d^p (hardening variable, eq. 14)
+  Real epsEq;  ///< equivalent plastic strain integral of sqrt(2/3 deps^p : deps^p)
+};
+
+inline constexpr Real kFtol = 1e-9;        ///< yield-function tolerance (f is a stress ratio)
+inline constexpr int kMaxSubsteps = 1000;  ///< substeps with error control per update (then relaxed)
+inline constexpr Real kMinSubstep = 1e-4;  ///< smallest substep, as a fraction of the increment
+
+/// Host: fill the derived constants. phi_c in degrees.
+inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Real eref, Real lambda, Real xi,
+                          Real Ad, Real kp, Real np, Real nd, Real pmin, Real stol, bool lode) {
+  Params P{};
+  P.K0 = K0;
+  P.nu = nu;
+  P.n = n;
+  P.pat = pat;
+  const Real phi = phic_deg * Real(3.14159265358979323846) / 180;
+  const Real s = std::sin(phi);
+  P.tanphic = std::tan(phi);
+  P.Mc = 6 * s / (3 - s);
+  P.eref = eref;
+  P.lambda = lambda;
+  P.xi = xi;
+  P.Ad = Ad;
+  P.kp = kp;
+  P.np = np;
+  P.nd = nd;
+  P.pmin = pmin;
+  P.papex = 1e-6 * pmin;
+  P.stol = stol;
+  P.rG = 3 * (1 - 2 * nu) / (2 * (1 + nu));
+  const Real c = (3 - s) / (3 + s);
+  P.lode = lode ? 1 : 0;
+  P.c4 = lode ? c * c * c * c : 1;
+  P.m = 1 - n;
+  P.inv_m = 1 / (1 - n);
+  P.Amin = std::pow(pmin, 1 - n);
+  P.Cfac = K0 * std::pow(pat, 1 - n);
+  return P;
+}
+
+// ------------------------------------------------------------------ small tensor helpers
+
+/// (a a)_ij for a symmetric a (Voigt xx yy zz xy yz zx).
+SCREE_HD inline Sym3 sym_square(const Sym3& a) {
+  return Sym3{{a[0] * a[0] + a[3] * a[3] + a[5] * a[5], a[3] * a[3] + a[1] * a[1] + a[4] * a[4],
+               a[5] * a[5] + a[4] * a[4] + a[2] * a[2], a[0] * a[3] + a[3] * a[1] + a[5] * a[4],
+               a[3] * a[5] + a[1] * a[4] + a[4] * a[2], a[0] * a[5] + a[3] * a[4] + a[5] * a[2]}};
+}
+/// det(a) for a symmetric a.
+SCREE_HD inline Real sym_det(const Sym3& a) {
+  return a[0] * (a[1] * a[2] - a[4] * a[4]) - a[3] * (a[3] * a[2] - a[4] * a[5]) +
+         a[5] * (a[3] * a[4] - a[1] * a[5]);
+}
+SCREE_HD inline bool finite_real(Real x) { return (x - x) == 0; }
+SCREE_HD inline bool finite_sym(const Sym3& a) {
+  Real s = 0;
+  for (int i = 0; i < 6; ++i) s += a[i];
+  return finite_real(s);
+}
+/// sigma = s - p I.
+SCREE_HD inline Sym3 from_p_s(Real p, const Sym3& s) {
+  return Sym3{{s[0] - p, s[1] - p, s[2] - p, s[3], s[4], s[5]}};
+}
+
+// ------------------------------------------------------------------ constitutive functions
+
+/// (2.97 - e)^2/(1 + e) of eq. (13); e limited to [0, 2] (the expression has a spurious
+/// minimum at e = 2.97).
+SCREE_HD inline Real void_function(Real e) {
+  e = fmin(fmax(e, Real(0)), Real(2));
+  const Real a = Real(2.97) - e;
+  return a * a / (1 + e);
+}
+
+/// Tangent bulk modulus, eq. (13) with p regularised by p_min: K(0) > 0 so that a
+/// stress-free point regains stiffness in compression.
+SCREE_HD inline Real bulk_modulus(const Params& P, Real e, Real p) {
+  return P.Cfac * void_function(e) * pow(fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
+}
+
+/// Critical void ratio, eq. (16).
+SCREE_HD inline Real critical_void_ratio(const Params& P, Real p) {
+  return P.eref * exp(-P.lambda * pow(fmax(p, Real(0)) / P.pat, P.xi));  // eq. (16)
+}
+
+/// Stress ratio in triaxial compression for a friction angle given by its tangent:
+/// M = 6 sin phi/(3 - sin phi).
+SCREE_HD inline Real ratio_from_tan(Real t) {
+  const Real s = t / sqrt(1 + t * t);
+  return 6 * s / (3 - s);
+}
+
+/// Peak and phase-transformation stress ratios (eqs. 17-18) and the derivatives of M_p
+/// needed by the consistency condition.
+struct Ratios {
+  Real ec;      ///< critical void ratio e_c(p), eq. (16)
+  Real Mp;      ///< peak stress ratio, eq. (17)
+  Real Mpt;     ///< phase-transformation stress ratio, eq. (18)
+  Real dMp_de;  ///< dM_p/de at fixed p
+  Real dMp_dp;  ///< dM_p/dp at fixed e (through e_c(p)) [1/Pa]
+};
+SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) {
+  Ratios r;
+  e = fmax(e, Real(1e-6));
+  const Real pe = fmax(p, P.pmin);
+  r.ec = critical_void_ratio(P, p);
+  const Real tp = pow(r.ec / e, P.np) * P.tanphic;  // eq. (17)
+  const Real sp = tp / sqrt(1 + tp * tp);
+  r.Mp = 6 * sp / (3 - sp);
+  const Real td = pow(e / r.ec, P.nd) * P.tanphic;  // eq. (18)
+  r.Mpt = ratio_from_tan(td);
+  // dM/dtan = 18/(3 - sin)^2 * cos^3;  dtan_p/de = -n_p tan_p/e;
+  // dtan_p/dp = n_p tan_p/e_c de_c/dp = -n_p tan_p lambda xi (p/p_at)^(xi-1)/p_at
+  const Real c2 = 1 / (1 + tp * tp);
+  const Real dMdt = 18 / ((3 - sp) * (3 - sp)) * c2 * sqrt(c2);
+  r.dMp_de = dMdt * (-P.np * tp / e);
+  r.dMp_dp = dMdt * (-P.np * tp * P.lambda * P.xi * pow(pe / P.pat, P.xi - 1) / P.pat);
+  return r;
+}
+
+/// Lode-angle function g(theta) of M (Sheng et al. 2000) from sin(3 theta) in the
+/// compression-positive convention (+1 triaxial compression, -1 triaxial extension).
+SCREE_HD inline Real lode_g(const Params& P, Real S) {
+  if (P.lode == 0) return 1;
+  S = fmin(fmax(S, Real(-1)), Real(1));
+  return pow(2 * P.c4 / (1 + P.c4 - (1 - P.c4) * S), Real(0.25));
+}
+
+/// Stress invariants: p, q, the deviator s and sin(3 theta) (compression-positive convention:
+/// sin 3theta = (3 sqrt3/2) J3(-s)/J2^{3/2}, so +1 in triaxial compression).
+struct Invariants {
+  Real p, q, J2, J3, S;
+  Sym3 s;
+};
+SCREE_HD inline Invariants invariants(const Sym3& sig) {
+  Invariants v;
+  v.p = pressure(sig);
+  v.s = deviator(sig);
+  v.J2 = Real(0.5) * ddot(v.s, v.s);
+  v.q = sqrt(3 * v.J2);
+  v.J3 = sym_det(v.s);
+  v.S = v.J2 > 0 ? -Real(2.598076211353316) * v.J3 / (v.J2 * sqrt(v.J2)) : Real(0);
+  v.S = fmin(fmax(v.S, Real(-1)), Real(1));
+  return v;
+}
+
+/// Hardening function of eq. (14): H = M_p kappa/(k_p + kappa).
+SCREE_HD inline Real hardening(const Params& P, Real Mp, Real kappa) {
+  kappa = fmax(kappa, Real(0));
+  return Mp * kappa / (P.kp + kappa);
+}
+
+/// Yield function eq. (14): f = q/(p g) - M_p kappa/(k_p + kappa). At the apex (p ~ 0) 0.
+SCREE_HD inline Real yield(const Params& P, const Sym3& sig, Real e, Real kappa) {
+  const Invariants v = invariants(sig);
+  if (!(v.p > P.papex)) return 0;
+  const Real g = lode_g(P, v.S);
+  const Real Mp = ratios(P, e, v.p).Mp;
+  return v.q / (v.p * g) - hardening(P, Mp, kappa);
+}
+
+/// Put a stress on the yield surface by scaling its deviator at constant p and Lode angle
+/// (drift correction; also used for initial stresses outside the surface).
+SCREE_HD inline void project_to_surface(const Params& P, Sym3& sig, Real e, Real kappa) {
+  const Invariants v = invariants(sig);
+  if (!(v.p > P.papex) || !(v.q > 0)) return;
+  const Real qt = hardening(P, ratios(P, e, v.p).Mp, kappa) * lode_g(P, v.S) * v.p;
+  sig = from_p_s(v.p, v.s * (qt / v.q));
+}
+
+/// Elastic response to deps from sig0, integrated exactly for the power law of eq. (13) with
+/// e frozen: d(p + p_min)^(1-n) = (1-n) C F(e) d(-eps_v), and the deviator with the secant
+/// shear modulus G = rG (p1 - p0)/(-eps_v) (exact along a straight strain path since G/K is
+/// constant). Returns false when the extension would take p below zero (separation).
+SCREE_HD inline bool elastic_predictor(const Params& P, const Sym3& sig0, Real e, const Sym3& deps, Sym3& sig1) {
+  const Real p0 = fmax(pressure(sig0), Real(0));
+  const Real evc = -deps.trace();          // volumetric strain, compression positive
+  const Real C = P.Cfac * void_function(e);  // K = C (p + p_min)^n
+  const Real A0 = pow(p0 + P.pmin, P.m);
+  const Real dA = P.m * C * evc;
+  const Real B = A0 + dA;
+  if (!(B > P.Amin)) return false;  // p1 <= 0: tension cut-off
+  Real Ksec;
+  Real p1;
+  if (fabs(dA) > Real(1e-9) * A0) {
+    p1 = pow(B, P.inv_m) - P.pmin;
+    Ksec = (p1 - p0) / evc;
+  } else {  // tiny volumetric increment: tangent modulus at the mid-point
+    const Real Kt = C * pow(p0 + P.pmin, P.n);
+    Ksec = C * pow(fmax(p0 + Real(0.5) * Kt * evc, Real(0)) + P.pmin, P.n);
+    p1 = p0 + Ksec * evc;
+  }
+  p1 = fmax(p1, Real(0));
+  const Sym3 s1 = deviator(sig0) + deviator(deps) * (2 * P.rG * Ksec);
+  sig1 = from_p_s(p1, s1);
+  return true;
+}
+
+/// Elastoplastic rate (one explicit evaluation) for the strain increment deps at (sig, kappa, e),
+/// with de the void-ratio change over deps. Consistency (eq. 14):
+///   n_f : dsig + df/de de + df/dkappa dkappa = 0,   dsig = D:(deps - dlambda m),
+///   n_f = d(q/(p g))/dsig + (H/M_p) dM_p/dp dp/dsig,   m = -d/3 I + 3/2 s/q,  d = A_d (M_pt - eta)
+///   dlambda = [n_f : D : deps - (H/M_p) dM_p/de de] / [n_f : D : m + M_p k_p/(k_p+kappa)^2]
+/// dlambda = d eps_d^p (the flow is radial in the deviatoric plane, eq. 15).
+struct Rate {
+  Sym3 dsig;
+  Real dkappa;
+  Real deq;
+  Real num;  ///< loading indicator n_f : D : deps (before clipping)
+};
+SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, Real e, const Sym3& deps, Real de,
+                                  Rate& r) {
+  const Invariants v = invariants(sig);
+  if (!(v.p > P.papex) || !finite_real(v.p)) return false;
+  const Real p = v.p, q = v.q;
+  const Real K = bulk_modulus(P, e, p);  // eq. (13)
+  const Real G = P.rG * K;
+  const Sym3 dev = deviator(deps);
+  const Real tr = deps.trace();
+  // unit deviatoric direction of the flow (radial); along the strain deviator at q = 0
+  Sym3 nh = Sym3::zero();
+  const Real sn = sqrt(ddot(v.s, v.s));
+  if (q > Real(1e-10) * p) {
+    nh = v.s * (1 / sn);
+  } else {
+    const Real dn = sqrt(ddot(dev, dev));
+    if (dn > 0) nh = dev * (1 / dn);
+  }
+  // Lode dependence of the yield surface: g(theta) and the part of df/dsigma normal to s
+  Real g = 1;
+  Sym3 L = Sym3::zero();
+  if (P.lode != 0 && q > Real(1e-8) * p) {
+    g = lode_g(P, v.S);
+    const Real den_g = 1 + P.c4 - (1 - P.c4) * v.S;
+    const Real dg = Real(0.25) * g * (1 - P.c4) / den_g;  // dg/dS
+    const Real J2 = v.J2, J2_15 = J2 * sqrt(J2);
+    // dS/dsigma = -(3 sqrt3/2) [dev(s s)/J2^{3/2} - 3/2 J3 s/J2^{5/2}]  (deviatoric, normal to s)
+    const Sym3 dJ3 = deviator(sym_square(v.s));
+    const Sym3 dS = (dJ3 * (1 / J2_15) - v.s * (Real(1.5) * v.J3 / (J2_15 * J2))) * Real(-2.598076211353316);
+    if (fabs(v.S) < Real(1) - Real(1e-9)) L = dS * (-q / (p * g * g) * dg);  // d(q/(p g))/dS dS/dsigma
+  }
+  const Real eta = q / (p * g);
+  const Ratios R = ratios(P, e, p);  // eqs. (16)-(18)
+  const Real h = fmax(kappa, Real(0)) / (P.kp + fmax(kappa, Real(0)));
+  const Real dh = P.kp / ((P.kp + fmax(kappa, Real(0))) * (P.kp + fmax(kappa, Real(0))));
+  const Real d = P.Ad * (R.Mpt - eta);  // eq. (15): dilatancy, > 0 contractive
+  const Real a = eta / p + h * R.dMp_dp;
+  const Real c1 = Real(1.224744871391589) * 2 * G / (p * g);  // sqrt(3/2) 2G/(p g)
+  const Real num = c1 * ddot(nh, dev) + a * K * tr + 2 * G * ddot(L, dev) - h * R.dMp_de * de;
+  const Real den0 = 3 * G / (p * g);
+  Real den = den0 - a * K * d + R.Mp * dh;
+  den = fmax(den, Real(1e-3) * den0);  // guard against a non-positive plastic modulus (README)
+  const Real dl = fmax(num / den, Real(0));
+  // dsig = K tr I + 2G dev - dl (-K d I + 2G sqrt(3/2) nh)
+  const Real iso = K * tr + dl * K * d;
+  Sym3 ds = dev * (2 * G) - nh * (dl * 2 * G * Real(1.224744871391589));
+  ds[0] += iso;
+  ds[1] += iso;
+  ds[2] += iso;
+  r.dsig = ds;
+  r.dkappa = dl;
+  r.deq = dl * sqrt(2 * d * d / 9 + 1);  // sqrt(2/3 m:m) dlambda
+  r.num = num;
+  return finite_sym(ds) && finite_real(dl);
+}
+
+SCREE_HD inline Real void_ratio_at(Real one_plus_e0, Real tr, Real frac) {
+  return fmax(one_plus_e0 * exp(frac * tr) - 1, Real(1e-6));
+}
+
+/// Material point separated (tension): stress-free; the deviatoric strain of the remaining
+/// fraction counts as plastic (free flow at zero stress).
+SCREE_HD inline void separate(Sym3& sig, Vars& v, const Sym3& deps, Real frac) {
+  sig = Sym3::zero();
+  const Real ed = equivalent_deviatoric_strain(deps) * frac;
+  v.kappa += ed;
+  v.epsEq += ed;
+}
+
+/// f along the elastic path at fraction a of deps from sig0.
+SCREE_HD inline Real elastic_path_yield(const Params& P, const Sym3& sig0, Real kappa, Real ope0, const Sym3& deps,
+                                        Real a, Sym3& sig_a) {
+  const Real tr = deps.trace();
+  if (!elastic_predictor(P, sig0, void_ratio_at(ope0, tr, Real(0.5) * a), deps * a, sig_a)) return 1;
+  return yield(P, sig_a, void_ratio_at(ope0, tr, a), kappa);
+}
+
+/// Pegasus search of the elastic fraction a in (a0, a1) where the elastic path crosses f = 0
+/// (f0 < 0 < f1).
+SCREE_HD inline Real yield_crossing(const Params& P, const Sym3& sig0, Real kappa, Real ope0, const Sym3& deps,
+                                    Real a0, Real f0, Real a1, Real f1) {
+  Sym3 tmp;
+  for (int it = 0; it < 60; ++it) {
+    const Real a = a1 - f1 * (a1 - a0) / (f1 - f0);
+    const Real fa = elastic_path_yield(P, sig0, kappa, ope0, deps, a, tmp);
+    if (fabs(fa) <= kFtol) return a;
+    if (fa * f1 < 0) {
+      a0 = a1;
+      f0 = f1;
+    } else {
+      f0 = f0 * f1 / (f1 + fa);
+    }
+    a1 = a;
+    f1 = fa;
+    if (fabs(a1 - a0) < Real(1e-14)) break;
+  }
+  return fmin(a0, a1) > 0 ? fmin(a0, a1) : Real(0);
+}
+
+/// One stress update of the frictional model: sig (tension positive) and the internal
+/// variables v over the strain increment deps. Always returns a defined state: p >= 0,
+/// no tension, finite values.
+SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
+  const Real tr = deps.trace();
+  const Real ope0 = 1 + v.e;
+  const Real e1 = void_ratio_at(ope0, tr, 1);
+  if (!finite_sym(sig)) sig = Sym3::zero();
+  if (!finite_sym(deps)) {  // nothing sensible to integrate
+    v.e = fmax(v.e, Real(1e-6));
+    return;
+  }
+  Real p0 = pressure(sig);
+  if (!(p0 > P.papex)) {
+    // ---- apex: stress-free point (after separation or at a free surface)
+    Sym3 st;
+    if (!elastic_predictor(P, Sym3::zero(), void_ratio_at(ope0, tr, Real(0.5)), deps, st)) {
+      separate(sig, v, deps, 1);
+      v.e = e1;
+      return;
+    }
+    const Invariants iv = invariants(st);
+    const Real H = hardening(P, ratios(P, e1, iv.p).Mp, v.kappa);
+    const Real qt = H * lode_g(P, iv.S) * iv.p;
+    if (iv.q > qt && iv.q > 0) {  // return radially in the deviatoric plane at constant p
+      const Real dq = iv.q - qt;
+      const Real G = P.rG * bulk_modulus(P, e1, iv.p);
+      st = from_p_s(iv.p, iv.s * (qt / iv.q));
+      v.kappa += dq / (3 * G);
+      v.epsEq += dq / (3 * G);
+    }
+    sig = st;
+    v.e = e1;
+    return;
+  }
+
+  // ---- start of step: the surface may have moved (e, p or kappa changed last step)
+  Real f0 = yield(P, sig, v.e, v.kappa);
+  if (f0 > kFtol) {
+    project_to_surface(P, sig, v.e, v.kappa);
+    f0 = 0;
+  }
+  // ---- elastic trial (exact for the nonlinear elasticity)
+  Sym3 sig_tr;
+  if (!elastic_predictor(P, sig, void_ratio_at(ope0, tr, Real(0.5)), deps, sig_tr)) {
+    separate(sig, v, deps, 1);
+    v.e = e1;
+    return;
+  }
+  const Real ftr = yield(P, sig_tr, e1, v.kappa);
+  if (ftr <= kFtol) {  // elastic: the common cheap path
+    sig = sig_tr;
+    v.e = e1;
+    return;
+  }
+  // ---- elastic fraction alpha of the increment
+  Real alpha = 0;
+  Rate r1u;               // rate at the start of the current substep for the whole remaining
+  bool have_r1u = false;  // increment (linear in it: reused, scaled, after a rejection)
+  if (f0 < -kFtol) {
+    alpha = yield_crossing(P, sig, v.kappa, ope0, deps, 0, f0, 1, ftr);
+  } else {
+    Rate r0;
+    const bool ok0 = plastic_rate(P, sig, v.kappa, v.e, deps, ope0 * expm1(tr), r0);
+    if (ok0 && r0.num >= 0) {
+      r1u = r0;  // loading from the start: this is the first Euler rate
+      have_r1u = true;
+    } else if (ok0) {
+      // elastic unloading first, re-yielding later in the increment: find a point inside
+      Sym3 tmp;
+      Real alo = -1, flo = 0;
+      for (int j = 1; j < 10; ++j) {
+        const Real a = Real(0.1) * j;
+        const Real fa = elastic_path_yield(P, sig, v.kappa, ope0, deps, a, tmp);
+        if (fa < -kFtol) {
+          alo = a;
+          flo = fa;
+        } else if (alo > 0) {
+          break;
+        }
+      }
+      if (alo > 0) alpha = yield_crossing(P, sig, v.kappa, ope0, deps, alo, flo, 1, ftr);
+    }
+  }
+  if (alpha > 0) {
+    Sym3 sa;
+    if (elastic_predictor(P, sig, void_ratio_at(ope0, tr, Real(0.5) * alpha), deps * alpha, sa)) sig = sa;
+  }
+  // ---- plastic part: modified Euler with local error control (Sloan et al. 2001)
+  const Sym3 drem = deps * (1 - alpha);
+  Real T = 0, dT = 1, dT_relaxed = -1;
+  int n = 0;
+  while (T < 1) {
+    ++n;
+    // bounded work: after kMaxSubsteps substeps the error control is switched off and the
+    // substep is not allowed below 1/kMaxSubsteps of what then remained; after 3 kMaxSubsteps
+    // the remainder is done in one step.
+    const bool relaxed = n > kMaxSubsteps;
+    if (relaxed && dT_relaxed < 0) dT_relaxed = (1 - T) / kMaxSubsteps;
+    if (relaxed) dT = fmin(fmax(dT, dT_relaxed), 1 - T);
+    if (n > 3 * kMaxSubsteps) dT = 1 - T;
+    const Sym3 d = drem * dT;
+    const Real ea = void_ratio_at(ope0, tr, alpha + (1 - alpha) * T);
+    const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + dT));
+    const Real de = eb - ea;
+    if (!have_r1u) have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u);
+    bool ok = have_r1u;
+    Rate r1, r2;
+    r1.dsig = r1u.dsig * dT;
+    r1.dkappa = r1u.dkappa * dT;
+    r1.deq = r1u.deq * dT;
+    r1.num = r1u.num * dT;
+    Sym3 sn = sig;
+    Real kn = v.kappa, R = Real(1e300);
+    if (ok) {
+      ok = plastic_rate(P, sig + r1.dsig, v.kappa + r1.dkappa, eb, d, de, r2);
+      if (ok) {
+        sn = sig + (r1.dsig + r2.dsig) * Real(0.5);
+        kn = v.kappa + Real(0.5) * (r1.dkappa + r2.dkappa);
+        if (pressure(sn) > P.papex) {
+          const Real es = norm(r2.dsig - r1.dsig) / fmax(norm(sn), P.pmin);
+          const Real ek = fabs(r2.dkappa - r1.dkappa) / (kn + P.kp);
+          R = Real(0.5) * fmax(es, ek);
+        }
+      }
+    }
+    if (!(R < Real(1e299))) {  // p would drop to zero within the substep
+      if (dT > kMinSubstep && n <= 3 * kMaxSubsteps) {
+        dT = fmax(Real(0.1) * dT, kMinSubstep);
+        continue;
+      }
+      separate(sig, v, drem, 1 - T);  // cannot follow the path further: the point separates
+      v.e = e1;
+      return;
+    }
+    if (R > P.stol && !relaxed && dT > kMinSubstep) {  // reject: smaller substep (Sloan et al. 2001)
+      dT = fmax(dT * fmax(Real(0.9) * sqrt(P.stol / R), Real(0.1)), kMinSubstep);
+      continue;
+    }
+    sig = sn;  // accept
+    have_r1u = false;
+    v.kappa = kn;
+    v.epsEq += Real(0.5) * (r1.deq + r2.deq);
+    T += dT;
+    if (fabs(yield(P, sig, eb, v.kappa)) > kFtol) project_to_surface(P, sig, eb, v.kappa);  // drift
+    if (T >= 1 - Real(1e-12)) break;
+    const Real fac = R > 0 ? fmin(Real(0.9) * sqrt(P.stol / R), Real(1.1)) : Real(1.1);
+    dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);
+  }
+  v.e = e1;
+  if (!finite_sym(sig) || !(pressure(sig) >= 0)) sig = Sym3::zero();
+}
+
+/// State for an initial stress (tension positive): tension is cut to zero; kappa is chosen
+/// so that the stress lies on the yield surface (eq. 14); a stress ratio beyond 0.99 M_p is
+/// reduced to 0.99 M_p (deviator scaled at constant p and Lode angle).
+inline Vars initial_vars(const Params& P, Sym3& sig, Real e0) {
+  Vars v{e0, 0, 0};
+  const Invariants iv = invariants(sig);
+  if (!(iv.p > P.papex) || !finite_sym(sig)) {
+    sig = Sym3::zero();
+    return v;
+  }
+  const Real g = lode_g(P, iv.S);
+  const Real eta = iv.q / (iv.p * g);
+  const Real Mp = ratios(P, e0, iv.p).Mp;
+  if (eta <= 0) return v;
+  if (eta < Real(0.99) * Mp) {
+    v.kappa = P.kp * eta / (Mp - eta);  // H(kappa) = eta
+  } else {
+    v.kappa = 99 * P.kp;
+    sig = from_p_s(iv.p, iv.s * (Real(0.99) * Mp / eta));
+  }
+  return v;
+}
+
+/// Elastic P-wave speed sqrt((K + 4/3 G)/rho) at the current state.
+SCREE_HD inline Real pwave_speed(const Params& P, Real e, Real p, Real rho) {
+  if (!(rho > 0)) return 0;
+  const Real K = bulk_modulus(P, e, p);
+  return sqrt(K * (1 + Real(4) / 3 * P.rG) / rho);
+}
+
+}  // namespace scree::materials::simsand
