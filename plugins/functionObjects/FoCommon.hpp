@@ -1,0 +1,90 @@
+// Shared pieces of the function objects in this folder: CSV files written row by row,
+// body selection, directions, and field lookup in snapshots.
+//
+// CSV conventions (every file written here): one header line naming each column with
+// its unit in brackets ("time [s],runout [m],..."), then one row per execution, numbers
+// with 12 significant digits, "nan" where a value does not exist. Each row is flushed as
+// it is written, so a killed run keeps every finished row. A run that starts at t = 0
+// replaces old files; a run that starts later (a restart) keeps the rows before its
+// start time and appends.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "scree/output/snapshot.hpp"
+#include "scree/params/spec.hpp"
+#include "scree/solver/context.hpp"
+
+namespace scree::fo {
+
+using Vec3 = std::array<double, 3>;
+
+/// A number as written in CSV files: %.12g, "nan", "inf", "-inf".
+std::string csv_number(double v);
+/// A time as used in file names: %.8g ("0.1", "1.25e-05").
+std::string time_name(double t);
+/// `text` quoted for CSV when it holds a comma, quote or newline.
+std::string csv_text(const std::string& text);
+/// Split one CSV line at commas (quotes as written by csv_text).
+std::vector<std::string> csv_split(const std::string& line);
+
+/// A CSV file written one flushed row at a time (see the conventions above).
+class CsvFile {
+ public:
+  CsvFile() = default;
+  /// Open `path` with this header. start_time <= 0: replace the file. Otherwise keep the
+  /// rows of an existing file with the same header whose first column (time) is before
+  /// start_time, and append after them. Throws std::runtime_error when the file cannot
+  /// be written.
+  void open(const std::filesystem::path& path, const std::vector<std::string>& header, double start_time);
+  bool is_open() const { return out_.is_open(); }
+  /// Write and flush one row of numbers.
+  void row(const std::vector<double>& values);
+  /// Write and flush one row of texts (already formatted).
+  void row_text(const std::vector<std::string>& cells);
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  std::size_t columns_ = 0;
+  std::ofstream out_;
+};
+
+/// Create `dir` (and parents) and check that it is writable; throws std::runtime_error
+/// naming `who` and the directory otherwise.
+void ensure_writable_dir(const std::filesystem::path& dir, const std::string& who);
+
+/// Location of `key` in a plugin dictionary (the dictionary itself when defaulted).
+SourceLocation where_of(const ParamReader& r, const char* key);
+
+/// The `bodies` entry (optional word list; empty result: all bodies), each name checked
+/// against the case's bodies (InputError with "did you mean").
+std::vector<std::string> read_bodies(const ParamReader& r, const SolverContext& ctx);
+/// Whether body `b` is in `selection` (empty selection: every body).
+bool selected(const std::vector<std::string>& selection, const BodySnapshot& b);
+
+/// A unit vector from the optional vector entry `key` (dimension components), or `def`.
+/// InputError when the entry is the zero vector.
+Vec3 read_direction(const ParamReader& r, const char* key, const SolverContext& ctx, Vec3 def);
+/// A point from the optional vector entry `key`, or the origin.
+Vec3 read_point(const ParamReader& r, const char* key, const SolverContext& ctx);
+/// "Up": -gravity normalised, or +y (2D) / +z (3D) without gravity.
+Vec3 default_up(const SolverContext& ctx);
+
+/// The field `name` of a body, or a std::runtime_error naming `who`, the body and the
+/// fields it has.
+const FieldData& require_field(const BodySnapshot& b, const std::string& name, const std::string& who);
+
+/// Component suffixes of a field when expanded into CSV columns: scalars none; vectors
+/// (3) _x _y [_z in 3D]; symmetric tensors (6) _xx _yy _zz _xy [_yz _zx in 3D]; other
+/// counts _0 _1 .... The second member gives the component index of each suffix.
+std::vector<std::pair<std::string, int>> component_suffixes(int components, int dimension);
+
+inline double dot(const Vec3& a, const double* x) { return a[0] * x[0] + a[1] * x[1] + a[2] * x[2]; }
+
+}  // namespace scree::fo

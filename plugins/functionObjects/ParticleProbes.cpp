@@ -1,0 +1,275 @@
+// particleProbes (see ParticleProbes.hpp).
+#include "ParticleProbes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include "scree/output/writer.hpp"
+
+namespace fs = std::filesystem;
+
+namespace scree::fo {
+
+namespace {
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+const char* kAxes[] = {"x", "y", "z"};
+
+}  // namespace
+
+ParamSpec ParticleProbes::spec() {
+  ParamSpec s(type_name,
+              "follows the particles nearest given points (picked at the first execution, then tracked by id) "
+              "and writes their position and fields to postProcessing/<name>/<probe>.csv");
+  s.list("points", "probe points, one (x y [z]) per probe: each probe follows the particle nearest its point "
+                   "at the first execution");
+  s.word_list("names", "probe names, one per point (file names <name>.csv; default probe0, probe1, ...)").optional();
+  s.word_list("fields",
+              "particle fields to write, e.g. (pressure granularTemperature); (all): every field of the "
+              "particle's body. Vectors and tensors are expanded per component")
+      .default_value("(all)");
+  s.word_list("bodies", "bodies in which the particles are picked (default: all bodies)").optional();
+  return s;
+}
+
+ParticleProbes::ParticleProbes(const ParamReader& r, const SolverContext& ctx)
+    : who_("particleProbes '" + ctx.name + "'"),
+      dir_(ctx.post_processing_dir()),
+      dimension_(ctx.dimension),
+      start_time_(ctx.start_time),
+      bodies_(read_bodies(r, ctx)) {
+  // points ((x y) (x y) ...)
+  const Entry& pe = r.entry("points");
+  const Item& list = pe.single_item();
+  if (list.kind != Item::Kind::list || list.list.empty())
+    throw InputError(pe.where(), "points: expected a non-empty list of points, e.g. ((0.05 0.09) (0.1 0.05))");
+  const int dim = dimension_ == 3 ? 3 : 2;
+  for (std::size_t i = 0; i < list.list.size(); ++i) {
+    const Item& it = list.list[i];
+    bool ok = it.kind == Item::Kind::list && static_cast<int>(it.list.size()) == dim;
+    Probe p;
+    for (int d = 0; ok && d < dim; ++d) {
+      ok = it.list[d].kind == Item::Kind::number && std::isfinite(it.list[d].number);
+      if (ok) p.point[d] = it.list[d].number;
+    }
+    if (!ok)
+      throw InputError(it.where.file ? it.where : pe.where(),
+                       "points: element " + std::to_string(i + 1) + " must be a point of " + std::to_string(dim) +
+                           " numbers (" + std::string(dim == 3 ? "x y z" : "x y") + "), found " + it.to_string());
+    p.name = "probe" + std::to_string(i);
+    probes_.push_back(std::move(p));
+  }
+  // names (A B C)
+  if (r.has("names")) {
+    const auto names = r.words("names");
+    if (names.size() != probes_.size())
+      throw InputError(where_of(r, "names"), "names: " + std::to_string(names.size()) + " name(s) for " +
+                                                 std::to_string(probes_.size()) + " point(s)");
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const std::string& n = names[i];
+      if (n.empty() || n.find('/') != std::string::npos || n == "." || n == ".." || n == "selection")
+        throw InputError(where_of(r, "names"), "names: '" + n + "' cannot be used as a file name");
+      if (!seen.insert(n).second) throw InputError(where_of(r, "names"), "names: '" + n + "' appears twice");
+      probes_[i].name = n;
+    }
+  }
+  for (const auto& f : r.words("fields")) {
+    if (f == "all") continue;
+    if (std::find(fields_.begin(), fields_.end(), f) == fields_.end()) fields_.push_back(f);
+  }
+  const auto fw = r.words("fields");
+  all_fields_ = fw.empty() || std::find(fw.begin(), fw.end(), "all") != fw.end();
+  ensure_writable_dir(dir_, who_);
+}
+
+std::vector<std::int64_t> ParticleProbes::tracked_ids() const {
+  std::vector<std::int64_t> ids;
+  for (const auto& p : probes_) ids.push_back(p.id);
+  return ids;
+}
+
+// ------------------------------------------------------------------ picking
+
+void ParticleProbes::pick(const Snapshot& s) {
+  for (auto& pr : probes_) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& b : s.bodies) {
+      if (!selected(bodies_, b)) continue;
+      for (Index p = 0; p < b.n; ++p) {
+        double d2 = 0;
+        for (int d = 0; d < 3; ++d) {
+          const double dx = b.position[3 * p + d] - pr.point[d];
+          d2 += dx * dx;
+        }
+        if (d2 < best) {
+          best = d2;
+          pr.id = b.id[p];
+        }
+      }
+    }
+    if (pr.id < 0)
+      throw std::runtime_error(who_ + ": no particle to follow (the selected bodies have no particles)");
+  }
+}
+
+bool ParticleProbes::load_selection() {
+  std::ifstream in(dir_ / "selection.csv");
+  std::string line;
+  if (!in || !std::getline(in, line)) return false;
+  const auto header = csv_split(line);
+  const auto col = std::find(header.begin(), header.end(), "particle_id [-]");
+  if (col == header.end()) return false;
+  const auto k = static_cast<std::size_t>(col - header.begin());
+  std::vector<std::int64_t> ids(probes_.size(), -1);
+  while (std::getline(in, line)) {
+    const auto cells = csv_split(line);
+    if (cells.size() <= k) continue;
+    for (std::size_t i = 0; i < probes_.size(); ++i)
+      if (cells[0] == probes_[i].name) ids[i] = std::stoll(cells[k]);
+  }
+  if (std::find(ids.begin(), ids.end(), -1) != ids.end()) return false;  // another set of probes
+  for (std::size_t i = 0; i < probes_.size(); ++i) probes_[i].id = ids[i];
+  return true;
+}
+
+void ParticleProbes::save_selection(const Snapshot& s) const {
+  const int dim = dimension_ == 3 ? 3 : 2;
+  write_file_atomically(dir_ / "selection.csv", [&](const fs::path& tmp) {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << "probe";
+    for (int d = 0; d < dim; ++d) out << ",point_" << kAxes[d] << " [m]";
+    out << ",particle_id [-],body";
+    for (int d = 0; d < dim; ++d) out << "," << kAxes[d] << " [m]";
+    out << ",distance [m],time [s]\n";
+    for (const auto& pr : probes_) {
+      const BodySnapshot* body = nullptr;
+      Index at = 0;
+      for (const auto& b : s.bodies)
+        for (Index p = 0; p < b.n && !body; ++p)
+          if (b.id[p] == pr.id) {
+            body = &b;
+            at = p;
+          }
+      out << csv_text(pr.name);
+      for (int d = 0; d < dim; ++d) out << "," << csv_number(pr.point[d]);
+      out << "," << pr.id << "," << csv_text(body ? body->name : "");
+      double d2 = 0;
+      for (int d = 0; d < dim; ++d) {
+        const double x = body ? body->position[3 * at + d] : std::numeric_limits<double>::quiet_NaN();
+        d2 += (x - pr.point[d]) * (x - pr.point[d]);
+        out << "," << csv_number(x);
+      }
+      out << "," << csv_number(std::sqrt(d2)) << "," << csv_number(s.time) << "\n";
+    }
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  });
+}
+
+// ------------------------------------------------------------------ rows
+
+void ParticleProbes::open_probe(Probe& pr, const BodySnapshot& b) {
+  pr.columns.clear();
+  std::vector<std::string> missing;
+  auto add = [&](const FieldData& f) {
+    for (const auto& [suffix, c] : component_suffixes(f.components, dimension_)) pr.columns.push_back({f.name, c});
+  };
+  if (all_fields_)
+    for (const auto& f : b.fields)
+      if (f.name != "bodyId") add(f);
+  for (const auto& name : fields_) {
+    const FieldData* f = b.find(name);
+    if (!f) {
+      missing.push_back(name);
+      continue;
+    }
+    if (std::none_of(pr.columns.begin(), pr.columns.end(), [&](const Column& c) { return c.field == name; })) add(*f);
+  }
+  if (!missing.empty()) {
+    std::vector<std::string> have;
+    for (const auto& f : b.fields) have.push_back(f.name);
+    std::cerr << "warning: " << who_ << ": probe '" << pr.name << "' follows a particle of body '" << b.name
+              << "' (material '" << b.material << "'), which has no field " << join(missing)
+              << "; not written. Its fields: " << join(have) << "\n";
+  }
+  std::vector<std::string> header = {"time [s]"};
+  for (int d = 0; d < (dimension_ == 3 ? 3 : 2); ++d) header.push_back(std::string(kAxes[d]) + " [m]");
+  for (const auto& col : pr.columns) {
+    const FieldData* f = b.find(col.field);
+    const auto suffixes = component_suffixes(f->components, dimension_);
+    std::string suffix;
+    for (const auto& [sfx, c] : suffixes)
+      if (c == col.component) suffix = sfx;
+    header.push_back(col.field + suffix + " [" + (f->unit.empty() ? "-" : f->unit) + "]");
+  }
+  pr.csv.open(dir_ / (pr.name + ".csv"), header, start_time_);
+}
+
+void ParticleProbes::execute(const Snapshot& s) {
+  if (s.step == last_step_) return;  // the same state again (the final output)
+  last_step_ = s.step;
+  if (!picked_) {
+    if (!(start_time_ > 0 && load_selection())) {
+      pick(s);
+      save_selection(s);
+    }
+    picked_ = true;
+  }
+  // Find each probe's particle by id (one pass over the particles).
+  std::vector<std::pair<std::int64_t, std::size_t>> wanted;  // (id, probe), sorted by id
+  for (std::size_t i = 0; i < probes_.size(); ++i) wanted.emplace_back(probes_[i].id, i);
+  std::sort(wanted.begin(), wanted.end());
+  std::vector<const BodySnapshot*> body(probes_.size(), nullptr);
+  std::vector<Index> index(probes_.size(), 0);
+  std::size_t found = 0;
+  for (const auto& b : s.bodies) {
+    for (Index p = 0; p < b.n && found < probes_.size(); ++p) {
+      auto it = std::lower_bound(wanted.begin(), wanted.end(), std::make_pair(b.id[p], std::size_t{0}));
+      for (; it != wanted.end() && it->first == b.id[p]; ++it) {
+        body[it->second] = &b;
+        index[it->second] = p;
+        ++found;
+      }
+    }
+  }
+  const int dim = dimension_ == 3 ? 3 : 2;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t i = 0; i < probes_.size(); ++i) {
+    Probe& pr = probes_[i];
+    const BodySnapshot* b = body[i];
+    if (!pr.csv.is_open()) {
+      if (!b) throw std::runtime_error(who_ + ": particle " + std::to_string(pr.id) + " of probe '" + pr.name +
+                                       "' is not in the snapshot");
+      open_probe(pr, *b);
+    }
+    std::vector<double> row = {s.time};
+    if (!b) {
+      if (!pr.missing_reported)
+        std::cerr << "warning: " << who_ << ": particle " << pr.id << " of probe '" << pr.name
+                  << "' is no longer in the snapshot; its rows are nan from t = " << s.time << "\n";
+      pr.missing_reported = true;
+      row.resize(1 + dim + pr.columns.size(), nan);
+      pr.csv.row(row);
+      continue;
+    }
+    const Index p = index[i];
+    for (int d = 0; d < dim; ++d) row.push_back(b->position[3 * p + d]);
+    for (const auto& col : pr.columns) {
+      const FieldData* f = b->find(col.field);
+      row.push_back(f ? f->values[static_cast<std::size_t>(p) * f->components + col.component] : nan);
+    }
+    pr.csv.row(row);
+  }
+}
+
+}  // namespace scree::fo

@@ -1,0 +1,103 @@
+// End to end: a small case (an elastic column under gravity) written into a temporary
+// directory and run with the `scree` executable of the build tree, with the vtk writer
+// and the function objects. Checks that the .pvd series lists every write time, that
+// every .vtp it lists opens with VTK's reader with the right particle count and arrays,
+// that no temporary file is left, and that the CSV files have one row per execution.
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <cstdlib>
+
+#include "test_util.hpp"
+
+using namespace scree_test;
+
+namespace {
+
+void write_file(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+/// 4 x 20 cells of 0.05 m with 2 x 2 particles per cell: 320 particles.
+void write_case(const fs::path& dir) {
+  write_file(dir / "constant" / "materialProperties", "soil { type linearElastic; E 1e6; nu 0.3; rho 1000; }\n");
+  write_file(dir / "constant" / "g", "value (0 -9.81);\n");
+  write_file(dir / "constant" / "boundaryConditions",
+             "floor { type fixed; face yMin; }\nleft { type slip; face xMin; }\nright { type slip; face xMax; }\n");
+  write_file(dir / "constant" / "bodies",
+             "column { material soil; region { type rectangle; lower (0 0); upper (0.2 1.0); } "
+             "particlesPerCell 2; }\n");
+  write_file(dir / "system" / "gridDict", "dimension 2;\nlower (0 0);\nupper (0.2 1.0);\ncellSize 0.05;\n");
+  write_file(dir / "system" / "mpmSchemes", "updateScheme USF;\n");
+  write_file(dir / "system" / "controlDict",
+             "FoamFile { version 2.0; format ascii; class dictionary; object controlDict; }\n"
+             "endTime 0.02;\ndeltaT 1e-4;\nwriteControl adjustableRunTime;\nwriteInterval 0.005;\n"
+             "writers { vtk { type vtk; fields (velocity stress pressure); } }\n"
+             "functions {\n"
+             "  front { type runOut; origin (0 0); }\n"
+             "  probes { type particleProbes; points ((0.1 0.9)); names (top); fields (pressure); "
+             "executeControl timeStep; executeInterval 50; }\n"
+             "}\n");
+}
+
+}  // namespace
+
+TEST(EndToEnd, ElasticColumnWritesReadableSeries) {
+  TempDir dir;
+  write_case(dir.path());
+  const fs::path log = dir.path() / "log.scree";
+  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.path().string() +
+                          "' --threads 2 > '" + log.string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream lf(log);
+  std::stringstream out;
+  out << lf.rdbuf();
+  ASSERT_EQ(rc, 0) << out.str();
+
+  const fs::path vtk = dir.path() / "VTK";
+  const auto series = read_pvd(vtk / "vtk.pvd");
+  ASSERT_EQ(series.size(), 5u) << out.str();  // t = 0, 0.005, ..., 0.02
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    EXPECT_NEAR(series[i].time, 0.005 * static_cast<double>(i), 1e-9);
+    EXPECT_EQ(series[i].file, "vtk_" + std::to_string(i) + ".vtp");
+    vtkNew<vtkXMLPolyDataReader> r;
+    r->SetFileName((vtk / series[i].file).c_str());
+    r->Update();
+    ASSERT_EQ(r->GetErrorCode(), 0u) << series[i].file;
+    vtkPolyData* pd = r->GetOutput();
+    EXPECT_EQ(pd->GetNumberOfPoints(), 320) << series[i].file;
+    EXPECT_EQ(pd->GetNumberOfVerts(), 320) << series[i].file;
+    vtkPointData* pt = pd->GetPointData();
+    EXPECT_EQ(pt->GetNumberOfArrays(), 5);
+    for (const char* name : {"particleId", "bodyId", "velocity", "stress", "pressure"})
+      EXPECT_NE(pt->GetArray(name), nullptr) << series[i].file << ": " << name;
+    EXPECT_EQ(pt->GetArray("velocity")->GetNumberOfComponents(), 3);
+    EXPECT_EQ(pt->GetArray("stress")->GetNumberOfComponents(), 6);
+    EXPECT_NEAR(pd->GetFieldData()->GetArray("TimeValue")->GetTuple1(0), series[i].time, 1e-12);
+  }
+  // Compressed appended binary by default.
+  std::ifstream vf(vtk / "vtk_1.vtp", std::ios::binary);
+  std::string head(400, '\0');
+  vf.read(head.data(), static_cast<std::streamsize>(head.size()));
+  EXPECT_NE(head.find("vtkZLibDataCompressor"), std::string::npos);
+  EXPECT_TRUE(temporaries(vtk).empty());
+
+  // Function objects: one row per write time (runOut), per 50 steps (probes).
+  const fs::path pp = dir.path() / "postProcessing";
+  const Csv front = read_csv(pp / "front" / "runOut.csv");
+  ASSERT_EQ(front.rows.size(), 5u);
+  EXPECT_EQ(front.num(0, "particles [-]"), 320);
+  EXPECT_NEAR(front.num(0, "runout [m]"), 0.1875, 1e-12);  // centres of the last column of particles
+  EXPECT_NEAR(front.num(0, "kinetic_energy [J/m]"), 0.0, 1e-12);
+  EXPECT_GT(front.num(4, "kinetic_energy [J/m]"), 0.0);
+  const Csv top = read_csv(pp / "probes" / "top.csv");
+  EXPECT_EQ(top.rows.size(), 5u);
+  const std::vector<std::string> header = {"time [s]", "x [m]", "y [m]", "pressure [Pa]"};
+  EXPECT_EQ(top.header, header);
+  EXPECT_TRUE(temporaries(pp / "probes").empty());
+}
