@@ -352,6 +352,7 @@ void validate(const ParamSpec& spec, const Dictionary& dict, std::vector<InputEr
     for (const auto& k : spec.allowed_keys()) valid.push_back(k);
     for (const Entry& e : dict.entries()) {
       if (std::find(valid.begin(), valid.end(), e.key()) != valid.end()) continue;
+      if (!e.key().empty() && e.key()[0] == '_') continue;  // a variable for $macros
       std::string msg = "unknown entry '" + e.key() + "' in '" + dict.name() + "'";
       const std::string near = nearest_name(e.key(), valid);
       if (!near.empty())

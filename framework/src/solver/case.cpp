@@ -150,6 +150,9 @@ const CoreSpecs& CoreSpecs::get() {
 
 namespace {
 
+/// Entries named _name are variables for $macros, not bodies, materials or plugins.
+bool is_variable(const Entry& e) { return !e.key().empty() && e.key()[0] == '_'; }
+
 /// Read a case file; a parse error is recorded and an empty dictionary returned.
 Dictionary read_or_record(const fs::path& dir, const std::string& rel, std::vector<InputError>& errors,
                           bool required = true) {
@@ -176,7 +179,7 @@ void validate_plugin_entries(const Dictionary& d, PluginKind kind, const Registr
                              std::vector<InputError>& errors, int dim,
                              const std::vector<std::string>& extra_keys = {}) {
   for (const Entry& e : d.entries()) {
-    if (e.key() == "FoamFile") continue;
+    if (e.key() == "FoamFile" || is_variable(e)) continue;
     if (!e.is_dict()) {
       errors.emplace_back(e.where(), "'" + e.key() + "': expected a dictionary { type ...; ... }, found " +
                                          e.value_string());
@@ -254,10 +257,10 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   // Bodies: the core spec, and the material must exist.
   std::vector<std::string> materials;
   for (const Entry& e : c.materials_.entries())
-    if (e.is_dict() && e.key() != "FoamFile") materials.push_back(e.key());
+    if (e.is_dict() && e.key() != "FoamFile" && !is_variable(e)) materials.push_back(e.key());
   int nbodies = 0;
   for (const Entry& e : c.bodies_.entries()) {
-    if (e.key() == "FoamFile") continue;
+    if (e.key() == "FoamFile" || is_variable(e)) continue;
     if (!e.is_dict()) {
       errors.emplace_back(e.where(), "'" + e.key() + "': expected a body dictionary { material ...; region {...} }");
       continue;

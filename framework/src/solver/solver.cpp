@@ -222,7 +222,7 @@ void Solver<D>::setup_bodies() {
   int id = 0;
   Real min_mass = 1e300;
   for (const Entry& e : case_.bodies().entries()) {
-    if (!e.is_dict() || e.key() == "FoamFile") continue;
+    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
     const Dictionary& b = e.dict();
     const std::string mat_name = b.get_word("material");
     const Dictionary& mat = case_.materials().sub(mat_name);
@@ -263,7 +263,7 @@ void Solver<D>::setup_boundaries() {
   ConstraintSet set(ctx_);
   const Registry& reg = rt_.registry();
   for (const Entry& e : case_.boundaries().entries()) {
-    if (!e.is_dict() || e.key() == "FoamFile") continue;
+    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
     const Dictionary& d = e.dict();
     const Entry& type = d.at("type");
     const PluginEntry& pe = reg.get(PluginKind::boundaryCondition, type.as_word(), type.where());
@@ -298,7 +298,7 @@ void Solver<D>::setup_output() {
   write_schedule_.next_step = 0;
   if (const Entry* w = cd.find("writers")) {
     for (const Entry& e : w->dict().entries()) {
-      if (!e.is_dict()) continue;
+      if (!e.is_dict() || e.key()[0] == '_') continue;
       const Entry& type = e.dict().at("type");
       const PluginEntry& pe = reg.get(PluginKind::writer, type.as_word(), type.where());
       SolverContext c = ctx_;
@@ -309,7 +309,7 @@ void Solver<D>::setup_output() {
   }
   if (const Entry* f = cd.find("functions")) {
     for (const Entry& e : f->dict().entries()) {
-      if (!e.is_dict()) continue;
+      if (!e.is_dict() || e.key()[0] == '_') continue;
       const Dictionary& d = e.dict();
       const Entry& type = d.at("type");
       const PluginEntry& pe = reg.get(PluginKind::functionObject, type.as_word(), type.where());

@@ -151,6 +151,8 @@ class SCREE_API ParamSpec {
 /// Validate `dict` against `spec`, appending every problem to `errors` (nothing thrown):
 /// missing required keys, wrong types, out-of-range values, bad choices, unknown keys
 /// (with "did you mean 'x'?" for near misses), and sub-dictionaries recursively.
+/// Keys starting with '_' are variables for $macros (e.g. `_releaseTime 0.1;`) and are
+/// never reported as unknown.
 /// `dimension` fixes the length of vector parameters declared with size(-1).
 SCREE_API void validate(const ParamSpec& spec, const Dictionary& dict, std::vector<InputError>& errors,
                         int dimension = 0);
