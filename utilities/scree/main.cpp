@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
        "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
       ("no-output", "run without writers and function objects (benchmarks)")
-      ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs");
+      ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs")
+      ("profile", "time every kernel phase (synchronising after each) and print a table at the end");
   po::variables_map vm;
   try {
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -139,6 +140,7 @@ int main(int argc, char** argv) {
   opt.max_steps = vm["max-steps"].as<long long>();
   opt.output = !vm.count("no-output");
   opt.use_graphs = !vm.count("no-graphs");
+  opt.profile = vm.count("profile") > 0;
 
   const fs::path dir = vm["case"].as<std::string>();
   try {

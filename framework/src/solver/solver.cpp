@@ -396,26 +396,66 @@ unsigned pending_flags(UpdateScheme s) {
 }  // namespace
 
 template <int D>
+template <class F>
+void Solver<D>::phase(const char* name, F&& f) {
+  if (!opt_.profile) {
+    f();
+    return;
+  }
+  mem::synchronize(exec_.device);
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  mem::synchronize(exec_.device);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (auto& [n, t] : profile_)
+    if (n == name) {
+      t += s;
+      return;
+    }
+  profile_.emplace_back(name, s);
+}
+
+template <int D>
+void Solver<D>::report_profile() {
+  if (profile_.empty()) return;
+  double total = 0;
+  for (auto& [n, t] : profile_) total += t;
+  log_ << "Profile (synchronised per phase, " << step_ << " steps):\n";
+  for (auto& [n, t] : profile_)
+    log_ << "  " << std::left << std::setw(44) << n << std::right << std::setw(10) << std::setprecision(4)
+         << 1e6 * t / std::max<std::int64_t>(1, step_) << " us/step  " << std::setw(5) << std::setprecision(3)
+         << 100 * t / total << " %\n";
+}
+
+template <int D>
 void Solver<D>::step() {
   const int p = static_cast<int>(step_ % 2);
   const int A = 1 - p, B = p;
   const unsigned pend = pending_ ? pending_flags(scheme_) : 0u;
+  auto passes = [&](const char* name, unsigned flags, int g, int s, int gp) {
+    phase(name, [&] {
+      for (auto& b : bodies_) b->pass(pass_params(flags, g, s, gp));
+    });
+  };
+  auto grid = [&](const char* name, unsigned modes) {
+    phase(name, [&] { grid_update<D>(exec_, grid_params(modes, B)); });
+  };
   switch (scheme_) {
     case UpdateScheme::USL:
-      for (auto& b : bodies_) b->pass(pass_params(pend | kScatterMassMomentum | kScatterForce, A, B, A));
-      grid_update<D>(exec_, grid_params(kNormalize | kIntegrate | kZeroOther | kAdvance, B));
+      passes("particles: G2P + stress + P2G (fused)", pend | kScatterMassMomentum | kScatterForce, A, B, A);
+      grid("grid: velocity, integration, clear", kNormalize | kIntegrate | kZeroOther | kAdvance);
       break;
     case UpdateScheme::USF:
-      for (auto& b : bodies_) b->pass(pass_params(pend | kScatterMassMomentum, A, B, A));
-      grid_update<D>(exec_, grid_params(kNormalize | kZeroOther, B));
-      for (auto& b : bodies_) b->pass(pass_params(kStressFromVelocity | kScatterForce, B, B, B));
-      grid_update<D>(exec_, grid_params(kIntegrate | kAdvance, B));
+      passes("particles: G2P + P2G mass, momentum", pend | kScatterMassMomentum, A, B, A);
+      grid("grid: velocity, clear", kNormalize | kZeroOther);
+      passes("particles: stress + P2G force", kStressFromVelocity | kScatterForce, B, B, B);
+      grid("grid: integration", kIntegrate | kAdvance);
       break;
     case UpdateScheme::MUSL:
-      for (auto& b : bodies_) b->pass(pass_params(pend | kScatterMassMomentum | kScatterForce, A, B, A));
-      grid_update<D>(exec_, grid_params(kNormalize | kIntegrate | kZeroMomentum | kZeroOther, B));
-      for (auto& b : bodies_) b->pass(pass_params(kGatherVelocity | kScatterMomentum, B, B, B));
-      grid_update<D>(exec_, grid_params(kRemap | kAdvance, B));
+      passes("particles: stress, x + P2G m, p, f", pend | kScatterMassMomentum | kScatterForce, A, B, A);
+      grid("grid: velocity, integration, clear", kNormalize | kIntegrate | kZeroMomentum | kZeroOther);
+      passes("particles: G2P velocity + P2G momentum", kGatherVelocity | kScatterMomentum, B, B, B);
+      grid("grid: remapped velocity", kRemap | kAdvance);
       break;
   }
   pending_ = true;
@@ -445,7 +485,7 @@ void Solver<D>::destroy_graphs() {
 template <int D>
 void Solver<D>::launch_steps(std::int64_t n) {
 #if defined(SCREE_HAVE_CUDA)
-  if (exec_.device == Device::cuda && opt_.use_graphs) {
+  if (exec_.device == Device::cuda && opt_.use_graphs && !opt_.profile) {
     // The first step after a flush differs (no pending gather): launch it directly.
     while (n > 0 && !pending_) {
       step();
@@ -651,6 +691,7 @@ RunStats Solver<D>::run() {
     for (auto& f : functions_) f->finish();
   }
   if (opt_.progress) report_progress(true);
+  report_profile();
   return stats();
 }
 

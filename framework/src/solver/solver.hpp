@@ -103,6 +103,10 @@ class Solver {
   PassParams<D> pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const;
   GridUpdateParams<D> grid_params(unsigned modes, int set) const;
   void destroy_graphs();
+  /// Run `f` as phase `name`; with profiling on, synchronise and accumulate its time.
+  template <class F>
+  void phase(const char* name, F&& f);
+  void report_profile();
 
   const Case& case_;
   PluginRuntime& rt_;
@@ -160,6 +164,7 @@ class Solver {
   double wall_ = 0, output_wall_ = 0;
   double chunk_rate_ = 0;  // steps per second, measured
   bool tty_ = false;
+  std::vector<std::pair<std::string, double>> profile_;  // phase name -> seconds
 };
 
 }  // namespace scree

@@ -28,6 +28,7 @@ struct RunOptions {
   bool use_graphs = true;      ///< CUDA: replay steps as CUDA graphs
   std::int64_t max_steps = -1; ///< stop after this many steps (benchmarks); -1: no limit
   bool progress = true;        ///< progress line on stdout
+  bool profile = false;        ///< time every kernel phase (synchronising; no graphs) and report
   std::ostream* log = nullptr; ///< messages (default std::cout)
 };
 
