@@ -1,0 +1,344 @@
+#!/usr/bin/python3
+"""Figures of the granular column collapse (seed 001, section 4.1) from a run's own output.
+
+    column_collapse.py CASE [--frictional CASE_F] [-o OUTDIR]
+
+CASE is a finished run of cases/columnCollapse (phaseTransition); CASE_F the same case
+run with the purely frictional material (constant/bodies: material sandFrictional).
+Reads VTK/particles.pvd (and its .vtp files), postProcessing/deposit/runOut.csv and
+postProcessing/probes/{A,B,C}.csv; times are shown from the gate's release
+(_releaseTime in system/stages). Writes PNGs and summary.json to OUTDIR:
+
+  fig10_free_surface.png        final free surface, with the paper's d_inf and h_inf
+  fig11_strain_viscosity.png    equivalent plastic strain and shear viscosity at 0.05,
+                                0.25, 0.5 and 1 s after release
+  fig12_granular_temperature.png  granular temperature at the same times
+  fig13_probes_kcol_rate.png    K_col and deviatoric strain rate of particles A, B, C
+  fig14_probes_qcol_T.png       q_col and granular temperature of particles A and B
+  fig15_surface_comparison.png  final surfaces, phase transition vs frictional
+  fig16_velocity_x.png          v_x at 0.5 s after release, both models
+  fig17_plastic_strain.png      plastic strain at the end, both models
+  runout_history.png            run-out, deposit height and kinetic energy over time
+
+Run with Debian's /usr/bin/python3 (python3-vtk9, python3-matplotlib, python3-numpy).
+"""
+
+import argparse
+import json
+import os
+import re
+import sys
+import xml.etree.ElementTree as ET
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+PAPER_RUNOUT = 0.42   # m, seed 001 section 4.1.1 (Bui et al. 2008 experiment)
+PAPER_HEIGHT = 0.10   # m
+SNAP_TIMES = [0.05, 0.25, 0.5, 1.0]  # s after release (Figs. 11-12)
+
+
+def release_time(case):
+    path = os.path.join(case, "system", "stages")
+    if not os.path.exists(path):
+        return 0.0
+    text = open(path).read()
+    m = re.search(r"_releaseTime\s+([-+0-9.eE]+)\s*;", text)
+    if not m:  # an include-only variant: follow the include
+        inc = re.search(r'#include\s+"([^"]+)"', text)
+        if inc:
+            return release_time(os.path.dirname(os.path.dirname(os.path.normpath(os.path.join(os.path.dirname(path), inc.group(1))))))
+        return 0.0
+    return float(m.group(1))
+
+
+def read_csv(path):
+    with open(path) as f:
+        header = [h.split(" [")[0] for h in f.readline().strip().split(",")]
+    data = np.genfromtxt(path, delimiter=",", skip_header=1)
+    if data.ndim == 1:
+        data = data[None, :]
+    return {h: data[:, i] for i, h in enumerate(header)}
+
+
+class Series:
+    """The .pvd series of a case: times and .vtp files; fields read on demand."""
+
+    def __init__(self, case, name="particles"):
+        pvd = os.path.join(case, "VTK", name + ".pvd")
+        if not os.path.exists(pvd):
+            sys.exit("column_collapse.py: no %s (did the run write VTK output?)" % pvd)
+        root = ET.parse(pvd).getroot()
+        self.items = [(float(d.get("timestep")), os.path.join(os.path.dirname(pvd), d.get("file")))
+                      for d in root.iter("DataSet")]
+        self.items.sort()
+
+    def nearest(self, t):
+        return min(self.items, key=lambda it: abs(it[0] - t))
+
+    @staticmethod
+    def read(path, fields):
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        r = vtkXMLPolyDataReader()
+        r.SetFileName(path)
+        r.Update()
+        poly = r.GetOutput()
+        out = {"x": vtk_to_numpy(poly.GetPoints().GetData())}
+        pd = poly.GetPointData()
+        for f in fields:
+            a = pd.GetArray(f)
+            if a is not None:
+                out[f] = vtk_to_numpy(a)
+        return out
+
+
+def surface_profile(x, y, width=0.002):
+    """Upper envelope of the particles: highest particle per bin of `width`."""
+    edges = np.arange(0.0, x.max() + width, width)
+    idx = np.digitize(x, edges) - 1
+    top = np.full(len(edges), np.nan)
+    for i, yy in zip(idx, y):
+        if np.isnan(top[i]) or yy > top[i]:
+            top[i] = yy
+    centres = edges + 0.5 * width
+    ok = ~np.isnan(top)
+    return centres[ok], top[ok]
+
+
+def particle_spacing(case, data):
+    """Initial particle spacing: sqrt of the particle volume (2D), else from the case's
+    cellSize and particlesPerCell (include-only variants are followed)."""
+    if "volume" in data:
+        return float(np.sqrt(np.median(data["volume"])))
+    def find(path, key):
+        text = open(path).read()
+        m = re.search(r"\b" + key + r"\s+([-+0-9.eE]+)\s*;", text)
+        if m:
+            return float(m.group(1))
+        inc = re.search(r'#include\s+"([^"]+)"', text)
+        return find(os.path.normpath(os.path.join(os.path.dirname(path), inc.group(1))), key) if inc else None
+    h = find(os.path.join(case, "system", "gridDict"), "cellSize")
+    n = find(os.path.join(case, "constant", "bodies"), "particlesPerCell") or 2
+    return h / n
+
+
+def deposit_front(x, y, spacing):
+    """Run-out of the continuous deposit: the furthest particle whose neighbourhood (a
+    bin of 2 spacings) holds at least 2 particles, which ignores isolated grains."""
+    order = np.argsort(x)[::-1]
+    for i in order:
+        near = np.sum(np.abs(x - x[i]) < 2 * spacing)
+        if near >= 2:
+            return x[i]
+    return x.max()
+
+
+def scatter(ax, data, field, title, vmin=None, vmax=None, cmap="viridis", comp=None, log=False):
+    x = data["x"]
+    v = data.get(field)
+    if v is None:
+        ax.set_title(title + " (missing)")
+        return None
+    if comp is not None:
+        v = v[:, comp]
+    if log:
+        v = np.log10(np.maximum(v, 1e-12))
+    sc = ax.scatter(x[:, 0], x[:, 1], c=v, s=1.5, marker="s", linewidths=0, cmap=cmap, vmin=vmin, vmax=vmax)
+    ax.set_aspect("equal")
+    ax.set_xlim(0, 0.5)
+    ax.set_ylim(0, 0.11)
+    ax.set_title(title, fontsize=9)
+    ax.tick_params(labelsize=7)
+    return sc
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("case")
+    ap.add_argument("--frictional", help="the same case run with the frictional material")
+    ap.add_argument("-o", "--outdir", default=None)
+    a = ap.parse_args()
+    out = a.outdir or os.path.join(a.case, "figures")
+    os.makedirs(out, exist_ok=True)
+    tr = release_time(a.case)
+    series = Series(a.case)
+    summary = {"release_time_s": tr}
+
+    # ---- final state: surface, run-out, height ----
+    t_end, f_end = series.items[-1]
+    final = Series.read(f_end, ["plasticStrain", "velocity", "volume"])
+    x, y = final["x"][:, 0], final["x"][:, 1]
+    spacing = particle_spacing(a.case, final)
+    half = 0.5 * spacing
+    sx, sy = surface_profile(x, y, max(2 * spacing, 0.001))
+    runout = deposit_front(x, y, spacing) + half
+    height = y.max() + half
+    summary.update({"final_time_after_release_s": t_end - tr, "runout_m": runout, "deposit_height_m": height,
+                    "paper_runout_m": PAPER_RUNOUT, "paper_height_m": PAPER_HEIGHT,
+                    "runout_error": runout / PAPER_RUNOUT - 1, "height_error": height / PAPER_HEIGHT - 1})
+    ro = read_csv(os.path.join(a.case, "postProcessing", "deposit", "runOut.csv"))
+    ke = ro["kinetic_energy"]
+    after = ro["time"] >= tr
+    ke_peak = float(np.nanmax(ke[after])) if after.any() else float("nan")
+    summary["kinetic_energy_peak_J_per_m"] = ke_peak
+    summary["kinetic_energy_final_J_per_m"] = float(ke[-1])
+    summary["kinetic_energy_final_over_peak"] = float(ke[-1] / ke_peak) if ke_peak > 0 else float("nan")
+
+    fig, ax = plt.subplots(figsize=(7, 2.6))
+    ax.fill_between([0, 0.2], [0.1, 0.1], color="0.9", label="initial column")
+    ax.plot(sx, sy, "k-", lw=1.5, label="MPM, phase transition")
+    ax.axvline(PAPER_RUNOUT, color="r", ls="--", lw=1, label="paper / experiment: d$_\\infty$ = 0.42 m")
+    ax.axhline(PAPER_HEIGHT, color="b", ls=":", lw=1, label="h$_\\infty$ = 0.10 m")
+    ax.set_xlim(0, 0.5)
+    ax.set_ylim(0, 0.12)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("Final free surface (t = %.2f s after release): d$_\\infty$ = %.3f m, h$_\\infty$ = %.3f m"
+                 % (t_end - tr, runout, height), fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "fig10_free_surface.png"), dpi=150)
+    plt.close(fig)
+
+    # ---- Figs. 11-12: snapshots ----
+    fields = ["plasticStrain", "shearViscosity", "granularTemperature"]
+    fig11, axes11 = plt.subplots(len(SNAP_TIMES), 2, figsize=(10, 1.6 * len(SNAP_TIMES) + 0.6))
+    fig12, axes12 = plt.subplots(len(SNAP_TIMES), 1, figsize=(5.5, 1.6 * len(SNAP_TIMES) + 0.6))
+    for i, ts in enumerate(SNAP_TIMES):
+        t, f = series.nearest(tr + ts)
+        d = Series.read(f, fields)
+        lab = "t = %.2f s" % (t - tr)
+        s1 = scatter(axes11[i, 0], d, "plasticStrain", "equivalent plastic strain, " + lab, 0, 1.0, "jet")
+        s2 = scatter(axes11[i, 1], d, "shearViscosity", "log$_{10}$ shear viscosity [Pa s], " + lab, -6, 0,
+                     "jet", log=True)
+        s3 = scatter(axes12[i], d, "granularTemperature", "log$_{10}$ T [m$^2$/s$^2$], " + lab, -8, -2, "jet",
+                     log=True)
+        if i == 0:
+            for s, axs in ((s1, axes11[:, 0]), (s2, axes11[:, 1]), (s3, axes12)):
+                if s is not None:
+                    plt.colorbar(s, ax=list(np.atleast_1d(axs)), shrink=0.6)
+    fig11.savefig(os.path.join(out, "fig11_strain_viscosity.png"), dpi=140)
+    fig12.savefig(os.path.join(out, "fig12_granular_temperature.png"), dpi=140)
+    plt.close(fig11)
+    plt.close(fig12)
+
+    # ---- Figs. 13-14: probes ----
+    probes = {}
+    for n in ("A", "B", "C"):
+        p = os.path.join(a.case, "postProcessing", "probes", n + ".csv")
+        if os.path.exists(p):
+            probes[n] = read_csv(p)
+    if probes:
+        fig, axs = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
+        for n, d in probes.items():
+            t = d["time"] - tr
+            axs[0].plot(t, d.get("collisionalFraction", np.zeros_like(t)), label="particle " + n)
+            axs[1].semilogy(t, np.maximum(d.get("deviatoricStrainRate", np.zeros_like(t)), 1e-6), label=n)
+        axs[0].set_ylabel("K$_{col}$ = q$_{col}$/(q$_{col}$+q$_f$)")
+        axs[1].set_ylabel("deviatoric strain rate [1/s]")
+        axs[1].set_xlabel("time after release [s]")
+        axs[0].legend(fontsize=8)
+        for ax in axs:
+            ax.set_xlim(0, 1.0)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "fig13_probes_kcol_rate.png"), dpi=140)
+        plt.close(fig)
+        fig, axs = plt.subplots(1, 2, figsize=(10, 3.5))
+        for ax, n in zip(axs, ("A", "B")):
+            if n not in probes:
+                continue
+            d = probes[n]
+            t = d["time"] - tr
+            ax.plot(t, d.get("collisionalDeviatoricStress", np.zeros_like(t)), "b-", label="q$_{col}$ [Pa]")
+            ax.set_ylabel("q$_{col}$ [Pa]", color="b")
+            ax2 = ax.twinx()
+            ax2.plot(t, d.get("granularTemperature", np.zeros_like(t)), "r-", label="T")
+            ax2.set_ylabel("T [m$^2$/s$^2$]", color="r")
+            ax.set_xlim(0, 1.0)
+            ax.set_xlabel("time after release [s]")
+            ax.set_title("particle " + n)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "fig14_probes_qcol_T.png"), dpi=140)
+        plt.close(fig)
+        summary["probes"] = {n: {"peak_Kcol": float(np.nanmax(d.get("collisionalFraction", [np.nan]))),
+                                 "peak_T": float(np.nanmax(d.get("granularTemperature", [np.nan])))}
+                             for n, d in probes.items()}
+
+    # ---- history ----
+    fig, axs = plt.subplots(3, 1, figsize=(6, 6.5), sharex=True)
+    runs = [("phase transition", a.case, ro)]
+    if a.frictional:
+        runs.append(("frictional", a.frictional,
+                     read_csv(os.path.join(a.frictional, "postProcessing", "deposit", "runOut.csv"))))
+    for label, case, d in runs:
+        t = d["time"] - release_time(case)
+        axs[0].plot(t, d["runout"], label=label)
+        axs[1].plot(t, d["height"], label=label)
+        axs[2].semilogy(t, np.maximum(d["kinetic_energy"], 1e-12), label=label)
+    axs[0].axhline(PAPER_RUNOUT, color="r", ls="--", lw=0.8)
+    axs[1].axhline(PAPER_HEIGHT, color="r", ls="--", lw=0.8)
+    axs[0].set_ylabel("front [m]")
+    axs[1].set_ylabel("top [m]")
+    axs[2].set_ylabel("kinetic energy [J/m]")
+    axs[2].set_xlabel("time after release [s]")
+    axs[0].legend(fontsize=8)
+    axs[2].set_xlim(-0.02, 1.0)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "runout_history.png"), dpi=140)
+    plt.close(fig)
+
+    # ---- Figs. 15-17: comparison with the frictional model ----
+    if a.frictional:
+        fs = Series(a.frictional)
+        trf = release_time(a.frictional)
+        tf_end, ff_end = fs.items[-1]
+        ffinal = Series.read(ff_end, ["plasticStrain", "volume"])
+        fx, fy = ffinal["x"][:, 0], ffinal["x"][:, 1]
+        fsx, fsy = surface_profile(fx, fy, max(2 * spacing, 0.001))
+        f_runout = deposit_front(fx, fy, spacing) + half
+        summary["frictional"] = {"runout_m": f_runout, "deposit_height_m": fy.max() + half}
+        fig, ax = plt.subplots(figsize=(7, 2.6))
+        ax.fill_between([0, 0.2], [0.1, 0.1], color="0.9", label="initial column")
+        ax.plot(sx, sy, "k-", label="phase transition: d$_\\infty$ = %.3f m" % runout)
+        ax.plot(fsx, fsy, "r--", label="frictional only: d$_\\infty$ = %.3f m" % f_runout)
+        ax.set_aspect("equal")
+        ax.set_xlim(0, 0.5)
+        ax.set_ylim(0, 0.12)
+        ax.legend(fontsize=7)
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "fig15_surface_comparison.png"), dpi=150)
+        plt.close(fig)
+        fig, axs = plt.subplots(2, 1, figsize=(7, 4))
+        speeds = {}
+        for ax, (label, ser, r) in zip(axs, (("phase transition", series, tr), ("frictional", fs, trf))):
+            t, f = ser.nearest(r + 0.5)
+            d = Series.read(f, ["velocity"])
+            s = scatter(ax, d, "velocity", "%s: v$_x$ [m/s] at t = %.2f s" % (label, t - r), 0, 0.4, "jet", comp=0)
+            plt.colorbar(s, ax=ax, shrink=0.8)
+            speeds[label] = float(np.percentile(np.abs(d["velocity"][:, 0]), 99))
+        summary["vx_p99_at_0.5s"] = speeds
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "fig16_velocity_x.png"), dpi=140)
+        plt.close(fig)
+        fig, axs = plt.subplots(2, 1, figsize=(7, 4))
+        for ax, (label, d) in zip(axs, (("phase transition", final), ("frictional", ffinal))):
+            s = scatter(ax, d, "plasticStrain", label + ": equivalent plastic strain (end)", 0, 1.0, "jet")
+            plt.colorbar(s, ax=ax, shrink=0.8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "fig17_plastic_strain.png"), dpi=140)
+        plt.close(fig)
+
+    with open(os.path.join(out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    print(json.dumps(summary, indent=2))
+
+
+if __name__ == "__main__":
+    main()
