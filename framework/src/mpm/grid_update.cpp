@@ -29,8 +29,9 @@ struct GridUpdate {
     }
 
     if (p.modes & (kNormalize | kRemap)) {
+      Real* const* src = (p.modes & kRemap) ? g.force : g.momentum;
       Real v[D];
-      for (int d = 0; d < D; ++d) v[d] = has_mass ? g.momentum[d][I] / m : Real(0);
+      for (int d = 0; d < D; ++d) v[d] = has_mass ? src[d][I] / m : Real(0);
       if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
@@ -46,8 +47,8 @@ struct GridUpdate {
       if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }
-    if (p.modes & kZeroMomentum)
-      for (int d = 0; d < D; ++d) g.momentum[d][I] = 0;
+    if (p.modes & kZeroForce)
+      for (int d = 0; d < D; ++d) g.force[d][I] = 0;
     if (p.modes & kZeroOther) {
       p.other.mass[I] = 0;
       for (int d = 0; d < D; ++d) {

@@ -153,7 +153,9 @@ namespace {
 /// Entries named _name are variables for $macros, not bodies, materials or plugins.
 bool is_variable(const Entry& e) { return !e.key().empty() && e.key()[0] == '_'; }
 
-/// Read a case file; a parse error is recorded and an empty dictionary returned.
+/// Read a case file; a parse error is recorded and an empty dictionary returned (whose
+/// name is marked so that its contents are not validated: no cascade of "missing" errors).
+constexpr const char* kUnreadable = "<unreadable>";
 Dictionary read_or_record(const fs::path& dir, const std::string& rel, std::vector<InputError>& errors,
                           bool required = true) {
   const fs::path p = dir / rel;
@@ -171,8 +173,10 @@ Dictionary read_or_record(const fs::path& dir, const std::string& rel, std::vect
   } catch (const InputErrors& e) {
     for (auto& x : e.errors()) errors.push_back(x);
   }
-  return Dictionary(rel, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
+  return Dictionary(kUnreadable, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
 }
+
+bool readable(const Dictionary& d) { return d.name() != kUnreadable; }
 
 /// Validate each `name { type X; ... }` entry of `d` against the spec of plugin X.
 void validate_plugin_entries(const Dictionary& d, PluginKind kind, const Registry& reg,
@@ -241,10 +245,10 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     }
   }
   const int dim = (c.dimension_ == 3) ? 3 : 2;
-  validate(*cs.control, c.control_, errors, dim);
-  validate(*cs.schemes, c.schemes_, errors, dim);
-  validate(*cs.grid, c.grid_, errors, dim);
-  validate(*cs.gravity, c.gravity_, errors, dim);
+  if (readable(c.control_)) validate(*cs.control, c.control_, errors, dim);
+  if (readable(c.schemes_)) validate(*cs.schemes, c.schemes_, errors, dim);
+  if (readable(c.grid_)) validate(*cs.grid, c.grid_, errors, dim);
+  if (readable(c.gravity_)) validate(*cs.gravity, c.gravity_, errors, dim);
 
   const Registry& reg = rt.registry();
   validate_plugin_entries(c.materials_, PluginKind::material, reg, errors, dim);
@@ -284,7 +288,7 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
       }
     }
   }
-  if (nbodies == 0 && c.bodies_.where().line >= 0)
+  if (nbodies == 0 && readable(c.bodies_))
     errors.emplace_back(c.bodies_.where(), "constant/bodies defines no body (name { material ...; region {...} })");
 
   if (!errors.empty()) {

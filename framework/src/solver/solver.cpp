@@ -453,7 +453,7 @@ void Solver<D>::step() {
       break;
     case UpdateScheme::MUSL:
       passes("particles: stress, x + P2G m, p, f", pend | kScatterMassMomentum | kScatterForce, A, B, A);
-      grid("grid: velocity, integration, clear", kNormalize | kIntegrate | kZeroMomentum | kZeroOther);
+      grid("grid: velocity, integration, clear", kNormalize | kIntegrate | kZeroForce | kZeroOther);
       passes("particles: G2P velocity + P2G momentum", kGatherVelocity | kScatterMomentum, B, B, B);
       grid("grid: remapped velocity", kRemap | kAdvance);
       break;

@@ -114,7 +114,10 @@ TEST_P(VibratingBar, PeriodAmplitudeAndEnergyMatchTheAnalyticSolution) {
   // filters the part of the velocity field its affine particle velocity cannot hold at
   // every transfer, so it dissipates slowly: measured 0.6% (GIMP) and 5% (B-spline) over
   // these 2400 steps; bounded here as a regression check.
-  const double bound = transfer == "APIC" ? (shape == "bspline2" ? 0.07 : 0.01) : 0.01;
+  // Quadratic B-splines put weight on the fixed ghost node half a cell inside the bar's
+  // clamped end (the boundary layer of the ElasticColumn B-spline test): the wall takes
+  // a little energy there, 1.1% over these 3 periods.
+  const double bound = shape == "bspline2" ? (transfer == "APIC" ? 0.07 : 0.015) : 0.01;
   EXPECT_LT(r.energy_drift, bound) << "largest relative deviation of the total energy";
   std::printf("%s %s %s: period %.5f (exact %.5f) amplitude %.6g (exact %.6g) energy drift %.4f\n", scheme.c_str(),
               shape.c_str(), transfer.c_str(), r.period, r.period_exact, r.amplitude, r.amplitude_exact, r.energy_drift);

@@ -4,8 +4,9 @@
 //   kNormalize:  v_I^k = p_I / m_I, then the boundary constraints         (eq. 6)
 //   kIntegrate:  a_I = (f_I + f_damp) / m_I, v_I^{k+1} = v_I^k + a_I dt, constraints
 //                (f_damp = -alpha |f_I| sign(v_I^k) per component: local damping)
-//   kRemap:      v_I = p_I / m_I, constraints (MUSL: velocity of the updated particles)
-//   kZeroMomentum: p_I = 0 after use (MUSL re-maps momentum into the same set)
+//   kRemap:      v_I = f_I / m_I, constraints (MUSL: the velocity of the updated
+//                particles, whose momentum was re-mapped into the force array)
+//   kZeroForce:  f_I = 0 after the integration (MUSL re-maps momentum into it)
 //   kZeroOther:  clear mass, momentum and force of the other set (the next step's P2G)
 //   kAdvance:    (node 0) t <- t + dt and the next dt (fixed, or CFL-adaptive), clamped
 //                so that t lands on the target time
@@ -23,7 +24,7 @@ enum GridModes : unsigned {
   kNormalize = 1u << 0,
   kIntegrate = 1u << 1,
   kRemap = 1u << 2,
-  kZeroMomentum = 1u << 3,
+  kZeroForce = 1u << 3,
   kZeroOther = 1u << 4,
   kAdvance = 1u << 5,
 };

@@ -10,13 +10,16 @@
 //        V_p = det(F_p) V0_p; stress update through the material with the strain
 //        increment sym(L_p) dt and the spin skew(L_p) dt (objective, ERRATA 001 item 6)
 //     kGatherVelocity: particle velocity from the grid: FLIP (eq. 10)
-//        v_p <- v_p + sum N (v_I^{k+1} - v_I^k), blended with PIC v_p <- sum N v_I^{k+1}
-//        by pic_fraction; or APIC (Jiang et al. 2015): v_p <- sum N v^{k+1}, C_p affine
+//        v_p <- v_p + sum N (v_I^{k+1} - p_I/m_I), blended with PIC v_p <- sum N v_I^{k+1}
+//        by pic_fraction; or APIC (Jiang et al. 2015): v_p <- sum N v^{k+1}, C_p affine.
+//        (p_I/m_I is v_I^k before the boundary conditions: see the gather loop.)
 //     kGatherPosition: x_p <- x_p + dt sum N v_I^{k+1} (eq. 11)
 //   scatter (into grid set S, weights at the updated position):
 //     kScatterMassMomentum: m_I += N m_p (eq. 5), p_I += N m_p (v_p + C_p (x_I - x_p)) (eq. 6)
 //     kScatterForce: f_I += -V_p sigma_p grad N_Ip + N_Ip m_p g (internal + gravity)
-//     kScatterMomentum: p_I += N m_p v_p only (MUSL's re-mapping of updated velocities)
+//     kScatterMomentum: S.force_I += N m_p v_p (MUSL's re-mapping of the updated
+//        velocities, accumulated in the force array, which is free after the integration,
+//        so that the momentum p_I stays available to the FLIP increment)
 //
 // Sign convention: stress tension positive. Units: SI.
 #pragma once
@@ -177,6 +180,7 @@ struct ParticlePass {
       Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero(), x_inc = Vec<D>::zero();
       Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
       const bool from_new = flags & kStressFromNew;
+      const bool flip_increment = (flags & kGatherVelocity) && !apic && pp.pic_fraction < 1;
       for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
         Index I;
         Real N;
@@ -188,7 +192,16 @@ struct ParticlePass {
           vn[d] = pp.gather.velocity_new[d][I];
         }
         v_pic += N * vn;
-        dv += N * (vn - vi);
+        if (flip_increment) {
+          // FLIP's increment against the velocity the particles mapped, momentum/mass,
+          // before the boundary conditions: the correction a constraint makes at a node
+          // then reaches the particles too. Against the constrained v^k, a particle next
+          // to a no-slip wall would keep a velocity the grid discarded, for ever.
+          const Real m = pp.gather.mass[I];
+          Vec<D> v_mapped;
+          for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] / m : vi[d];
+          dv += N * (vn - v_mapped);
+        }
         L += outer(from_new ? vn : vi, gradN);  // eq. (7)
         if (apic) {
           if constexpr (detail::kApicFromInertia<Shape>) B += outer(vn, dx) * N;
@@ -240,7 +253,7 @@ struct ParticlePass {
           for (int d = 0; d < D; ++d) atomic_add(&pp.scatter.momentum[d][I], N * mass * vI[d], serial);  // eq. (6)
         }
         if (flags & kScatterMomentum)
-          for (int d = 0; d < D; ++d) atomic_add(&pp.scatter.momentum[d][I], N * mass * v[d], serial);
+          for (int d = 0; d < D; ++d) atomic_add(&pp.scatter.force[d][I], N * mass * v[d], serial);
         if (flags & kScatterForce) {
           for (int d = 0; d < D; ++d) {
             Real s = 0;
