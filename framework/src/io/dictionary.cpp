@@ -106,7 +106,7 @@ bool is_space(unsigned char c) {
 bool is_control(unsigned char c) { return (c < 0x20 && !is_space(c)) || c == 0x7f; }
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_delimiter(unsigned char c) {
-  return c == ';' || c == '(' || c == ')' || c == '{' || c == '}' || c == '"' || c == '$';
+  return c == ';' || c == '(' || c == ')' || c == '{' || c == '}' || c == '"' || c == '$' || c == '[' || c == ']';
 }
 /// Bytes that may appear in a word (UTF-8 bytes included); '/' may, but "//" and "/*"
 /// start a comment (checked by the callers, which see two bytes).
@@ -534,7 +534,9 @@ std::string Dictionary::to_string(int indent) const {
 
 namespace {
 
-enum class Tok { end, word, string, number, macro, directive, lbrace, rbrace, lparen, rparen, semicolon };
+// '[' ... ']' (OpenFOAM's dimension sets, `dimensions [0 1 -2 0 0 0 0];`) is a list like
+// '(' ... ')'; it must close with the bracket it opened with.
+enum class Tok { end, word, string, number, macro, directive, lbrace, rbrace, lparen, rparen, lbracket, rbracket, semicolon };
 
 struct Token {
   Tok kind = Tok::end;
@@ -561,6 +563,8 @@ std::string describe(const Token& t) {
     case Tok::rbrace: return "'}'";
     case Tok::lparen: return "'('";
     case Tok::rparen: return "')'";
+    case Tok::lbracket: return "'['";
+    case Tok::rbracket: return "']'";
     case Tok::semicolon: return "';'";
   }
   return "a token";
@@ -653,6 +657,8 @@ class Lexer {
         case '}': t.kind = Tok::rbrace, advance(); break;
         case '(': t.kind = Tok::lparen, advance(); break;
         case ')': t.kind = Tok::rparen, advance(); break;
+        case '[': t.kind = Tok::lbracket, advance(); break;
+        case ']': t.kind = Tok::rbracket, advance(); break;
         case ';': t.kind = Tok::semicolon, advance(); break;
         case '"': lex_string(t); break;
         case '$': lex_macro(t); break;
@@ -1023,6 +1029,8 @@ class Parser {
         case Tok::semicolon: fail(t.where, "unexpected ';' with no key or value before it");
         case Tok::lparen: fail(t.where, "expected a key, found '(' (a list is written 'key (1 2 3);')");
         case Tok::rparen: fail(t.where, "unmatched ')'");
+        case Tok::lbracket: fail(t.where, "expected a key, found '[' (a dimension set is written 'key [0 1 -2 0 0 0 0];')");
+        case Tok::rbracket: fail(t.where, "unmatched ']'");
         case Tok::lbrace: fail(t.where, "expected a key before '{' (a sub-dictionary is written 'name { ... }')");
       }
     }
@@ -1104,6 +1112,7 @@ class Parser {
       if (!items.empty() && t.line_start && (t.kind == Tok::word || t.kind == Tok::macro || t.kind == Tok::directive))
         missing_semicolon(key, after, t);
       if (t.kind == Tok::rparen) fail(t.where, "unmatched ')' in the value of '" + shorten(key.text) + "'");
+      if (t.kind == Tok::rbracket) fail(t.where, "unmatched ']' in the value of '" + shorten(key.text) + "'");
       if (t.kind == Tok::lbrace)
         fail(t.where, "unexpected '{' in the value of '" + shorten(key.text) +
                           "' (a sub-dictionary is written 'name { ... }'; is a ';' missing?)");
@@ -1138,7 +1147,8 @@ class Parser {
         out.push_back(std::move(it));
         break;
       }
-      case Tok::lparen: return parse_list(lx, t, item_path, out);
+      case Tok::lparen:
+      case Tok::lbracket: return parse_list(lx, t, item_path, out);
       case Tok::lbrace: {  // only reached inside lists
         Item it;
         it.kind = Item::Kind::dict;
@@ -1170,18 +1180,23 @@ class Parser {
     list.where = open.where;
     const std::string opened =
         "opened at line " + std::to_string(open.where.line) + ", column " + std::to_string(open.where.column);
+    const bool bracket = open.kind == Tok::lbracket;
+    const Tok closer = bracket ? Tok::rbracket : Tok::rparen;
+    const std::string o = bracket ? "'['" : "'('", c = bracket ? "']'" : "')'";
     for (;;) {
       const Token& t = lx.peek();
+      if (t.kind == closer) {
+        Token close = lx.next();
+        leave();
+        out.push_back(std::move(list));
+        return close.end();
+      }
       switch (t.kind) {
-        case Tok::rparen: {
-          Token close = lx.next();
-          leave();
-          out.push_back(std::move(list));
-          return close.end();
-        }
-        case Tok::end: fail(t.where, "unterminated list: '(' " + opened + " has no matching ')'");
+        case Tok::rparen:
+        case Tok::rbracket: fail(t.where, "expected " + c + " to close the list " + opened + ", found " + describe(t));
+        case Tok::end: fail(t.where, "unterminated list: " + o + " " + opened + " has no matching " + c);
         case Tok::semicolon:
-        case Tok::rbrace: fail(t.where, "expected ')' to close the list " + opened + ", found " + describe(t));
+        case Tok::rbrace: fail(t.where, "expected " + c + " to close the list " + opened + ", found " + describe(t));
         case Tok::directive:
           fail(t.where, "unexpected directive '#" + t.text + "' inside a list (directives stand between entries)");
         default: parse_item(lx, list.list, path, true); break;

@@ -1146,3 +1146,30 @@ TEST(DictionaryFuzz, RandomAndMutatedInputsParseOrThrowInputError) {
 }
 
 }  // namespace
+
+// OpenFOAM dimension sets: `[ ... ]` is a list like `( ... )` and closes with ']'.
+TEST(DictionaryBrackets, DimensionSetIsAList) {
+  const scree::Dictionary d = scree::Dictionary::parse(
+      "dimensions [0 1 -2 0 0 0 0];\nvalue (0 -9.81 0);\nnested ([1 2] (3 4));\n", "constant/g");
+  const auto dims = d.at("dimensions").as_scalar_list();
+  ASSERT_EQ(dims.size(), 7u);
+  EXPECT_EQ(dims[2], -2);
+  EXPECT_EQ(d.at("nested").single_item().list.size(), 2u);
+}
+
+TEST(DictionaryBrackets, MismatchedBracketsAreErrors) {
+  auto expect_error = [](const char* text, const char* where, const char* what) {
+    try {
+      scree::Dictionary::parse(text, "f");
+      FAIL() << "no error for " << text;
+    } catch (const scree::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_error("d [0 1 -2);", "f:1:10:", "expected ']'");
+  expect_error("d (0 1 -2];", "f:1:10:", "expected ')'");
+  expect_error("d [0 1 -2;", "f:1:10:", "expected ']'");
+  expect_error("d 1 ];", "f:1:5:", "unmatched ']'");
+  expect_error("] x;", "f:1:1:", "unmatched ']'");
+}
