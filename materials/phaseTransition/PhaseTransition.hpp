@@ -22,6 +22,9 @@ namespace scree::materials {
 
 struct PhaseTransition {
   static constexpr const char* type_name = "phaseTransition";
+  /// update() builds sigma from the state (sigma_f + sigma_col) and never reads the stress
+  /// it is given: the kernel skips loading and co-rotating it (particle_pass.hpp).
+  static constexpr bool reads_stress = false;
 
   struct Params {
     simsand::Params f;  ///< frictional constants

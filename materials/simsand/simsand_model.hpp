@@ -63,6 +63,12 @@ struct Params {
   Real inv_m;    ///< 1/(1 - n)
   Real Amin;     ///< p_min^(1-n)
   Real Cfac;     ///< K0 p_at^(1-n): K = Cfac F(e) (p + p_min)^n
+  /// How powers are evaluated (the model is the same either way). 0, the default: the
+  /// exponents 1/2, 2 and 1/4 by sqrt and products, and the two void-ratio powers of
+  /// eqs. (17)-(18) from one logarithm (power() and ratios(); within a few ulps of pow()).
+  /// 1: pow() for every power, the straightforward evaluation the fast one is tested
+  /// against (tests/unit/performance).
+  Real exact;
 };
 
 /// Internal variables integrated together with the stress.
@@ -106,6 +112,7 @@ inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Rea
   P.inv_m = 1 / (1 - n);
   P.Amin = std::pow(pmin, 1 - n);
   P.Cfac = K0 * std::pow(pat, 1 - n);
+  P.exact = 0;
   return P;
 }
 
@@ -133,6 +140,19 @@ SCREE_HD inline Sym3 from_p_s(Real p, const Sym3& s) {
   return Sym3{{s[0] - p, s[1] - p, s[2] - p, s[3], s[4], s[5]}};
 }
 
+/// x^y for the exponents of the model: pow() on the reference path (P.exact); on the fast
+/// path the exponents the paper's parameters give, 1/2 (n = 0.5), 2 (1/(1 - n)) and 1/4
+/// (Lode function), by sqrt and a product: a few cycles instead of a pow() (which is a
+/// logarithm and an exponential in extended precision), and within an ulp of it.
+SCREE_HD inline Real power(const Params& P, Real x, Real y) {
+  if (P.exact == 0) {
+    if (y == Real(0.5)) return sqrt(x);
+    if (y == Real(2)) return x * x;
+    if (y == Real(0.25)) return sqrt(sqrt(x));
+  }
+  return pow(x, y);
+}
+
 // ------------------------------------------------------------------ constitutive functions
 
 /// (2.97 - e)^2/(1 + e) of eq. (13); e limited to [0, 2] (the expression has a spurious
@@ -146,7 +166,7 @@ SCREE_HD inline Real void_function(Real e) {
 /// Tangent bulk modulus, eq. (13) with p regularised by p_min: K(0) > 0 so that a
 /// stress-free point regains stiffness in compression.
 SCREE_HD inline Real bulk_modulus(const Params& P, Real e, Real p) {
-  return P.Cfac * void_function(e) * pow(fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
+  return P.Cfac * void_function(e) * power(P, fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
 }
 
 /// Critical void ratio, eq. (16).
@@ -170,22 +190,52 @@ struct Ratios {
   Real dMp_de;  ///< dM_p/de at fixed p
   Real dMp_dp;  ///< dM_p/dp at fixed e (through e_c(p)) [1/Pa]
 };
+/// tan phi_p / tan phi_c = (e_c/e)^n_p of eq. (17), as ratios() evaluates it: pow() on the
+/// reference path, exp(n_p ln(e_c/e)) on the fast one (whose logarithm ratios() shares with
+/// eq. 18), so that the yield function and the plastic rate see the same M_p.
+SCREE_HD inline Real peak_factor(const Params& P, Real ec, Real e) {
+  return P.exact != 0 ? pow(ec / e, P.np) : exp(P.np * log(ec / e));
+}
+
+/// The peak stress ratio M_p (eq. 17) alone: what the yield function needs. Equal to
+/// ratios(P, e, p).Mp.
+SCREE_HD inline Real peak_ratio(const Params& P, Real e, Real p) {
+  e = fmax(e, Real(1e-6));
+  const Real tp = peak_factor(P, critical_void_ratio(P, p), e) * P.tanphic;  // eq. (17)
+  const Real sp = tp / sqrt(1 + tp * tp);
+  return 6 * sp / (3 - sp);
+}
+
 SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) {
   Ratios r;
   e = fmax(e, Real(1e-6));
   const Real pe = fmax(p, P.pmin);
-  r.ec = critical_void_ratio(P, p);
-  const Real tp = pow(r.ec / e, P.np) * P.tanphic;  // eq. (17)
+  const Real pxi = pow(fmax(p, Real(0)) / P.pat, P.xi);
+  r.ec = P.eref * exp(-P.lambda * pxi);  // eq. (16), as critical_void_ratio()
+  // (e_c/e)^n_p and (e/e_c)^n_d of eqs. (17)-(18), and (p_e/p_at)^(xi-1) of dM_p/dp: on the
+  // fast path from one logarithm and from (p/p_at)^xi above, instead of three pow()s.
+  Real fp, fd, pxi1;
+  if (P.exact != 0) {
+    fp = pow(r.ec / e, P.np);
+    fd = pow(e / r.ec, P.nd);
+    pxi1 = pow(pe / P.pat, P.xi - 1);
+  } else {
+    const Real L = log(r.ec / e);
+    fp = exp(P.np * L);  // = peak_factor()
+    fd = exp(-P.nd * L);
+    pxi1 = p >= P.pmin ? pxi * (P.pat / p) : pow(pe / P.pat, P.xi - 1);
+  }
+  const Real tp = fp * P.tanphic;  // eq. (17)
   const Real sp = tp / sqrt(1 + tp * tp);
   r.Mp = 6 * sp / (3 - sp);
-  const Real td = pow(e / r.ec, P.nd) * P.tanphic;  // eq. (18)
+  const Real td = fd * P.tanphic;  // eq. (18)
   r.Mpt = ratio_from_tan(td);
   // dM/dtan = 18/(3 - sin)^2 * cos^3;  dtan_p/de = -n_p tan_p/e;
   // dtan_p/dp = n_p tan_p/e_c de_c/dp = -n_p tan_p lambda xi (p/p_at)^(xi-1)/p_at
   const Real c2 = 1 / (1 + tp * tp);
   const Real dMdt = 18 / ((3 - sp) * (3 - sp)) * c2 * sqrt(c2);
   r.dMp_de = dMdt * (-P.np * tp / e);
-  r.dMp_dp = dMdt * (-P.np * tp * P.lambda * P.xi * pow(pe / P.pat, P.xi - 1) / P.pat);
+  r.dMp_dp = dMdt * (-P.np * tp * P.lambda * P.xi * pxi1 / P.pat);
   return r;
 }
 
@@ -194,7 +244,7 @@ SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) {
 SCREE_HD inline Real lode_g(const Params& P, Real S) {
   if (P.lode == 0) return 1;
   S = fmin(fmax(S, Real(-1)), Real(1));
-  return pow(2 * P.c4 / (1 + P.c4 - (1 - P.c4) * S), Real(0.25));
+  return power(P, 2 * P.c4 / (1 + P.c4 - (1 - P.c4) * S), Real(0.25));
 }
 
 /// Stress invariants: p, q, the deviator s and sin(3 theta) (compression-positive convention:
@@ -226,7 +276,7 @@ SCREE_HD inline Real yield(const Params& P, const Sym3& sig, Real e, Real kappa)
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex)) return 0;
   const Real g = lode_g(P, v.S);
-  const Real Mp = ratios(P, e, v.p).Mp;
+  const Real Mp = peak_ratio(P, e, v.p);
   return v.q / (v.p * g) - hardening(P, Mp, kappa);
 }
 
@@ -235,8 +285,27 @@ SCREE_HD inline Real yield(const Params& P, const Sym3& sig, Real e, Real kappa)
 SCREE_HD inline void project_to_surface(const Params& P, Sym3& sig, Real e, Real kappa) {
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex) || !(v.q > 0)) return;
-  const Real qt = hardening(P, ratios(P, e, v.p).Mp, kappa) * lode_g(P, v.S) * v.p;
+  const Real qt = hardening(P, peak_ratio(P, e, v.p), kappa) * lode_g(P, v.S) * v.p;
   sig = from_p_s(v.p, v.s * (qt / v.q));
+}
+
+/// f = yield() followed, when f > kFtol (or |f| > kFtol with `both_sides`), by
+/// project_to_surface(), with the invariants, M_p and g(theta) evaluated once for both: the
+/// same numbers as the two calls. Returns f before the projection; `projected` says whether
+/// sig changed.
+SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real kappa, bool both_sides,
+                                       bool& projected) {
+  projected = false;
+  const Invariants v = invariants(sig);
+  if (!(v.p > P.papex)) return 0;
+  const Real g = lode_g(P, v.S);
+  const Real H = hardening(P, peak_ratio(P, e, v.p), kappa);
+  const Real f = v.q / (v.p * g) - H;
+  if ((both_sides ? fabs(f) : f) > kFtol && v.q > 0) {
+    sig = from_p_s(v.p, v.s * (H * g * v.p / v.q));
+    projected = true;
+  }
+  return f;
 }
 
 /// Elastic response to deps from sig0, integrated exactly for the power law of eq. (13) with
@@ -247,18 +316,18 @@ SCREE_HD inline bool elastic_predictor(const Params& P, const Sym3& sig0, Real e
   const Real p0 = fmax(pressure(sig0), Real(0));
   const Real evc = -deps.trace();          // volumetric strain, compression positive
   const Real C = P.Cfac * void_function(e);  // K = C (p + p_min)^n
-  const Real A0 = pow(p0 + P.pmin, P.m);
+  const Real A0 = power(P, p0 + P.pmin, P.m);
   const Real dA = P.m * C * evc;
   const Real B = A0 + dA;
   if (!(B > P.Amin)) return false;  // p1 <= 0: tension cut-off
   Real Ksec;
   Real p1;
   if (fabs(dA) > Real(1e-9) * A0) {
-    p1 = pow(B, P.inv_m) - P.pmin;
+    p1 = power(P, B, P.inv_m) - P.pmin;
     Ksec = (p1 - p0) / evc;
   } else {  // tiny volumetric increment: tangent modulus at the mid-point
-    const Real Kt = C * pow(p0 + P.pmin, P.n);
-    Ksec = C * pow(fmax(p0 + Real(0.5) * Kt * evc, Real(0)) + P.pmin, P.n);
+    const Real Kt = C * power(P, p0 + P.pmin, P.n);
+    Ksec = C * power(P, fmax(p0 + Real(0.5) * Kt * evc, Real(0)) + P.pmin, P.n);
     p1 = p0 + Ksec * evc;
   }
   p1 = fmax(p1, Real(0));
@@ -400,7 +469,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
       return;
     }
     const Invariants iv = invariants(st);
-    const Real H = hardening(P, ratios(P, e1, iv.p).Mp, v.kappa);
+    const Real H = hardening(P, peak_ratio(P, e1, iv.p), v.kappa);
     const Real qt = H * lode_g(P, iv.S) * iv.p;
     if (iv.q > qt && iv.q > 0) {  // return radially in the deviatoric plane at constant p
       const Real dq = iv.q - qt;
@@ -415,11 +484,9 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   }
 
   // ---- start of step: the surface may have moved (e, p or kappa changed last step)
-  Real f0 = yield(P, sig, v.e, v.kappa);
-  if (f0 > kFtol) {
-    project_to_surface(P, sig, v.e, v.kappa);
-    f0 = 0;
-  }
+  bool projected;
+  Real f0 = yield_and_project(P, sig, v.e, v.kappa, false, projected);
+  if (projected) f0 = 0;
   // ---- elastic trial (exact for the nonlinear elasticity)
   Sym3 sig_tr;
   if (!elastic_predictor(P, sig, void_ratio_at(ope0, tr, Real(0.5)), deps, sig_tr)) {
@@ -469,6 +536,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   // ---- plastic part: modified Euler with local error control (Sloan et al. 2001)
   const Sym3 drem = deps * (1 - alpha);
   Real T = 0, dT = 1, dT_relaxed = -1;
+  Real ea = void_ratio_at(ope0, tr, alpha);  // e at the start of the substep (the last eb)
   int n = 0;
   while (T < 1) {
     ++n;
@@ -480,7 +548,6 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     if (relaxed) dT = fmin(fmax(dT, dT_relaxed), 1 - T);
     if (n > 3 * kMaxSubsteps) dT = 1 - T;
     const Sym3 d = drem * dT;
-    const Real ea = void_ratio_at(ope0, tr, alpha + (1 - alpha) * T);
     const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + dT));
     const Real de = eb - ea;
     if (!have_r1u) have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u);
@@ -522,7 +589,8 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     v.kappa = kn;
     v.epsEq += Real(0.5) * (r1.deq + r2.deq);
     T += dT;
-    if (fabs(yield(P, sig, eb, v.kappa)) > kFtol) project_to_surface(P, sig, eb, v.kappa);  // drift
+    ea = eb;
+    yield_and_project(P, sig, eb, v.kappa, true, projected);  // drift correction
     if (T >= 1 - Real(1e-12)) break;
     const Real fac = R > 0 ? fmin(Real(0.9) * sqrt(P.stol / R), Real(1.1)) : Real(1.1);
     dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);
