@@ -112,6 +112,47 @@ void copy(void* dst, Device dst_space, const void* src, Device src_space, std::s
 #endif
 }
 
+void copy_async(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes, void* stream) {
+  if (bytes == 0) return;
+  if (dst_space == Device::cpu && src_space == Device::cpu) {
+    std::memcpy(dst, src, bytes);
+    return;
+  }
+#if defined(SCREE_HAVE_CUDA)
+  check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDefault, static_cast<cudaStream_t>(stream)), "cudaMemcpyAsync");
+#else
+  (void)stream;
+  no_cuda();
+#endif
+}
+
+void* allocate_pinned(std::size_t bytes) {
+  if (bytes == 0) return nullptr;
+#if defined(SCREE_HAVE_CUDA)
+  if (cuda_available()) {
+    void* p = nullptr;
+    check(cudaMallocHost(&p, bytes), "cudaMallocHost");
+    return p;
+  }
+#endif
+  void* p = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+
+void deallocate_pinned(void* p) noexcept {
+  if (!p) return;
+#if defined(SCREE_HAVE_CUDA)
+  cudaPointerAttributes a{};
+  if (cudaPointerGetAttributes(&a, p) == cudaSuccess && a.type == cudaMemoryTypeHost) {
+    cudaFreeHost(p);
+    return;
+  }
+  cudaGetLastError();  // a plain host pointer: clear the error it may leave
+#endif
+  std::free(p);
+}
+
 void fill_zero(void* p, std::size_t bytes, Device d) {
   if (bytes == 0) return;
   if (d == Device::cpu) {

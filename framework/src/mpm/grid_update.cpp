@@ -1,6 +1,7 @@
 // The grid-update kernel (compiled as CUDA when the CUDA backend is on).
 #include "scree/mpm/grid_update.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace scree {
@@ -10,8 +11,29 @@ template <int D>
 struct GridUpdate {
   GridUpdateParams<D> p;
 
+  /// The dense update: every node.
   SCREE_HD void operator()(Index I) const {
-    StepControl* ctl = p.control;
+    if ((p.modes & kAdvance) && I == 0) advance(p.control, p.parity);
+    node(I, true, (p.modes & kZeroOther) != 0);
+  }
+
+  /// The update of node I: `update` the set cur, `clear` the set other.
+  SCREE_INLINE void node(Index I, bool update, bool clear) const {
+    if (clear) {
+      // Sparse: every field, so that the set is zero outside its stamped tiles; dense:
+      // what the next P2G adds to (velocities are overwritten before they are read).
+      p.other.mass[I] = 0;
+      for (int d = 0; d < D; ++d) {
+        p.other.momentum[d][I] = 0;
+        p.other.force[d][I] = 0;
+        if (p.cur_stamps) {
+          p.other.velocity[d][I] = 0;
+          p.other.velocity_new[d][I] = 0;
+        }
+      }
+    }
+    if (!update) return;
+    const StepControl* ctl = p.control;
     const int par = p.parity;
     const Real t = ctl->t[par], dt = ctl->dt[par];
     const GridFields<D>& g = p.cur;
@@ -22,7 +44,7 @@ struct GridUpdate {
     const bool has_mass = m > 0;
     const bool accelerate = m > p.mass_eps;
     const ConstraintMask mask = p.masks ? p.masks[I] : 0;
-    Real x[D];
+    Real x[D] = {};
     if (mask) {
       const Vec<D> xn = p.grid.node_position(I);
       for (int d = 0; d < D; ++d) x[d] = xn[d];
@@ -49,19 +71,35 @@ struct GridUpdate {
     }
     if (p.modes & kZeroForce)
       for (int d = 0; d < D; ++d) g.force[d][I] = 0;
-    if (p.modes & kZeroOther) {
-      p.other.mass[I] = 0;
-      for (int d = 0; d < D; ++d) {
-        p.other.momentum[d][I] = 0;
-        p.other.force[d][I] = 0;
-      }
-    }
-    if ((p.modes & kAdvance) && I == 0) advance(ctl, par, t, dt);
   }
 
-  /// Time control for the next step (slot 1 - par). Only node 0's thread runs this; it
-  /// writes slots nobody else reads in this step.
-  SCREE_HD static void advance(StepControl* c, int par, Real t, Real dt) {
+  /// The sparse update of lane `lane` of tile `t` (Tiles<D>): the node it stands for,
+  /// if the tile was stamped (cur: this step; other: the previous one).
+  SCREE_INLINE void tile(Index t, int lane, bool act, bool clr) const {
+    const GridGeometry<D>& g = p.grid;
+    int idx[D];
+    Index r = t;
+    int l = lane;
+    for (int d = 0; d < D; ++d) {
+      const int nt = Tiles<D>::count(g.n[d], d), e = Tiles<D>::extent(d);
+      idx[d] = static_cast<int>(r % nt) * e + l % e;
+      r /= nt;
+      l /= e;
+      if (idx[d] >= g.n[d]) return;
+    }
+    node(g.flat(idx), act, clr);
+  }
+  /// Whether tile t is updated (act) and/or cleared in `other` (clr) in this step.
+  SCREE_INLINE void tile_flags(Index t, bool& act, bool& clr) const {
+    const unsigned long long k = p.control->step[p.parity];
+    act = p.cur_stamps[t] == tile_stamp(k);
+    clr = (p.modes & kZeroOther) && p.other_stamps && k > 0 && p.other_stamps[t] == tile_stamp(k - 1);
+  }
+
+  /// Time control for the next step (slot 1 - par). One thread runs this; it writes
+  /// slots nobody else reads in this step.
+  SCREE_HD static void advance(StepControl* c, int par) {
+    const Real t = c->t[par], dt = c->dt[par];
     const Real t1 = t + dt;
     Real dt1 = c->dt_max;
     if (c->cfl > 0 && c->max_speed[par] > 0) dt1 = fmin(dt1, c->cfl * c->h / c->max_speed[par]);
@@ -72,15 +110,53 @@ struct GridUpdate {
     c->t[1 - par] = t1;
     c->dt[1 - par] = dt1;
     c->max_speed[par] = 0;
+    c->step[1 - par] = c->step[par] + 1;
     if (dt > 0) c->steps_done += 1;
   }
 };
+
+#if defined(__CUDACC__)
+/// Sparse update on CUDA: one block of Tiles<D>::kNodes threads per tile, the blocks
+/// striding over the tiles; a tile nobody stamped costs one load.
+template <int D>
+__global__ void __launch_bounds__(Tiles<D>::kNodes) sparse_kernel(Index tiles, GridUpdate<D> u) {
+  if ((u.p.modes & kAdvance) && blockIdx.x == 0 && threadIdx.x == 0) GridUpdate<D>::advance(u.p.control, u.p.parity);
+  for (Index t = blockIdx.x; t < tiles; t += gridDim.x) {
+    bool act, clr;
+    u.tile_flags(t, act, clr);
+    if (act || clr) u.tile(t, static_cast<int>(threadIdx.x), act, clr);
+  }
+}
+#endif
 
 }  // namespace
 
 template <int D>
 void grid_update(const Exec& ex, const GridUpdateParams<D>& p) {
-  parallel_for(ex, p.grid.num_nodes(), GridUpdate<D>{p});
+  const GridUpdate<D> u{p};
+  if (!p.cur_stamps) {
+    parallel_for(ex, p.grid.num_nodes(), u);
+    return;
+  }
+  const Index tiles = Tiles<D>::total(p.grid);
+  if (ex.device == Device::cuda) {
+#if defined(__CUDACC__)
+    const unsigned blocks = static_cast<unsigned>(std::min<Index>(tiles, 2048));
+    sparse_kernel<D><<<blocks, Tiles<D>::kNodes, 0, static_cast<cudaStream_t>(ex.stream)>>>(tiles, u);
+    check_cuda_launch("grid_update (sparse)");
+#endif
+    return;
+  }
+  if (p.modes & kAdvance) GridUpdate<D>::advance(p.control, p.parity);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(ex.threads > 0 ? ex.threads : 1)
+#endif
+  for (Index t = 0; t < tiles; ++t) {
+    bool act, clr;
+    u.tile_flags(t, act, clr);
+    if (act || clr)
+      for (int lane = 0; lane < Tiles<D>::kNodes; ++lane) u.tile(t, lane, act, clr);
+  }
 }
 
 template void grid_update<2>(const Exec&, const GridUpdateParams<2>&);

@@ -129,6 +129,8 @@ class Solver {
   GridGeometry<D> grid_{};
   Buffer<Real> grid_data_[2];
   GridFields<D> sets_[2]{};
+  mutable Buffer<std::uint32_t> tile_stamps_[2];  // sparse grid updates: tiles each set's passes touched
+  bool sparse_ = false;
   Buffer<Constraint> constraints_;
   Buffer<ConstraintMask> masks_;
   bool has_constraints_ = false;

@@ -27,6 +27,15 @@ namespace mem {
 SCREE_API void* allocate(std::size_t bytes, Device d);
 SCREE_API void deallocate(void* p, Device d) noexcept;
 SCREE_API void copy(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes);
+/// The same, ordered on `stream` (a cudaStream_t) after the work already queued there and
+/// asynchronous to the host; a plain memcpy between host buffers. Host memory must stay
+/// valid (and, for true overlap, be pinned: allocate_pinned) until the stream reaches it.
+SCREE_API void copy_async(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes,
+                          void* stream);
+/// Page-locked host memory (CUDA builds; plain host memory otherwise), for asynchronous
+/// copies from the device.
+SCREE_API void* allocate_pinned(std::size_t bytes);
+SCREE_API void deallocate_pinned(void* p) noexcept;
 SCREE_API void fill_zero(void* p, std::size_t bytes, Device d);
 /// Whether this build has the CUDA backend and at least one usable GPU.
 SCREE_API bool cuda_compiled();

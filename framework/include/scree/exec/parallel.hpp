@@ -1,15 +1,19 @@
 // One source, two backends: parallel loops over particles or grid nodes.
 //
-//   parallel_for(exec, n, f)   calls f(i) for i in [0, n):
-//     Device::cuda -> a CUDA kernel launch on exec.stream (only from code compiled by
-//                     nvcc; kernels are templates, instantiated in the plugin or core
-//                     translation unit that launches them);
+//   parallel_for(exec, n, f[, block])    calls f(i) for i in [0, n):
+//     Device::cuda -> a CUDA kernel launch on exec.stream, `block` threads per block (only
+//                     from code compiled by nvcc; kernels are templates, instantiated in
+//                     the plugin or core translation unit that launches them);
 //     Device::cpu  -> an OpenMP loop with exec.threads threads.
+//   parallel_for_warps(exec, n, f, block) calls f(i, valid) for whole warps: on CUDA every
+//     thread of the launch calls it, with valid = i < n, so that f may use warp-collective
+//     operations (WarpSegment below); on the CPU f(i, true) for i in [0, n).
 //
 // f is a functor (or an extended lambda) whose operator() is SCREE_HD. Nothing
 // virtual is called inside f: materials are template parameters of the functors.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -39,19 +43,31 @@ __global__ void for_each_kernel(Index n, F f) {
   const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
   if (i < n) f(i);
 }
+/// Every thread calls f, so that whole warps reach f's warp-collective operations.
+template <class F>
+__global__ void for_each_warp_kernel(Index n, F f) {
+  const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
+  f(i < n ? i : n - 1, i < n);
+}
+/// The same with launch bounds: at most Block threads, at least MinBlocks blocks per SM
+/// (which caps the registers per thread at 65536 / (Block MinBlocks)).
+template <int Block, int MinBlocks, class F>
+__global__ void __launch_bounds__(Block, MinBlocks) for_each_warp_kernel_bounded(Index n, F f) {
+  const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
+  f(i < n ? i : n - 1, i < n);
+}
 }  // namespace detail
 #endif
 
 inline constexpr int kCudaBlockSize = 256;
 
 template <class F>
-void parallel_for(const Exec& ex, Index n, const F& f) {
+void parallel_for(const Exec& ex, Index n, const F& f, int block = kCudaBlockSize) {
   if (n <= 0) return;
   if (ex.device == Device::cuda) {
 #if defined(__CUDACC__)
-    const Index blocks = (n + kCudaBlockSize - 1) / kCudaBlockSize;
-    detail::for_each_kernel<<<static_cast<unsigned>(blocks), kCudaBlockSize, 0,
-                              static_cast<cudaStream_t>(ex.stream)>>>(n, f);
+    const Index blocks = (n + block - 1) / block;
+    detail::for_each_kernel<<<static_cast<unsigned>(blocks), block, 0, static_cast<cudaStream_t>(ex.stream)>>>(n, f);
     check_cuda_launch("parallel_for");
 #else
     throw std::logic_error(
@@ -59,10 +75,54 @@ void parallel_for(const Exec& ex, Index n, const F& f) {
         "without CUDA (compile this source with the CUDA language)");
 #endif
   } else {
+    (void)block;
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(static) num_threads(ex.threads > 0 ? ex.threads : 1)
 #endif
     for (Index i = 0; i < n; ++i) f(i);
+  }
+}
+
+/// parallel_for for warp-collective functors f(i, valid); `block` must be a multiple of 32.
+/// Threads past the end get valid = false and the index of the last item (never to be
+/// written through).
+template <class F>
+void parallel_for_warps(const Exec& ex, Index n, const F& f, int block = kCudaBlockSize) {
+  if (n <= 0) return;
+  if (ex.device == Device::cuda) {
+#if defined(__CUDACC__)
+    const Index blocks = (n + block - 1) / block;
+    detail::for_each_warp_kernel<<<static_cast<unsigned>(blocks), block, 0, static_cast<cudaStream_t>(ex.stream)>>>(
+        n, f);
+    check_cuda_launch("parallel_for_warps");
+#else
+    throw std::logic_error("parallel_for_warps: a CUDA launch from a translation unit compiled without CUDA");
+#endif
+  } else {
+    (void)block;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(ex.threads > 0 ? ex.threads : 1)
+#endif
+    for (Index i = 0; i < n; ++i) f(i, true);
+  }
+}
+
+/// parallel_for_warps with a register cap from launch bounds (see above); the CPU ignores
+/// the bounds.
+template <int Block, int MinBlocks, class F>
+void parallel_for_warps_bounded(const Exec& ex, Index n, const F& f) {
+  if (n <= 0) return;
+  if (ex.device == Device::cuda) {
+#if defined(__CUDACC__)
+    const Index blocks = (n + Block - 1) / Block;
+    detail::for_each_warp_kernel_bounded<Block, MinBlocks>
+        <<<static_cast<unsigned>(blocks), Block, 0, static_cast<cudaStream_t>(ex.stream)>>>(n, f);
+    check_cuda_launch("parallel_for_warps_bounded");
+#else
+    throw std::logic_error("parallel_for_warps_bounded: a CUDA launch from a translation unit compiled without CUDA");
+#endif
+  } else {
+    parallel_for_warps(ex, n, f);
   }
 }
 
@@ -113,6 +173,64 @@ SCREE_INLINE void atomic_max_nonneg(Real* a, Real v, bool serial) {
     }
   }
 #endif
+}
+
+/// Store v into *a when it differs (a flag or stamp that several threads may set to the
+/// same value at once: relaxed atomic stores, and no store when it is already there).
+SCREE_INLINE void store_if_changed(std::uint32_t* a, std::uint32_t v) {
+#if defined(__CUDA_ARCH__)
+  if (*reinterpret_cast<volatile std::uint32_t*>(a) != v) *reinterpret_cast<volatile std::uint32_t*>(a) = v;
+#else
+  if (__atomic_load_n(a, __ATOMIC_RELAXED) != v) __atomic_store_n(a, v, __ATOMIC_RELAXED);
+#endif
+}
+
+/// Runs of equal keys among consecutive lanes of a warp (particles sorted by cell share
+/// their stencil's nodes): sum() adds a value over each run, so that one lane (the run's
+/// head) makes the atomic add to global memory for all of them. Every lane of the warp
+/// must construct it and call sum() the same number of times (warp-collective, CUDA).
+/// On the CPU every particle is its own run.
+struct WarpSegment {
+#if defined(__CUDA_ARCH__)
+  int span;      ///< lanes after this one in its run
+  int max_span;  ///< the largest span in the warp: the number of doubling steps needed
+  bool head;     ///< first lane of its run: makes the atomic add
+  __device__ explicit WarpSegment(long long key) {
+    const unsigned lane = threadIdx.x & 31u;
+    const long long prev = __shfl_up_sync(0xffffffffu, key, 1);
+    head = lane == 0 || prev != key;
+    const unsigned heads = __ballot_sync(0xffffffffu, head);
+    const unsigned later = lane == 31 ? 0u : heads >> (lane + 1);  // bit j: a run starts at lane + 1 + j
+    span = later ? __ffs(later) - 1 : static_cast<int>(31 - lane);
+#if __CUDA_ARCH__ >= 800
+    max_span = static_cast<int>(__reduce_max_sync(0xffffffffu, static_cast<unsigned>(span)));
+#else
+    max_span = span;
+    for (int off = 16; off > 0; off >>= 1) max_span = max(max_span, __shfl_xor_sync(0xffffffffu, max_span, off));
+#endif
+  }
+  /// The sum of v over this lane and the following lanes of its run (the run's total at
+  /// its head): a segmented suffix scan by doubling.
+  __device__ Real sum(Real v) const {
+    for (int off = 1; off <= max_span; off <<= 1) {
+      const Real o = __shfl_down_sync(0xffffffffu, v, off);
+      if (off <= span) v += o;
+    }
+    return v;
+  }
+#else
+  bool head = true;
+  explicit WarpSegment(long long) {}
+  Real sum(Real v) const { return v; }
+#endif
+};
+
+/// The largest of v over the warp, valid in every lane (CUDA); v itself on the CPU.
+SCREE_INLINE Real warp_max(Real v) {
+#if defined(__CUDA_ARCH__)
+  for (int off = 16; off > 0; off >>= 1) v = fmax(v, __shfl_xor_sync(0xffffffffu, v, off));
+#endif
+  return v;
 }
 
 }  // namespace scree

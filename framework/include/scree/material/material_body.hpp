@@ -7,6 +7,12 @@
 // Storage: one allocation of `columns * n` Reals, structure of arrays. Columns:
 //   x[D] v[D] x0[D] F[D*D] sigma[kStressComponents] mass volume0 id C[D*D] state[K]
 // (C only with APIC). Every column is permuted together when particles are sorted.
+//
+// Kernels (particle_pass.hpp): a pass without stress update runs the light instantiation
+// (kTransferPhases: no material code, a fraction of the registers) in blocks of 256; a
+// pass with it the full one in blocks of 64 (its occupancy is set by the material's
+// registers, and small blocks let the SMs fill in behind warps that take longer, e.g. a
+// point that needs many substeps). PassParams::reference runs the full one everywhere.
 #pragma once
 
 #include <algorithm>
@@ -20,10 +26,7 @@
 #include "scree/mpm/body.hpp"
 
 #if defined(__CUDACC__)
-#include <thrust/device_ptr.h>
-#include <thrust/execution_policy.h>
-#include <thrust/sequence.h>
-#include <thrust/sort.h>
+#include <cub/device/device_radix_sort.cuh>
 #endif
 
 namespace scree {
@@ -181,41 +184,76 @@ class MaterialBody final : public Body<D> {
 
   void sort_by_cell(const GridGeometry<D>& g) override {
     if (n_ < 2) return;
-    // Key: the flat index of the cell holding the particle (x fastest).
-    Buffer<Index> keys(n_, exec_.device), perm(n_, exec_.device);
-    Buffer<Real> scratch(static_cast<std::size_t>(n_), exec_.device);
+    // Key: the flat index of the cell holding the particle (x fastest), 32 bits; a stable
+    // sort of the keys (CUB radix sort on the GPU) gives the permutation, through which
+    // every column is gathered, a few columns at a time via a scratch block. All of it is
+    // queued on the body's stream after the passes before it: no host round trip. The
+    // buffers are kept for the next sort.
     const Index n = n_;
-    Index* kp = keys.data();
-    Index* pp = perm.data();
+    const std::size_t un = static_cast<std::size_t>(n);
+    if (sort_keys_.size() != 2 * un) {
+      sort_keys_.resize(2 * un, exec_.device);
+      sort_perm_.resize(2 * un, exec_.device);
+      // Small bodies gather every column in one kernel; large ones 4 at a time (memory).
+      sort_chunk_ = un * columns_ * sizeof(Real) <= (std::size_t(64) << 20) ? columns_ : std::min(columns_, 4);
+      sort_scratch_.resize(static_cast<std::size_t>(sort_chunk_) * un, exec_.device);
+#if defined(__CUDACC__)
+      if (exec_.device == Device::cuda) {
+        cub::DoubleBuffer<std::uint32_t> k(sort_keys_.data(), sort_keys_.data() + un),
+            v(sort_perm_.data(), sort_perm_.data() + un);
+        std::size_t bytes = 0;
+        cub::DeviceRadixSort::SortPairs(nullptr, bytes, k, v, static_cast<int>(n), 0, 32);
+        sort_temp_.resize(bytes, exec_.device);
+      }
+#endif
+      mem::synchronize(exec_.device);  // the buffers' zero fill ran on the default stream
+    }
+    std::uint32_t* kp = sort_keys_.data();
+    std::uint32_t* pp = sort_perm_.data();
     ParticleArrays<D> a = arrays_;
     const GridGeometry<D> geo = g;
+    std::uint64_t cells = 1;
+    for (int d = 0; d < D; ++d) cells *= static_cast<std::uint64_t>(g.n[d]);
     parallel_for(exec_, n, [=] SCREE_HD(Index p) {
-      Index key = 0, s = 1;
+      std::uint32_t key = 0, s = 1;
       for (int d = 0; d < D; ++d) {
         int c = static_cast<int>(floor((a.x[d][p] - geo.origin[d]) / geo.h));
         c = c < 0 ? 0 : (c >= geo.n[d] ? geo.n[d] - 1 : c);
-        key += c * s;
-        s *= geo.n[d];
+        key += static_cast<std::uint32_t>(c) * s;
+        s *= static_cast<std::uint32_t>(geo.n[d]);
       }
       kp[p] = key;
-      pp[p] = p;
+      pp[p] = static_cast<std::uint32_t>(p);
     });
+    const std::uint32_t* order = pp;
     if (exec_.device == Device::cuda) {
 #if defined(__CUDACC__)
-      auto pol = thrust::cuda::par.on(static_cast<cudaStream_t>(exec_.stream));
-      thrust::stable_sort_by_key(pol, thrust::device_pointer_cast(kp), thrust::device_pointer_cast(kp + n),
-                                 thrust::device_pointer_cast(pp));
+      int bits = 1;
+      while (bits < 32 && (std::uint64_t(1) << bits) < cells) ++bits;
+      cub::DoubleBuffer<std::uint32_t> k(kp, kp + un), v(pp, pp + un);
+      std::size_t bytes = sort_temp_.size();
+      cub::DeviceRadixSort::SortPairs(sort_temp_.data(), bytes, k, v, static_cast<int>(n), 0, bits,
+                                      static_cast<cudaStream_t>(exec_.stream));
+      check_cuda_launch("sort_by_cell: radix sort");
+      order = v.Current();
+#else
+      throw std::logic_error("sort_by_cell: CUDA bodies need their material compiled as CUDA");
 #endif
     } else {
-      std::stable_sort(pp, pp + n, [kp](Index i, Index j) { return kp[i] < kp[j]; });
+      std::stable_sort(pp, pp + n, [kp](std::uint32_t i, std::uint32_t j) { return kp[i] < kp[j]; });
     }
-    // Gather every column through the permutation.
+    // column[i] <- column[order[i]] for every column, sort_chunk_ columns per kernel.
     Real* base = data_.data();
-    Real* tmp = scratch.data();
-    for (int c = 0; c < columns_; ++c) {  // the K state rows are columns too
-      Real* column = base + static_cast<std::size_t>(c) * n;
-      parallel_for(exec_, n, [=] SCREE_HD(Index i) { tmp[i] = column[pp[i]]; });
-      mem::copy(column, exec_.device, tmp, exec_.device, static_cast<std::size_t>(n) * sizeof(Real));
+    Real* tmp = sort_scratch_.data();
+    for (int c0 = 0; c0 < columns_; c0 += sort_chunk_) {
+      const int nc = std::min(sort_chunk_, columns_ - c0);
+      Real* first = base + static_cast<std::size_t>(c0) * un;
+      parallel_for(exec_, n * nc, [=] SCREE_HD(Index j) {
+        const Index c = j / n, i = j - c * n;
+        tmp[j] = first[c * n + order[i]];
+      });
+      mem::copy_async(first, exec_.device, tmp, exec_.device, static_cast<std::size_t>(n * nc) * sizeof(Real),
+                      exec_.stream);
     }
   }
 
@@ -259,10 +297,23 @@ class MaterialBody final : public Body<D> {
     arrays_.volume0 = col(c_vol0_);
     arrays_.state = col(c_state_);
   }
+  static constexpr int kTransferBlock = 256;
+  static constexpr int kStressBlock = 64;
+
   template <class Shape>
   void launch(const PassParams<D>& pp, const Shape& shape) {
-    ParticlePass<D, Shape, M> k{pp, arrays_, shape, params_};
-    parallel_for(exec_, n_, k);
+    if (!pp.reference && (pp.flags & ~kTransferPhases) == 0) {
+      ParticlePass<D, Shape, M, kTransferPhases> k{pp, arrays_, shape, params_};
+      parallel_for_warps(exec_, n_, k, kTransferBlock);
+    } else {
+      ParticlePass<D, Shape, M, kAllPhases> k{pp, arrays_, shape, params_};
+      if constexpr (D == 2)
+        if (!pp.reference && pp.stress_blocks_per_sm == 6) {
+          parallel_for_warps_bounded<kStressBlock, 6>(exec_, n_, k);
+          return;
+        }
+      parallel_for_warps(exec_, n_, k, pp.reference ? kCudaBlockSize : kStressBlock);
+    }
   }
 
   Params params_;
@@ -278,6 +329,12 @@ class MaterialBody final : public Body<D> {
       c_C_ = 0, c_state_ = 0;
   Buffer<Real> data_;
   ParticleArrays<D> arrays_{};
+  // sort_by_cell's buffers (kept between sorts): keys and permutation (double-buffered
+  // for the radix sort), CUB's temporary storage, and a scratch block of sort_chunk_ columns
+  Buffer<std::uint32_t> sort_keys_, sort_perm_;
+  Buffer<char> sort_temp_;
+  Buffer<Real> sort_scratch_;
+  int sort_chunk_ = 0;
   std::vector<OutputField> fields_;
 };
 

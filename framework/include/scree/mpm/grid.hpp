@@ -8,6 +8,8 @@
 // decomposition): `offset` is its first node's index in the global lattice.
 #pragma once
 
+#include <cstdint>
+
 #include "scree/core/config.hpp"
 #include "scree/core/tensor.hpp"
 
@@ -89,6 +91,42 @@ struct StepControl {
   Real h;             ///< cell size [m]
   unsigned long long steps_done;  ///< steps that did work
   unsigned long long lost;        ///< particles whose stencil left the grid (frozen)
+  unsigned long long step[2];     ///< index of the step (every step, also those with dt = 0)
 };
+
+/// Sparse grid updates: the nodes are grouped in tiles of kTileNodes (32 along x, a warp's
+/// coalesced row of doubles, by 4 along y in 2D, by 2 x 2 in 3D). A particle pass that
+/// scatters into a grid set stamps the tiles its stencils touch with the step's stamp
+/// (tile_stamp), and the grid update visits only tiles stamped in this step (and clears
+/// those of the other set stamped in the last step), so its work follows the particles
+/// rather than the size of the box (a flume's grid is mostly empty). Outside its stamped
+/// tiles every field of a set is zero.
+template <int D>
+struct Tiles {
+  static constexpr int kX = 32;
+  static constexpr int kY = D == 2 ? 4 : 2;
+  static constexpr int kZ = D == 3 ? 2 : 1;
+  static constexpr int kNodes = kX * kY * kZ;
+  static constexpr int extent(int d) { return d == 0 ? kX : (d == 1 ? kY : kZ); }
+  /// Tiles along axis d of a grid with n nodes along it.
+  SCREE_INLINE static int count(int n, int d) { return (n + extent(d) - 1) / extent(d); }
+  SCREE_INLINE static Index total(const GridGeometry<D>& g) {
+    Index t = 1;
+    for (int d = 0; d < D; ++d) t *= count(g.n[d], d);
+    return t;
+  }
+  /// Tile of node (idx[0], idx[1], ...).
+  SCREE_INLINE static Index of(const GridGeometry<D>& g, const int* idx) {
+    Index t = 0, s = 1;
+    for (int d = 0; d < D; ++d) {
+      t += (idx[d] / extent(d)) * s;
+      s *= count(g.n[d], d);
+    }
+    return t;
+  }
+};
+
+/// The stamp a grid set's tiles get in step k (0: never touched).
+SCREE_INLINE std::uint32_t tile_stamp(unsigned long long step) { return static_cast<std::uint32_t>(step) + 1u; }
 
 }  // namespace scree

@@ -12,7 +12,15 @@
 //                so that t lands on the target time
 // Nodes without mass have zero velocity; nodes lighter than mass_eps keep v^{k+1} = v^k
 // (no acceleration from an O(1/h) force share divided by a vanishing mass).
+//
+// Sparse update (cur_stamps set): only the tiles of `cur` that this step's particle passes
+// stamped (Tiles<D>, grid.hpp) are updated, and kZeroOther clears every field of `other`
+// on the tiles stamped in the previous step, so that a set is zero outside its stamped
+// tiles. The launch has a fixed size (a CUDA graph replays it), and its work follows the
+// particles. Without stamps every node is visited (tests, the reference kernels).
 #pragma once
+
+#include <cstdint>
 
 #include "scree/boundary/constraints.hpp"
 #include "scree/exec/parallel.hpp"
@@ -42,6 +50,8 @@ struct GridUpdateParams {
   Real mass_eps = 0;
   Real damping = 0;  ///< local damping coefficient alpha
   Real damping_start = 0, damping_end = 0;
+  const std::uint32_t* cur_stamps = nullptr;    ///< tile stamps of `cur` (sparse update); null: all nodes
+  const std::uint32_t* other_stamps = nullptr;  ///< tile stamps of `other` (sparse kZeroOther)
 };
 
 /// Run the grid update on `ex`'s backend (defined in the core, instantiated for D = 2, 3).

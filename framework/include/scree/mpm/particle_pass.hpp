@@ -44,6 +44,11 @@ enum PassFlags : unsigned {
 };
 inline constexpr unsigned kAnyGather = kGatherVelocity | kGatherPosition | kStressFromNew | kStressFromVelocity;
 inline constexpr unsigned kAnyScatter = kScatterMassMomentum | kScatterForce | kScatterMomentum;
+inline constexpr unsigned kStressPhases = kStressFromNew | kStressFromVelocity;
+inline constexpr unsigned kAllPhases = kAnyGather | kAnyScatter;
+/// The phases of the light kernel: transfers only, no stress update and no force (a
+/// kernel compiled without the material's update needs a fraction of its registers).
+inline constexpr unsigned kTransferPhases = kGatherVelocity | kGatherPosition | kScatterMassMomentum | kScatterMomentum;
 
 enum class Transfer : int { flip = 0, apic = 1 };
 
@@ -80,6 +85,13 @@ struct PassParams {
   Real pic_fraction = 0;  ///< FLIP/PIC blend: 0 = pure FLIP (the paper's eq. 10), 1 = PIC
   Transfer transfer = Transfer::flip;
   bool serial = false;    ///< CPU loop on one thread: plain adds instead of atomics
+  bool need_speed = true;  ///< compute the largest signal speed (adaptive time step only)
+  bool reference = false;  ///< the straightforward kernel (see the top of this file)
+  std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
+  /// CUDA, 2D: run the stress kernel with a register cap (launch bounds of 64 threads and
+  /// this many blocks per SM, 6: 170 registers, 12 warps per SM) instead of the
+  /// compiler's choice (0; 254 registers for phaseTransition, 8 warps per SM).
+  int stress_blocks_per_sm = 0;
 };
 
 namespace detail {
@@ -134,6 +146,14 @@ struct Stencil {
     }
     I = g.flat(idx);
   }
+  /// Stamp the tiles that hold the stencil's nodes (at most 2 per axis).
+  SCREE_INLINE void stamp_tiles(const GridGeometry<D>& g, std::uint32_t* stamps, std::uint32_t stamp) const {
+    for (int c = 0; c < (1 << D); ++c) {
+      int idx[D];
+      for (int d = 0; d < D; ++d) idx[d] = base[d] + (((c >> d) & 1) ? S - 1 : 0);
+      store_if_changed(stamps + Tiles<D>::of(g, idx), stamp);
+    }
+  }
 };
 
 /// APIC's inverse inertia factor D_p^{-1} = (4 / h^2) I for the quadratic B-spline; for
@@ -142,134 +162,200 @@ struct Stencil {
 template <class Shape>
 inline constexpr bool kApicFromInertia = Shape::kStencil == 3 && sizeof(Shape) == sizeof(Real);
 
+/// Whether the first lane of the warp (CUDA), or always (CPU).
+SCREE_INLINE bool first_lane() {
+#if defined(__CUDA_ARCH__)
+  return (threadIdx.x & 31u) == 0;
+#else
+  return true;
+#endif
+}
+
 }  // namespace detail
 
-template <int D, class Shape, class M>
+/// Whether M::update reads the stress it is given. A model that rebuilds sigma from its
+/// state (phaseTransition: sigma_f + sigma_col) declares `static constexpr bool
+/// reads_stress = false;`, and the kernel then neither loads nor co-rotates it.
+template <class M>
+inline constexpr bool material_reads_stress() {
+  if constexpr (requires { M::reads_stress; }) return M::reads_stress;
+  else return true;
+}
+
+template <int D, class Shape, class M, unsigned May = kAllPhases>
 struct ParticlePass {
   PassParams<D> pp;
   ParticleArrays<D> pa;
   Shape shape;
   typename M::Params mp;
 
-  SCREE_HD void operator()(Index p) const {
+  SCREE_HD void operator()(Index p) const { run(p, true); }
+  /// Warp-collective form (parallel_for_warps): every lane of a warp calls it.
+  SCREE_HD void operator()(Index p, bool valid) const { run(p, valid); }
+
+  SCREE_HD void run(Index p, bool valid) const {
     StepControl* ctl = pp.control;
     const Real dt = ctl->dt[pp.gather_parity];
     const GridGeometry<D>& g = pp.grid;
     // A zero step (the run reached its target time) changes no particle.
-    const unsigned flags = dt > 0 ? pp.flags : (pp.flags & ~kAnyGather);
-    const Real mass = pa.mass[p];
-    if (pa.volume0[p] < 0) return;  // frozen: it left the grid earlier
+    const unsigned flags = (dt > 0 ? pp.flags : (pp.flags & ~kAnyGather)) & May;
+    // Inactive lanes (past the end, frozen, or lost in this pass) still take part in the
+    // warp-collective scatter with nothing to add, so nothing below returns early.
+    bool active = valid && pa.volume0[p] >= 0;  // frozen: it left the grid earlier
+    const Real mass = active ? pa.mass[p] : Real(0);
 
-    Vec<D> x, v;
-    for (int d = 0; d < D; ++d) {
-      x[d] = pa.x[d][p];
-      v[d] = pa.v[d][p];
-    }
+    Vec<D> x = Vec<D>::zero(), v = Vec<D>::zero();
+    if (active)
+      for (int d = 0; d < D; ++d) {
+        x[d] = pa.x[d][p];
+        v[d] = pa.v[d][p];
+      }
     Mat<D> C = Mat<D>::zero();
     const bool apic = pp.transfer == Transfer::apic;
-    if (apic)
+    if (apic && active)
       for (int i = 0; i < D * D; ++i) C.a[i / D][i % D] = pa.C[i][p];
 
     // ---------------- gather phases (weights at the current position) ----------------
-    if (flags & kAnyGather) {
+    Real speed = 0;  // signal speed c + |v| after the stress update
+    if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
       if (!st.inside) {
         lost(p);  // the stencil left the grid: freeze the particle (the solver warns)
-        return;
-      }
-      Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero(), x_inc = Vec<D>::zero();
-      Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
-      const bool from_new = flags & kStressFromNew;
-      const bool flip_increment = (flags & kGatherVelocity) && !apic && pp.pic_fraction < 1;
-      for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-        Index I;
-        Real N;
-        Vec<D> gradN, dx;
-        st.node(k, g, x, I, N, gradN, dx);
-        Vec<D> vi, vn;
-        for (int d = 0; d < D; ++d) {
-          vi[d] = pp.gather.velocity[d][I];
-          vn[d] = pp.gather.velocity_new[d][I];
-        }
-        v_pic += N * vn;
-        if (flip_increment) {
-          // FLIP's increment against the velocity the particles mapped, momentum/mass,
-          // before the boundary conditions: the correction a constraint makes at a node
-          // then reaches the particles too. Against the constrained v^k, a particle next
-          // to a no-slip wall would keep a velocity the grid discarded, for ever.
-          const Real m = pp.gather.mass[I];
-          Vec<D> v_mapped;
-          for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] / m : vi[d];
-          dv += N * (vn - v_mapped);
-        }
-        L += outer(from_new ? vn : vi, gradN);  // eq. (7)
-        if (apic) {
-          if constexpr (detail::kApicFromInertia<Shape>) B += outer(vn, dx) * N;
-          else Lnew += outer(vn, gradN);
-        }
-      }
-      x_inc = v_pic;
-
-      if (flags & (kStressFromNew | kStressFromVelocity)) stress_update(p, L, dt, v, mass);
-
-      if (flags & kGatherVelocity) {
-        if (apic) {
-          v = v_pic;
-          if constexpr (detail::kApicFromInertia<Shape>) C = B * (4 / (g.h * g.h));
-          else C = Lnew;
-        } else {
-          // FLIP (eq. 10) blended with PIC.
-          const Real a = pp.pic_fraction;
-          for (int d = 0; d < D; ++d) v[d] = a * v_pic[d] + (1 - a) * (v[d] + dv[d]);
-        }
-      }
-      if (flags & kGatherPosition) x += dt * x_inc;  // eq. (11)
-    }
-
-    // ---------------- scatter phases (weights at the updated position) ----------------
-    if (flags & kAnyScatter) {
-      const detail::Stencil<D, Shape> st(shape, g, x);
-      if (!st.inside) {
-        lost(p);
-        return;
-      }
-      Sym3 sig = Sym3::zero();
-      Real vol = 0;
-      if (flags & kScatterForce) {
-        sig = detail::load_stress<D>(pa.sigma, p);
-        vol = pa.volume0[p] * det(load_F(p));
-      }
-      const bool serial = pp.serial;
-      for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-        Index I;
-        Real N;
-        Vec<D> gradN, dx;
-        st.node(k, g, x, I, N, gradN, dx);
-        if (N == 0 && (flags & kScatterForce) == 0) continue;
-        if (flags & kScatterMassMomentum) {
-          atomic_add(&pp.scatter.mass[I], N * mass, serial);  // eq. (5)
-          Vec<D> vI = v;
-          if (apic) vI += C * dx;
-          for (int d = 0; d < D; ++d) atomic_add(&pp.scatter.momentum[d][I], N * mass * vI[d], serial);  // eq. (6)
-        }
-        if (flags & kScatterMomentum)
-          for (int d = 0; d < D; ++d) atomic_add(&pp.scatter.force[d][I], N * mass * v[d], serial);
-        if (flags & kScatterForce) {
+        active = false;
+      } else {
+        Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero();
+        Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
+        const bool from_new = flags & kStressFromNew;
+        const bool want_L = flags & kStressPhases;
+        const bool flip_increment = (flags & kGatherVelocity) && !apic && pp.pic_fraction < 1;
+        for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+          Index I;
+          Real N;
+          Vec<D> gradN, dx;
+          st.node(k, g, x, I, N, gradN, dx);
+          Vec<D> vi, vn;
           for (int d = 0; d < D; ++d) {
-            Real s = 0;
-            for (int e = 0; e < D; ++e) s += sig(d, e) * gradN[e];
-            atomic_add(&pp.scatter.force[d][I], -vol * s + N * mass * pp.gravity[d], serial);
+            vi[d] = pp.gather.velocity[d][I];
+            vn[d] = pp.gather.velocity_new[d][I];
+          }
+          v_pic += N * vn;
+          if (flip_increment) {
+            // FLIP's increment against the velocity the particles mapped, momentum/mass,
+            // before the boundary conditions: the correction a constraint makes at a node
+            // then reaches the particles too. Against the constrained v^k, a particle next
+            // to a no-slip wall would keep a velocity the grid discarded, for ever.
+            const Real m = pp.gather.mass[I];
+            Vec<D> v_mapped;
+            for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] / m : vi[d];
+            dv += N * (vn - v_mapped);
+          }
+          if (want_L) L += outer(from_new ? vn : vi, gradN);  // eq. (7)
+          if (apic) {
+            if constexpr (detail::kApicFromInertia<Shape>) B += outer(vn, dx) * N;
+            else Lnew += outer(vn, gradN);
           }
         }
+        if constexpr ((May & kStressPhases) != 0)
+          if (flags & kStressPhases) speed = stress_update(p, L, dt, v, mass);
+
+        if (flags & kGatherVelocity) {
+          if (apic) {
+            v = v_pic;
+            if constexpr (detail::kApicFromInertia<Shape>) C = B * (4 / (g.h * g.h));
+            else C = Lnew;
+          } else {
+            // FLIP (eq. 10) blended with PIC.
+            const Real a = pp.pic_fraction;
+            for (int d = 0; d < D; ++d) v[d] = a * v_pic[d] + (1 - a) * (v[d] + dv[d]);
+          }
+        }
+        if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
       }
     }
+    if constexpr ((May & kStressPhases) != 0)
+      if ((flags & kStressPhases) && pp.need_speed) {
+        // The step's largest signal speed, for the adaptive time step: one atomic per warp.
+        if (pp.reference) {
+          if (speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.serial);
+        } else {
+          speed = warp_max(speed);
+          if (detail::first_lane() && speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.serial);
+        }
+      }
 
-    for (int d = 0; d < D; ++d) {
-      pa.x[d][p] = x[d];
-      pa.v[d][p] = v[d];
+    // ---------------- scatter phases (weights at the updated position) ----------------
+    if (flags & kAnyScatter) scatter(p, flags, active, x, v, C, mass);
+
+    if (active) {
+      for (int d = 0; d < D; ++d) {
+        pa.x[d][p] = x[d];
+        pa.v[d][p] = v[d];
+      }
+      if (apic)
+        for (int i = 0; i < D * D; ++i) pa.C[i][p] = C.a[i / D][i % D];
     }
-    if (apic)
-      for (int i = 0; i < D * D; ++i) pa.C[i][p] = C.a[i / D][i % D];
+  }
+
+  /// P2G: mass, momentum and force into the set S. `active` becomes false when the
+  /// stencil leaves the grid.
+  SCREE_INLINE void scatter(Index p, unsigned flags, bool& active, const Vec<D>& x, const Vec<D>& v,
+                            const Mat<D>& C, Real mass) const {
+    const GridGeometry<D>& g = pp.grid;
+    const detail::Stencil<D, Shape> st(shape, g, x);
+    if (active && !st.inside) {
+      lost(p);
+      active = false;
+    }
+    Sym3 sig = Sym3::zero();
+    Real vol = 0;
+    if ((flags & kScatterForce) && active) {
+      sig = detail::load_stress<D>(pa.sigma, p);
+      vol = pa.volume0[p] * det(load_F(p));
+    }
+    const bool apic = pp.transfer == Transfer::apic;
+    // Lanes with the same first stencil node share every node: they add per warp first.
+    const bool per_lane = pp.reference;
+#if defined(__CUDA_ARCH__)
+    const long long key = active ? static_cast<long long>(g.flat(st.base)) : -1 - static_cast<long long>(threadIdx.x);
+    const WarpSegment seg(per_lane ? -1 - static_cast<long long>(threadIdx.x) : key);
+#else
+    const WarpSegment seg(0);
+#endif
+    if (pp.tile_stamps && active && seg.head)
+      st.stamp_tiles(g, pp.tile_stamps, tile_stamp(pp.control->step[pp.parity]));
+    const bool serial = pp.serial;
+    auto add = [&](Real* field, Real value) {
+#if defined(__CUDA_ARCH__)
+      const Real s = per_lane ? value : seg.sum(value);
+      if (active && seg.head && (per_lane || s != 0)) atomic_add(field, s, serial);
+#else
+      atomic_add(field, value, serial);
+#endif
+    };
+    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I = 0;
+      Real N = 0;
+      Vec<D> gradN = Vec<D>::zero(), dx = Vec<D>::zero();
+      if (active) st.node(k, g, x, I, N, gradN, dx);
+#if !defined(__CUDA_ARCH__)
+      if (!active || (N == 0 && (flags & kScatterForce) == 0)) continue;
+#endif
+      if (flags & kScatterMassMomentum) {
+        add(&pp.scatter.mass[I], N * mass);  // eq. (5)
+        Vec<D> vI = v;
+        if (apic) vI += C * dx;
+        for (int d = 0; d < D; ++d) add(&pp.scatter.momentum[d][I], N * mass * vI[d]);  // eq. (6)
+      }
+      if (flags & kScatterMomentum)
+        for (int d = 0; d < D; ++d) add(&pp.scatter.force[d][I], N * mass * v[d]);
+      if (flags & kScatterForce) {
+        for (int d = 0; d < D; ++d) {
+          Real s = 0;
+          for (int e = 0; e < D; ++e) s += sig(d, e) * gradN[e];
+          add(&pp.scatter.force[d][I], -vol * s + N * mass * pp.gravity[d]);
+        }
+      }
+    }
   }
 
   SCREE_INLINE Mat<D> load_F(Index p) const {
@@ -278,8 +364,9 @@ struct ParticlePass {
     return F;
   }
 
-  /// eqs. (8)-(9) with an objective stress update, and the step's largest signal speed.
-  SCREE_INLINE void stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass) const {
+  /// eqs. (8)-(9) with an objective stress update. Returns the signal speed c + |v| when
+  /// the pass needs it (adaptive time step), else 0.
+  SCREE_INLINE Real stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass) const {
     Mat<D> F = load_F(p);
     F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
     for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
@@ -292,16 +379,17 @@ struct ParticlePass {
     inc.spin.zx *= dt;
     inc.dt = dt;
     inc.J = J;
-    Sym3 sigma = corotate(detail::load_stress<D>(pa.sigma, p), inc.spin);
+    Sym3 sigma = Sym3::zero();
+    if constexpr (material_reads_stress<M>()) sigma = corotate(detail::load_stress<D>(pa.sigma, p), inc.spin);
     typename M::State s;
     load_state(s, pa.state, pa.n, p);
     M::update(mp, s, sigma, inc);
     store_state(s, pa.state, pa.n, p);
     detail::store_stress<D>(pa.sigma, p, sigma);
+    if (!pp.need_speed) return 0;
     const Real vol = pa.volume0[p] * J;
     const Real rho = vol > 0 ? mass / vol : Real(0);
-    const Real c = M::wave_speed(mp, s, sigma, rho, pp.grid.h) + norm(v);
-    atomic_max_nonneg(&pp.control->max_speed[pp.parity], c, pp.serial);
+    return M::wave_speed(mp, s, sigma, rho, pp.grid.h) + norm(v);
   }
 
   /// Freeze a particle whose stencil left the grid (negative volume0 marks it) and

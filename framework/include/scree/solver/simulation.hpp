@@ -29,6 +29,13 @@ struct RunOptions {
   std::int64_t max_steps = -1; ///< stop after this many steps (benchmarks); -1: no limit
   bool progress = true;        ///< progress line on stdout
   bool profile = false;        ///< time every kernel phase (synchronising; no graphs) and report
+  /// The straightforward kernels (verification and timing, docs/performance.md): one
+  /// generic particle kernel with an atomic per particle and node, every grid node in the
+  /// grid updates, the signal speed every step, and no re-sorting unless the case asks.
+  /// The fast kernels' results equal these within round-off (the order of additions).
+  bool reference_kernels = false;
+  bool sparse_grid = true;     ///< fast kernels: grid updates on the tiles particles touched only
+  int stress_blocks_per_sm = 0;  ///< CUDA 2D stress kernel register cap (PassParams); 0: none
   std::ostream* log = nullptr; ///< messages (default std::cout)
 };
 
