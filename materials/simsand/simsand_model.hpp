@@ -54,6 +54,7 @@ struct Params {
   Real nd;       ///< n_d (eq. 18)
   Real pmin;     ///< stiffness regularisation pressure p_min [Pa]: K uses p + p_min
   Real papex;    ///< below this mean stress the state is the stress-free apex [Pa]
+  Real serr;     ///< stress scale below which the substepping error is absolute: 1e-3 p_at [Pa]
   Real stol;     ///< relative local error tolerance of the substepping
   Real rG;       ///< G/K = 3 (1 - 2 nu)/(2 (1 + nu))
   Real c4;       ///< c^4 of the Lode function (1 when lode == 0)
@@ -103,6 +104,7 @@ inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Rea
   P.nd = nd;
   P.pmin = pmin;
   P.papex = 1e-6 * pmin;
+  P.serr = std::fmax(1e-3 * pat, pmin);
   P.stol = stol;
   P.rG = 3 * (1 - 2 * nu) / (2 * (1 + nu));
   const Real c = (3 - s) / (3 + s);
@@ -565,7 +567,12 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
         sn = sig + (r1.dsig + r2.dsig) * Real(0.5);
         kn = v.kappa + Real(0.5) * (r1.dkappa + r2.dkappa);
         if (pressure(sn) > P.papex) {
-          const Real es = norm(r2.dsig - r1.dsig) / fmax(norm(sn), P.pmin);
+          // Relative error with a floor of 1e-3 p_at (~100 Pa): near a free surface the
+          // stress is a few Pa and each MPM increment changes it by as much again, so a
+          // purely relative error asked for hundreds of substeps per update there while
+          // the absolute error (stol x 100 Pa = 0.01 Pa at 1e-4) is far below anything
+          // the flow can feel. Measured on the C-1 column collapse: 5x fewer substeps.
+          const Real es = norm(r2.dsig - r1.dsig) / fmax(norm(sn), P.serr);
           const Real ek = fabs(r2.dkappa - r1.dkappa) / (kn + P.kp);
           R = Real(0.5) * fmax(es, ek);
         }
