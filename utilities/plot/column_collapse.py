@@ -9,6 +9,7 @@ Reads VTK/particles.pvd (and its .vtp files), postProcessing/deposit/runOut.csv 
 postProcessing/probes/{A,B,C}.csv; times are shown from the gate's release
 (_releaseTime in system/stages). Writes PNGs and summary.json to OUTDIR:
 
+  fig09_initial_stress.png      vertical stress at release against rho g (H - y) (Fig. 9b)
   fig10_free_surface.png        final free surface, with the paper's d_inf and h_inf
   fig11_strain_viscosity.png    equivalent plastic strain and shear viscosity at 0.05,
                                 0.25, 0.5 and 1 s after release
@@ -167,6 +168,29 @@ def main():
     tr = release_time(a.case)
     series = Series(a.case)
     summary = {"release_time_s": tr}
+
+    # ---- Fig. 9b: the stress field at release against rho g (H - y) ----
+    t_rel, f_rel = series.nearest(tr)
+    d0 = Series.read(f_rel, ["stress", "mass", "volume", "displacement"])
+    y0 = d0["x"][:, 1] - d0["displacement"][:, 1]
+    rho0 = float(np.median(d0["mass"] / d0["volume"]))
+    H = 0.1
+    exact = -rho0 * 9.81 * (H - y0)
+    h0 = particle_spacing(a.case, d0) * 2  # cell size (2 particles per cell)
+    rows = np.floor(y0 / h0).astype(int)
+    dev = max(abs(d0["stress"][rows == r, 1].mean() - exact[rows == r].mean()) for r in np.unique(rows))
+    summary["initial_stress_max_row_deviation_over_rho_g_H"] = dev / (rho0 * 9.81 * H)
+    fig, ax = plt.subplots(figsize=(4, 4))
+    ax.plot(-d0["stress"][:, 1] / 1e3, d0["x"][:, 1], ".", ms=1, label="particles at release")
+    yy = np.linspace(0, H, 50)
+    ax.plot(rho0 * 9.81 * (H - yy) / 1e3, yy, "r-", label="$\\rho g (H - y)$")
+    ax.set_xlabel("vertical stress $-\\sigma_{yy}$ [kPa]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("t = %.2f s: max row error %.2f%% of $\\rho g H$" % (t_rel, 100 * dev / (rho0 * 9.81 * H)), fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "fig09_initial_stress.png"), dpi=140)
+    plt.close(fig)
 
     # ---- final state: surface, run-out, height ----
     t_end, f_end = series.items[-1]
