@@ -101,3 +101,43 @@ TEST(EndToEnd, ElasticColumnWritesReadableSeries) {
   EXPECT_EQ(top.header, header);
   EXPECT_TRUE(temporaries(pp / "probes").empty());
 }
+
+// The shipped template case, cases/elasticColumn, run as a user would (copied to a
+// temporary directory): its .pvd series opens with VTK's reader, every listed file has
+// the 1280 particles and the standard fields, and the last one holds the settled column
+// (sigma_yy at the bottom row within 2% of rho g H: the case's own claim).
+TEST(EndToEnd, ShippedElasticColumnCase) {
+  TempDir dir;
+  fs::copy(fs::path(SCREE_SOURCE_DIR) / "cases" / "elasticColumn", dir.path(), fs::copy_options::recursive);
+  const fs::path log = dir.path() / "log.scree";
+  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.path().string() +
+                          "' --device cpu --threads 2 > '" + log.string() + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const fs::path vtk = dir.path() / "VTK";
+  const auto series = read_pvd(vtk / "particles.pvd");
+  ASSERT_EQ(series.size(), 13u);  // t = 0, 0.25, ..., 3
+  vtkPolyData* last = nullptr;
+  vtkNew<vtkXMLPolyDataReader> readers[13];
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    readers[i]->SetFileName((vtk / series[i].file).c_str());
+    readers[i]->Update();
+    ASSERT_EQ(readers[i]->GetErrorCode(), 0u) << series[i].file;
+    vtkPolyData* pd = readers[i]->GetOutput();
+    ASSERT_EQ(pd->GetNumberOfPoints(), 1280) << series[i].file;
+    for (const char* name : {"particleId", "bodyId", "velocity", "displacement", "stress", "pressure",
+                             "deviatoricStress", "volume", "mass", "density"})
+      ASSERT_NE(pd->GetPointData()->GetArray(name), nullptr) << series[i].file << ": " << name;
+    last = pd;
+  }
+  const double rho = 1800, g = 9.81, H = 1.0;
+  vtkDataArray* s = last->GetPointData()->GetArray("stress");
+  double sum = 0;
+  int n = 0;
+  for (vtkIdType p = 0; p < last->GetNumberOfPoints(); ++p)
+    if (last->GetPoint(p)[1] < 0.025) {  // the bottom cell row
+      sum += s->GetComponent(p, 1);
+      ++n;
+    }
+  ASSERT_GT(n, 0);
+  EXPECT_NEAR(sum / n, -rho * g * (H - 0.0125), 0.02 * rho * g * H);
+}
