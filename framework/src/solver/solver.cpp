@@ -103,6 +103,8 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
     cuda_check(cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking), "cudaStreamCreate");
     stream_ = s;
     exec_.stream = s;
+    cuda_check(cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking), "cudaStreamCreate");
+    copy_stream_ = s;
   }
 #endif
   tty_ = isatty(STDOUT_FILENO) && (!o.log || o.log == &std::cout);
@@ -147,6 +149,7 @@ Solver<D>::~Solver() {
   destroy_graphs();
 #if defined(SCREE_HAVE_CUDA)
   if (stream_) cudaStreamDestroy(static_cast<cudaStream_t>(stream_));
+  if (copy_stream_) cudaStreamDestroy(static_cast<cudaStream_t>(copy_stream_));
 #endif
 }
 
@@ -644,13 +647,30 @@ void Solver<D>::output_due(bool force_all) {
   if (!write && run.empty()) return;
 
   const auto t0 = std::chrono::steady_clock::now();
-  auto snap = std::make_shared<Snapshot>(snapshot(writers_want_grid_ && write));
+  const bool with_grid = writers_want_grid_ && write;
+  std::shared_ptr<Snapshot> snap;
+  std::vector<std::function<void(BodySnapshot&)>> finish;
+  if (exec_.device == Device::cuda && !with_grid) {
+    // Asynchronous: the particle data are copied on the device and sent to the host on
+    // their own stream while the next steps run; the output thread waits for the copy,
+    // builds the fields and writes. The run stops only for the flush's pass.
+    flush();
+    snap = std::make_shared<Snapshot>(snapshot_header());
+    for (auto& b : bodies_) finish.push_back(b->snapshot_async(copy_stream_));
+  } else {
+    snap = std::make_shared<Snapshot>(snapshot(with_grid));
+  }
   std::vector<Writer*> ws;
   if (write)
     for (auto& w : writers_) ws.push_back(w.get());
   std::vector<FunctionObject*> fs;
   for (auto i : run) fs.push_back(functions_[i].get());
-  output_thread_->submit([snap, ws, fs] {
+  output_thread_->submit([snap, finish, ws, fs] {
+    for (std::size_t i = 0; i < finish.size(); ++i) {
+      const std::string material = snap->bodies[i].material;
+      finish[i](snap->bodies[i]);
+      snap->bodies[i].material = material;
+    }
     for (auto* w : ws) w->write(*snap);
     for (auto* f : fs) f->execute(*snap);
   });
@@ -724,17 +744,26 @@ void Solver<D>::run_steps(std::int64_t n) {
 }
 
 template <int D>
-Snapshot Solver<D>::snapshot(bool with_grid) {
-  flush();
-  mem::synchronize(exec_.device);
+Snapshot Solver<D>::snapshot_header() const {
   Snapshot s;
   s.time = host_ctl_.t[step_ % 2];
   s.step = step_;
   s.dimension = D;
   s.bodies.resize(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    bodies_[i]->snapshot(s.bodies[i]);
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
     s.bodies[i].material = case_.bodies().sub(bodies_[i]->name()).get_word("material");
+  return s;
+}
+
+template <int D>
+Snapshot Solver<D>::snapshot(bool with_grid) {
+  flush();
+  mem::synchronize(exec_.device);
+  Snapshot s = snapshot_header();
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const std::string material = s.bodies[i].material;
+    bodies_[i]->snapshot(s.bodies[i]);
+    s.bodies[i].material = material;
   }
   if (with_grid) {
     s.has_grid = true;

@@ -72,6 +72,7 @@ class Solver {
   void advance_to(double t, bool with_output);
   void run_steps(std::int64_t n);
   Snapshot snapshot(bool with_grid);
+  Snapshot snapshot_header() const;  ///< time, step and the bodies' material names
   void set_velocities(std::size_t body, const std::vector<Real>& v);
   double time() const { return host_ctl_.t[step_ % 2]; }
   std::int64_t steps() const { return step_; }
@@ -159,6 +160,7 @@ class Solver {
   // CUDA graphs (two steps each, starting at parity 0 and 1)
   void* graphs_[2] = {nullptr, nullptr};
   void* stream_ = nullptr;
+  void* copy_stream_ = nullptr;  // snapshots' transfers to the host, beside the steps
 
   // Progress and statistics
   std::chrono::steady_clock::time_point run_start_, last_report_;

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -29,7 +30,17 @@
 #include <cub/device/device_radix_sort.cuh>
 #endif
 
+#include <functional>
+
 namespace scree {
+
+#if defined(__CUDACC__)
+namespace detail {
+inline void cuda_ok(cudaError_t e) {
+  if (e != cudaSuccess) throw std::runtime_error(std::string("CUDA error: ") + cudaGetErrorString(e));
+}
+}  // namespace detail
+#endif
 
 template <int D, class M>
 class MaterialBody final : public Body<D> {
@@ -121,8 +132,75 @@ class MaterialBody final : public Body<D> {
 
   void snapshot(BodySnapshot& out) const override {
     const auto host = data_.to_host();
+    build_snapshot(host.data(), out);
+  }
+
+  std::function<void(BodySnapshot&)> snapshot_async(void* copy_stream) override {
+#if defined(__CUDACC__)
+    if (exec_.device == Device::cuda) {
+      // The particle block is copied on the device first (microseconds, ordered after the
+      // queued passes on the compute stream), so the next steps may overwrite it at once;
+      // the copy to pinned host memory then runs on copy_stream beside them, and the
+      // output thread waits for it alone.
+      const std::size_t bytes = data_.size() * sizeof(Real);
+      auto compute = static_cast<cudaStream_t>(exec_.stream), copy = static_cast<cudaStream_t>(copy_stream);
+      if (stage_.size() != data_.size()) {
+        stage_.resize(data_.size(), exec_.device);
+        mem::synchronize(exec_.device);
+      }
+      if (stage_free_) detail::cuda_ok(cudaStreamWaitEvent(compute, static_cast<cudaEvent_t>(stage_free_), 0));
+      else detail::cuda_ok(cudaEventCreateWithFlags(reinterpret_cast<cudaEvent_t*>(&stage_free_), cudaEventDisableTiming));
+      detail::cuda_ok(cudaMemcpyAsync(stage_.data(), data_.data(), bytes, cudaMemcpyDeviceToDevice, compute));
+      cudaEvent_t staged, copied;
+      detail::cuda_ok(cudaEventCreateWithFlags(&staged, cudaEventDisableTiming));
+      detail::cuda_ok(cudaEventCreateWithFlags(&copied, cudaEventDisableTiming));
+      detail::cuda_ok(cudaEventRecord(staged, compute));
+      detail::cuda_ok(cudaStreamWaitEvent(copy, staged, 0));
+      Real* host = acquire_pinned(bytes);
+      detail::cuda_ok(cudaMemcpyAsync(host, stage_.data(), bytes, cudaMemcpyDeviceToHost, copy));
+      detail::cuda_ok(cudaEventRecord(copied, copy));
+      detail::cuda_ok(cudaEventRecord(static_cast<cudaEvent_t>(stage_free_), copy));
+      cudaEventDestroy(staged);  // released once it has completed
+      return [this, host, copied](BodySnapshot& out) {
+        cudaEventSynchronize(copied);
+        cudaEventDestroy(copied);
+        build_snapshot(host, out);
+        release_pinned(host);
+      };
+    }
+#endif
+    return Body<D>::snapshot_async(copy_stream);
+  }
+
+  ~MaterialBody() override {
+#if defined(__CUDACC__)
+    if (stage_free_) cudaEventDestroy(static_cast<cudaEvent_t>(stage_free_));
+#endif
+    for (Real* p : pinned_free_) mem::deallocate_pinned(p);
+  }
+
+  /// Pinned host buffers for snapshot_async, reused (page-locking memory costs
+  /// milliseconds, and would stop the run at every snapshot).
+  Real* acquire_pinned(std::size_t bytes) {
+    {
+      std::lock_guard lock(pinned_mutex_);
+      if (!pinned_free_.empty()) {
+        Real* p = pinned_free_.back();
+        pinned_free_.pop_back();
+        return p;
+      }
+    }
+    return static_cast<Real*>(mem::allocate_pinned(bytes));
+  }
+  void release_pinned(Real* p) {
+    std::lock_guard lock(pinned_mutex_);
+    pinned_free_.push_back(p);
+  }
+
+  /// The snapshot from a host copy of the particle block (columns * n Reals).
+  void build_snapshot(const Real* host, BodySnapshot& out) const {
     const Index n = n_;
-    auto col = [&](int c) { return host.data() + static_cast<std::size_t>(c) * n; };
+    auto col = [&](int c) { return host + static_cast<std::size_t>(c) * n; };
     out.name = name_;
     out.body_id = body_id_;
     out.material_type = type_;
@@ -332,6 +410,12 @@ class MaterialBody final : public Body<D> {
   // sort_by_cell's buffers (kept between sorts): keys and permutation (double-buffered
   // for the radix sort), CUB's temporary storage, and a scratch block of sort_chunk_ columns
   Buffer<std::uint32_t> sort_keys_, sort_perm_;
+  // snapshot_async's device copy of the particle block, and the event after which the
+  // copy stream has read it (the next snapshot's device copy waits for it)
+  Buffer<Real> stage_;
+  void* stage_free_ = nullptr;
+  std::mutex pinned_mutex_;
+  std::vector<Real*> pinned_free_;
   Buffer<char> sort_temp_;
   Buffer<Real> sort_scratch_;
   int sort_chunk_ = 0;

@@ -3,7 +3,10 @@
 // instantiated for the body's material inside the material's plugin (material_body.hpp).
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scree/core/tensor.hpp"
@@ -46,6 +49,17 @@ class Body {
   virtual void pass(const PassParams<D>& pp) = 0;
   /// Copy to the host and evaluate every output field.
   virtual void snapshot(BodySnapshot& out) const = 0;
+  /// A snapshot taken without stopping the run: queues the copy of the particle data now
+  /// (after the work already queued on the body's stream; the following steps may start
+  /// at once) and returns a function that, called later on any thread, waits for the copy
+  /// and builds the snapshot there. `copy_stream` (a cudaStream_t) carries the transfer to
+  /// the host. This default copies and builds at once.
+  virtual std::function<void(BodySnapshot&)> snapshot_async(void* copy_stream) {
+    (void)copy_stream;
+    auto s = std::make_shared<BodySnapshot>();
+    snapshot(*s);
+    return [s](BodySnapshot& out) { out = std::move(*s); };
+  }
   /// Largest signal speed c + |v| over the particles (host evaluation, for the time
   /// step check before the run).
   virtual Real max_signal_speed(Real cell_size) const = 0;
