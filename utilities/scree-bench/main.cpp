@@ -1,10 +1,11 @@
-// scree-bench: the performance harness (issue 6).
+// scree-bench: the performance harness (issue 6; docs/performance.md).
 //
-//   scree-bench [--device cpu|cuda|both] [--quick] [--cases column,flume,scaling]
-//               [--steps N] [--cpu-steps N] [--max-particles N] [--csv FILE] [--json FILE]
+//   scree-bench [--device cpu|cuda|both] [--quick] [--cases column,flume,scaling,cpu]
+//               [--kernels fast,reference,capped] [--steps N] [--cpu-steps N]
+//               [--max-particles N] [--column-steps N] [--flume-steps N] [--csv FILE] [--json FILE]
 //
-// For each case and backend it runs the solver without output for a fixed number of
-// steps (after warm-up steps that also capture the CUDA graphs) and reports:
+// For each case, backend and kernel variant it runs the solver without output for a fixed
+// number of steps (after warm-up steps that also capture the CUDA graphs) and reports:
 //   particles, steps, ms/step, particle-steps/s, bytes of state per particle,
 //   effective bandwidth = modelled bytes per step / time, against the device's measured
 //   copy bandwidth, and the peak device memory.
@@ -12,9 +13,16 @@
 // read and written once per particle pass, every grid field read and written once per
 // grid update (see traffic_per_step). Output (VTK, function objects) is excluded.
 //
-// Cases: (a) cases/columnCollapse (the paper's 80,000 points at 1 mm); (b) cases/flume at
-// 5 mm; (c) weak scaling of a granular block resting on a floor from 1e4 to 1e7 particles,
-// for linearElastic and phaseTransition and each shape function.
+// Cases: (a) cases/columnCollapse (the paper's 80,000 points at 1 mm), timed in two
+// windows: before the release (the column at rest) and after it (the collapse: plastic
+// flow, points sheared apart at the free surface); the wall time of the paper's 100,000
+// steps is estimated from them. (b) cases/flume at 5 mm, likewise (release at 0.05 s).
+// (c) weak scaling of a granular block resting on a floor from 1e4 to 1e7 particles,
+// for linearElastic and phaseTransition and each shape function. (d) cpu: Scree's CPU
+// backend against a straightforward scalar loop written for the comparison
+// (scalar_mpm.hpp), particle-steps/s per core.
+// Kernel variants: fast (default), reference (RunOptions::reference_kernels: the
+// straightforward kernels), capped (the 2D stress kernel with a register cap).
 #include <omp.h>
 
 #include <boost/program_options.hpp>
@@ -32,10 +40,17 @@
 #include <algorithm>
 #include <unistd.h>
 
+#include "linearElastic/LinearElastic.hpp"
+#include "phaseTransition/PhaseTransition.hpp"
+#include "scalar_mpm.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/case.hpp"
 #include "scree/solver/simulation.hpp"
+
+#if defined(SCREE_HAVE_CUDA)
+#include <cuda_runtime_api.h>
+#endif
 
 namespace fs = std::filesystem;
 namespace po = boost::program_options;
@@ -43,7 +58,7 @@ namespace po = boost::program_options;
 namespace {
 
 struct Row {
-  std::string name, device, material, shape, scheme;
+  std::string name, device, variant, material, shape, scheme;
   long long particles = 0, nodes = 0, steps = 0;
   double ms_per_step = 0, particle_steps_per_s = 0, bytes_per_particle = 0, effective_gbs = 0,
          copy_gbs = 0, peak_mb = 0;
@@ -61,6 +76,26 @@ double copy_bandwidth(scree::Device d) {
   scree::mem::synchronize(d);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return 2.0 * n * reps / s / 1e9;
+}
+
+std::string device_name(scree::Device d) {
+  if (d == scree::Device::cpu) {
+    std::ifstream f("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(f, line))
+      if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "cpu";
+  }
+#if defined(SCREE_HAVE_CUDA)
+  cudaDeviceProp prop{};
+  if (cudaGetDeviceProperties(&prop, 0) == cudaSuccess) {
+    std::ostringstream os;
+    os << prop.name << ", " << prop.multiProcessorCount << " SMs, " << (prop.totalGlobalMem >> 20) << " MiB, L2 "
+       << (prop.l2CacheSize >> 20) << " MiB";
+    return os.str();
+  }
+#endif
+  return "cuda";
 }
 
 /// Modelled bytes per step: each particle pass reads and writes every particle column
@@ -81,45 +116,79 @@ std::string read_word(const fs::path& file, const std::string& key, const std::s
   }
 }
 
-Row measure(scree::PluginRuntime& rt, const fs::path& dir, const std::string& name, scree::Device dev,
-            int threads, long long warm, long long steps, double copy_gbs) {
-  scree::Case c = scree::Case::read(dir, rt);
+scree::RunOptions options_for(scree::Device dev, int threads, const std::string& variant) {
   scree::RunOptions o;
   o.device = dev;
   o.threads = threads;
   o.output = false;
   o.progress = false;
+  o.reference_kernels = variant == "reference";
+  o.stress_blocks_per_sm = variant == "capped" ? 6 : 0;
   static std::ostringstream sink;
   o.log = &sink;
-  scree::mem::reset_peak(dev);
-  scree::Simulation sim(c, rt, o);
-  sim.run_steps(warm);
-  scree::mem::synchronize(dev);
-  const auto t0 = std::chrono::steady_clock::now();
-  sim.run_steps(steps);
-  scree::mem::synchronize(dev);
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const scree::RunStats st = sim.stats();
+  return o;
+}
+
+Row make_row(const scree::Case& c, const fs::path& dir, const std::string& name, scree::Device dev,
+             const std::string& variant, const scree::RunStats& st, int dim, long long steps, double seconds,
+             double copy_gbs) {
   Row r;
   r.name = name;
   r.device = scree::to_string(dev);
+  r.variant = variant;
   r.scheme = read_word(dir / "system/mpmSchemes", "updateScheme", "USF");
   r.shape = read_word(dir / "system/mpmSchemes", "shapeFunction", "linear");
   r.particles = st.particles;
   r.nodes = st.nodes;
   r.steps = steps;
-  r.ms_per_step = 1e3 * s / steps;
-  r.particle_steps_per_s = double(st.particles) * steps / s;
+  r.ms_per_step = 1e3 * seconds / steps;
+  r.particle_steps_per_s = double(st.particles) * steps / seconds;
   r.bytes_per_particle = double(st.bytes_per_particle);
-  r.effective_gbs = traffic_per_step(st, r.scheme, sim.dimension()) * steps / s / 1e9;
+  r.effective_gbs = traffic_per_step(st, r.scheme, dim) * steps / seconds / 1e9;
   r.copy_gbs = copy_gbs;
   r.peak_mb = double(st.peak_device_bytes) / (1 << 20);
   for (const scree::Entry& b : c.bodies().entries())
-    if (b.is_dict()) {
+    if (b.is_dict() && b.key()[0] != '_' && b.key() != "FoamFile") {
       r.material = c.materials().sub(b.dict().get_word("material")).get_word("type");
       break;
     }
   return r;
+}
+
+/// Run `warm` steps, then time each window [0, w0), [w0, w1), ... of the following steps
+/// (one row per window). The time of a window is its steps' wall time, the host's
+/// progress bookkeeping included, output excluded.
+std::vector<Row> measure_windows(scree::PluginRuntime& rt, const fs::path& dir, const std::string& name,
+                                 scree::Device dev, int threads, const std::string& variant, long long warm,
+                                 const std::vector<std::pair<std::string, long long>>& windows, double copy_gbs) {
+  scree::Case c = scree::Case::read(dir, rt);
+  const scree::RunOptions o = options_for(dev, threads, variant);
+  scree::mem::reset_peak(dev);
+  scree::Simulation sim(c, rt, o);
+  if (warm > 0) sim.run_steps(warm);
+  scree::mem::synchronize(dev);
+  std::vector<Row> rows;
+  long long done = warm;
+  for (const auto& [label, steps] : windows) {
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.run_steps(steps);
+    scree::mem::synchronize(dev);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::ostringstream nm;
+    nm << name << (label.empty() ? "" : " " + label);
+    rows.push_back(make_row(c, dir, nm.str(), dev, variant, sim.stats(), sim.dimension(), steps, s, copy_gbs));
+    done += steps;
+  }
+  return rows;
+}
+
+/// The block's material: the column-collapse sand (phaseTransition) or an elastic solid.
+std::string material_dictionary(const std::string& material, const fs::path& source_dir) {
+  if (material != "phaseTransition") return "sand { type linearElastic; E 5e6; nu 0.3; rho 1500; }\n";
+  std::ifstream f(source_dir / "cases/columnCollapse/constant/materialProperties");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
 }
 
 /// A granular block of about n particles (4 per cell) resting on a floor.
@@ -141,17 +210,7 @@ fs::path write_block_case(const fs::path& root, long long n, const std::string& 
   put("system/mpmSchemes", "updateScheme " + scheme + ";\nshapeFunction " + shape + ";\n" +
                                (shape == "linear" ? "" : "transfer APIC;\n") + "sortInterval 50;\n");
   put("constant/g", "value (0 -9.81);\n");
-  // Materials: the column-collapse sand from cases/columnCollapse, or an elastic solid.
-  std::string mats;
-  if (material == "phaseTransition") {
-    std::ifstream f(source_dir / "constant/materialProperties");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    mats = ss.str();
-  } else {
-    mats = "sand { type linearElastic; E 5e6; nu 0.3; rho 1500; }\n";
-  }
-  put("constant/materialProperties", mats);
+  put("constant/materialProperties", material_dictionary(material, source_dir));
   put("constant/bodies", "block { material sand; region { type rectangle; lower (0 0); upper (1 1); } "
                          "particlesPerCell 2; initialStress { type geostatic; K0 0.5; } }\n");
   put("constant/boundaryConditions", "floor { type fixed; face yMin; } left { type slip; face xMin; }\n");
@@ -159,29 +218,32 @@ fs::path write_block_case(const fs::path& root, long long n, const std::string& 
 }
 
 void print(const std::vector<Row>& rows) {
-  std::printf("\n%-34s %-5s %-15s %-8s %-4s %10s %8s %10s %12s %6s %9s %8s %9s\n", "case", "dev", "material", "shape",
-              "schm", "particles", "steps", "ms/step", "p-steps/s", "B/p", "eff GB/s", "copy", "peak MB");
+  std::printf("\n%-44s %-4s %-9s %-15s %-8s %-4s %10s %7s %10s %11s %5s %8s %6s %9s\n", "case", "dev", "kernels",
+              "material", "shape", "schm", "particles", "steps", "ms/step", "p-steps/s", "B/p", "eff GB/s", "copy",
+              "peak MB");
   for (const Row& r : rows)
-    std::printf("%-34s %-5s %-15s %-8s %-4s %10lld %8lld %10.4f %12.4g %6.0f %9.1f %8.0f %9.1f\n", r.name.c_str(),
-                r.device.c_str(), r.material.c_str(), r.shape.c_str(), r.scheme.c_str(), r.particles, r.steps,
-                r.ms_per_step, r.particle_steps_per_s, r.bytes_per_particle, r.effective_gbs, r.copy_gbs, r.peak_mb);
+    std::printf("%-44s %-4s %-9s %-15s %-8s %-4s %10lld %7lld %10.4f %11.4g %5.0f %8.1f %6.0f %9.1f\n",
+                r.name.c_str(), r.device.c_str(), r.variant.c_str(), r.material.c_str(), r.shape.c_str(),
+                r.scheme.c_str(), r.particles, r.steps, r.ms_per_step, r.particle_steps_per_s, r.bytes_per_particle,
+                r.effective_gbs, r.copy_gbs, r.peak_mb);
   // GPU/CPU ratios for cases measured on both.
   for (const Row& g : rows)
     if (g.device == "cuda")
       for (const Row& c : rows)
-        if (c.device == "cpu" && c.name == g.name)
-          std::printf("GPU/CPU %-30s %8.1fx (particle-steps/s)\n", g.name.c_str(),
+        if (c.device == "cpu" && c.name == g.name && c.variant == g.variant)
+          std::printf("GPU/CPU %-40s %8.1fx (particle-steps/s)\n", g.name.c_str(),
                       g.particle_steps_per_s / c.particle_steps_per_s);
 }
 
 void write_csv(const std::vector<Row>& rows, const std::string& path) {
   std::ofstream f(path);
-  f << "case,device,material,shape,scheme,particles,nodes,steps,ms_per_step,particle_steps_per_s,"
+  f << "case,device,kernels,material,shape,scheme,particles,nodes,steps,ms_per_step,particle_steps_per_s,"
        "bytes_per_particle,effective_GBps,copy_GBps,peak_device_MB\n";
   for (const Row& r : rows)
-    f << r.name << ',' << r.device << ',' << r.material << ',' << r.shape << ',' << r.scheme << ',' << r.particles
-      << ',' << r.nodes << ',' << r.steps << ',' << r.ms_per_step << ',' << r.particle_steps_per_s << ','
-      << r.bytes_per_particle << ',' << r.effective_gbs << ',' << r.copy_gbs << ',' << r.peak_mb << '\n';
+    f << r.name << ',' << r.device << ',' << r.variant << ',' << r.material << ',' << r.shape << ',' << r.scheme
+      << ',' << r.particles << ',' << r.nodes << ',' << r.steps << ',' << r.ms_per_step << ','
+      << r.particle_steps_per_s << ',' << r.bytes_per_particle << ',' << r.effective_gbs << ',' << r.copy_gbs << ','
+      << r.peak_mb << '\n';
 }
 
 void write_json(const std::vector<Row>& rows, const std::string& path) {
@@ -189,14 +251,72 @@ void write_json(const std::vector<Row>& rows, const std::string& path) {
   f << "[\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
-    f << "  {\"case\": \"" << r.name << "\", \"device\": \"" << r.device << "\", \"material\": \"" << r.material
-      << "\", \"shape\": \"" << r.shape << "\", \"scheme\": \"" << r.scheme << "\", \"particles\": " << r.particles
-      << ", \"nodes\": " << r.nodes << ", \"steps\": " << r.steps << ", \"ms_per_step\": " << r.ms_per_step
-      << ", \"particle_steps_per_s\": " << r.particle_steps_per_s << ", \"bytes_per_particle\": "
-      << r.bytes_per_particle << ", \"effective_GBps\": " << r.effective_gbs << ", \"copy_GBps\": " << r.copy_gbs
-      << ", \"peak_device_MB\": " << r.peak_mb << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
+    f << "  {\"case\": \"" << r.name << "\", \"device\": \"" << r.device << "\", \"kernels\": \"" << r.variant
+      << "\", \"material\": \"" << r.material << "\", \"shape\": \"" << r.shape << "\", \"scheme\": \"" << r.scheme
+      << "\", \"particles\": " << r.particles << ", \"nodes\": " << r.nodes << ", \"steps\": " << r.steps
+      << ", \"ms_per_step\": " << r.ms_per_step << ", \"particle_steps_per_s\": " << r.particle_steps_per_s
+      << ", \"bytes_per_particle\": " << r.bytes_per_particle << ", \"effective_GBps\": " << r.effective_gbs
+      << ", \"copy_GBps\": " << r.copy_gbs << ", \"peak_device_MB\": " << r.peak_mb << "}"
+      << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   f << "]\n";
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+/// Scree's CPU backend against the scalar loop on the same block (one thread each, then
+/// Scree on every thread): particle-steps/s, and the ratio that issue 6 keeps within 2.
+template <class M>
+void cpu_comparison(scree::PluginRuntime& rt, const fs::path& root, const fs::path& src, const std::string& material,
+                    long long n, long long steps, int threads, std::vector<Row>& rows) {
+  const fs::path dir = write_block_case(root, n, material, "linear", "USL", src);
+  scree::Case c = scree::Case::read(dir, rt);
+  const scree::Dictionary& md = c.materials().sub("sand");
+  scree::ParamSpec spec = M::spec();
+  spec.allow_keys({"type"});
+  const typename M::Params mp = M::read(scree::ParamReader(spec, md));
+  const long long cells = std::max(4LL, static_cast<long long>(std::llround(std::sqrt(double(std::max(1LL, n / 4))))));
+  const double dt = 0.2 * (1.0 / cells) / 60.0;
+  scree::bench::ScalarMpm<M> scalar(mp, static_cast<int>(cells), dt);
+  scalar.step();  // warm-up
+  const auto t0 = std::chrono::steady_clock::now();
+  for (long long i = 0; i < steps; ++i) scalar.step();
+  const double s_scalar = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  Row r;
+  r.name = "block " + material + " scalar loop 1 thread";
+  r.device = "cpu";
+  r.variant = "scalar";
+  r.material = material;
+  r.shape = "linear";
+  r.scheme = "USL";
+  r.particles = static_cast<long long>(scalar.size());
+  r.steps = steps;
+  r.ms_per_step = 1e3 * s_scalar / steps;
+  r.particle_steps_per_s = double(r.particles) * steps / s_scalar;
+  r.bytes_per_particle = sizeof(typename scree::bench::ScalarMpm<M>::Particle);
+  rows.push_back(r);
+  std::printf("  %-44s %10lld particles %10.4f ms/step %12.4g particle-steps/s\n", r.name.c_str(), r.particles,
+              r.ms_per_step, r.particle_steps_per_s);
+  for (int t : {1, threads}) {
+    auto w = measure_windows(rt, dir, "block " + material + " scree " + std::to_string(t) + " thread" +
+                                          (t > 1 ? "s" : ""),
+                             scree::Device::cpu, t, "fast", 2, {{"", steps}}, 0);
+    rows.push_back(w[0]);
+    std::printf("  %-44s %10lld particles %10.4f ms/step %12.4g particle-steps/s (%.4g per core)\n",
+                w[0].name.c_str(), w[0].particles, w[0].ms_per_step, w[0].particle_steps_per_s,
+                w[0].particle_steps_per_s / t);
+    if (t == 1)
+      std::printf("  scalar loop / scree (1 thread), %s: %.2f (issue 6 asks for at most 2)\n", material.c_str(),
+                  r.particle_steps_per_s / w[0].particle_steps_per_s);
+    if (threads == 1) break;
+  }
 }
 
 }  // namespace
@@ -205,11 +325,22 @@ int main(int argc, char** argv) {
   po::options_description opts("scree-bench: Scree's performance harness\n\nOptions");
   opts.add_options()("help,h", "print this help")(
       "device", po::value<std::string>()->default_value("both"), "cpu, cuda or both (cuda only when a GPU is present)")(
-      "quick", "tiny sizes and few steps (CI)")("cases", po::value<std::string>()->default_value("column,flume,scaling"),
-                                                "comma-separated: column, flume, scaling")(
-      "steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
+      "quick", "tiny sizes and few steps (CI)")(
+      "cases", po::value<std::string>()->default_value("column,flume,scaling,cpu"),
+      "comma-separated: column, flume, scaling, cpu")(
+      "kernels", po::value<std::string>()->default_value("fast"),
+      "comma-separated kernel variants: fast, reference (the straightforward kernels), capped (CUDA: register cap "
+      "on the 2D stress kernel)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
       "cpu-steps", po::value<long long>()->default_value(50), "timed steps on the CPU")(
       "max-particles", po::value<long long>()->default_value(10000000), "largest scaling size")(
+      "materials", po::value<std::string>()->default_value("linearElastic,phaseTransition"), "scaling materials")(
+      "shapes", po::value<std::string>()->default_value("linear,gimp,bspline2"), "scaling shape functions")(
+      "schemes", po::value<std::string>()->default_value("USL"), "scaling update schemes")(
+      "column-steps", po::value<long long>()->default_value(2000),
+      "column collapse: steps timed after the release (release at step 10,000)")(
+      "flume-steps", po::value<long long>()->default_value(2000),
+      "flume: steps timed after the release (release at step 50,000)")(
+      "cpu-particles", po::value<long long>()->default_value(100000), "size of the CPU comparison block")(
       "threads", po::value<int>()->default_value(omp_get_max_threads()), "CPU threads")(
       "source-dir", po::value<std::string>()->default_value(SCREE_SOURCE_DIR), "the Scree source tree (for cases/)")(
       "csv", po::value<std::string>()->default_value("scree-bench.csv"), "CSV output")(
@@ -228,7 +359,9 @@ int main(int argc, char** argv) {
   }
   const bool quick = vm.count("quick");
   const fs::path src = vm["source-dir"].as<std::string>();
-  const std::string want = vm["cases"].as<std::string>();
+  const auto want = split(vm["cases"].as<std::string>());
+  auto wants = [&](const char* c) { return std::find(want.begin(), want.end(), c) != want.end(); };
+  const auto variants = split(vm["kernels"].as<std::string>());
   const std::string devs = vm["device"].as<std::string>();
   std::vector<scree::Device> devices;
   if (devs == "cpu" || devs == "both") devices.push_back(scree::Device::cpu);
@@ -248,47 +381,103 @@ int main(int argc, char** argv) {
   fs::create_directories(tmp);
   std::vector<Row> rows;
   std::map<scree::Device, double> copy;
-  for (auto d : devices) copy[d] = copy_bandwidth(d);
-  std::printf("copy bandwidth (read + write): ");
-  for (auto& [d, bw] : copy) std::printf("%s %.1f GB/s  ", scree::to_string(d), bw);
-  std::printf("\nCPU threads: %d\n", threads);
-
-  auto run = [&](const fs::path& dir, const std::string& name, long long gsteps, long long csteps) {
-    for (auto d : devices) {
-      const long long steps = d == scree::Device::cuda ? gsteps : csteps;
-      try {
-        rows.push_back(measure(rt, dir, name, d, threads, std::max(2LL, steps / 10), steps, copy[d]));
-        const Row& r = rows.back();
-        std::printf("  %-34s %-4s %10lld particles %10.4f ms/step %12.4g particle-steps/s\n", name.c_str(),
-                    r.device.c_str(), r.particles, r.ms_per_step, r.particle_steps_per_s);
-        std::fflush(stdout);
-      } catch (const std::exception& e) {
-        std::printf("  %-34s %-4s failed: %s\n", name.c_str(), scree::to_string(d), e.what());
-      }
-    }
+  for (auto d : devices) {
+    copy[d] = copy_bandwidth(d);
+    std::printf("%s: %s; copy bandwidth (read + write) %.1f GB/s\n", scree::to_string(d), device_name(d).c_str(),
+                copy[d]);
+  }
+  std::printf("CPU threads: %d\n", threads);
+  auto report = [&](const Row& r) {
+    std::printf("  %-44s %-4s %-9s %10lld particles %10.4f ms/step %12.4g particle-steps/s\n", r.name.c_str(),
+                r.device.c_str(), r.variant.c_str(), r.particles, r.ms_per_step, r.particle_steps_per_s);
+    std::fflush(stdout);
   };
 
-  if (want.find("column") != std::string::npos) {
-    const fs::path c = quick ? src / "cases/columnCollapse/variants/C-1" : src / "cases/columnCollapse";
-    run(c, quick ? "column C-1 (10 mm)" : "column (1 mm, paper)", gpu_steps, cpu_steps);
-  }
-  if (want.find("flume") != std::string::npos && fs::exists(src / "cases/flume")) {
-    const fs::path c = quick ? src / "cases/flume/variants/S-1" : src / "cases/flume";
-    if (fs::exists(c)) run(c, quick ? "flume S-1 (20 mm)" : "flume (5 mm, paper)", gpu_steps, cpu_steps);
-  }
-  if (want.find("scaling") != std::string::npos) {
-    for (const std::string mat : {"linearElastic", "phaseTransition"})
-      for (const std::string shape : {"linear", "gimp", "bspline2"})
-        for (long long n = quick ? 1000 : 10000; n <= max_n; n *= 10) {
-          const fs::path d = write_block_case(tmp, n, mat, shape, "USL", src / "cases/columnCollapse");
-          // The CPU gets the sizes up to 1e6 only (minutes otherwise).
-          const auto saved = devices;
-          if (n > 1000000) devices.erase(std::remove(devices.begin(), devices.end(), scree::Device::cpu), devices.end());
-          run(d, "block " + mat + " " + shape + " " + std::to_string(n), std::max(20LL, gpu_steps / 4), cpu_steps);
-          devices = saved;
+  // (a), (b): the paper's cases, in windows before and after the release; the wall time of
+  // the run the paper reports is estimated from them (output excluded).
+  struct Paper {
+    const char* key;
+    std::string name;
+    fs::path dir;
+    long long release, after, total;  // steps: to the release, timed after it, of the paper's run
+  };
+  std::vector<Paper> paper;
+  if (wants("column"))
+    paper.push_back({"column", quick ? "column C-1 (10 mm)" : "column (1 mm, paper)",
+                     quick ? src / "cases/columnCollapse/variants/C-1" : src / "cases/columnCollapse",
+                     quick ? 20 : 10000, quick ? 10 : vm["column-steps"].as<long long>(), 100000});
+  if (wants("flume"))
+    paper.push_back({"flume", quick ? "flume S-1 (20 mm)" : "flume (5 mm, paper)",
+                     quick ? src / "cases/flume/variants/S-1" : src / "cases/flume", quick ? 20 : 50000,
+                     quick ? 10 : vm["flume-steps"].as<long long>(), 3000000});
+  for (const Paper& pc : paper) {
+    if (!fs::exists(pc.dir)) continue;
+    for (auto d : devices)
+      for (const std::string& v : variants) {
+        if (d == scree::Device::cpu && v != "fast") continue;
+        const bool gpu = d == scree::Device::cuda;
+        // CPU: a short look at the rest state only (the collapse takes minutes per 1000 steps).
+        const long long pre = gpu ? pc.release : std::min(pc.release, cpu_steps), warm = std::min(pre / 5, 2000LL);
+        std::vector<std::pair<std::string, long long>> w = {{"at rest", pre - warm}};
+        if (gpu) w.push_back({"flowing", pc.after});
+        try {
+          auto r = measure_windows(rt, pc.dir, pc.name, d, threads, v, warm, w, copy[d]);
+          for (const Row& x : r) {
+            report(x);
+            rows.push_back(x);
+          }
+          if (r.size() == 2) {
+            const double est = (r[0].ms_per_step * pc.release + r[1].ms_per_step * (pc.total - pc.release)) / 1e3;
+            std::printf("  %-44s %-4s %-9s estimated wall time of the paper's %lld steps: %.1f s\n", pc.name.c_str(),
+                        r[0].device.c_str(), v.c_str(), pc.total, est);
+          }
+        } catch (const std::exception& e) {
+          std::printf("  %-44s %-4s %-9s failed: %s\n", pc.name.c_str(), scree::to_string(d), v.c_str(), e.what());
         }
+      }
   }
+
+  if (wants("scaling")) {
+    for (const std::string& mat : split(vm["materials"].as<std::string>()))
+      for (const std::string& shape : split(vm["shapes"].as<std::string>()))
+        for (const std::string& scheme : split(vm["schemes"].as<std::string>()))
+          for (long long n = quick ? 1000 : 10000; n <= max_n; n = n * 10 > max_n && n < max_n ? max_n : n * 10) {
+            const fs::path dir = write_block_case(tmp, n, mat, shape, scheme, src);
+            for (auto d : devices) {
+              // The CPU gets the sizes up to 1e6 only (minutes otherwise).
+              if (d == scree::Device::cpu && n > 1000000) continue;
+              for (const std::string& v : variants) {
+                if (d == scree::Device::cpu && v != "fast") continue;
+                const long long steps = d == scree::Device::cuda ? std::max(20LL, gpu_steps / 4) : cpu_steps;
+                try {
+                  auto r = measure_windows(rt, dir, "block " + mat + " " + shape + " " + scheme + " " + std::to_string(n),
+                                           d, threads, v, std::max(2LL, steps / 10), {{"", steps}}, copy[d]);
+                  report(r[0]);
+                  rows.push_back(r[0]);
+                } catch (const std::exception& e) {
+                  std::printf("  block %s %s %lld %s %s failed: %s\n", mat.c_str(), shape.c_str(), n,
+                              scree::to_string(d), v.c_str(), e.what());
+                }
+              }
+            }
+          }
+  }
+
+  if (wants("cpu") && std::find(devices.begin(), devices.end(), scree::Device::cpu) != devices.end()) {
+    const long long n = quick ? 2000 : vm["cpu-particles"].as<long long>();
+    cpu_comparison<scree::materials::LinearElastic>(rt, tmp, src, "linearElastic", n, cpu_steps, threads, rows);
+    cpu_comparison<scree::materials::PhaseTransition>(rt, tmp, src, "phaseTransition", n, cpu_steps, threads, rows);
+  }
+
   print(rows);
+  // Memory: peak device bytes per particle of the largest block, and what fits in 80 GB.
+  for (const Row& r : rows)
+    if (r.device == "cuda" && r.name.rfind("block", 0) == 0 && r.particles >= 1000000) {
+      const double per = r.peak_mb * (1 << 20) / r.particles;
+      std::printf("memory: %-44s %-9s %.0f B of state per particle, peak %.0f B per particle (grid and sort buffers "
+                  "included): about %.2g particles in 80 GB\n",
+                  r.name.c_str(), r.variant.c_str(), r.bytes_per_particle, per, 80e9 / per);
+    }
   write_csv(rows, vm["csv"].as<std::string>());
   write_json(rows, vm["json"].as<std::string>());
   std::printf("\nwrote %s and %s\n", vm["csv"].as<std::string>().c_str(), vm["json"].as<std::string>().c_str());
