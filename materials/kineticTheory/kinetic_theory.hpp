@@ -135,6 +135,84 @@ SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
   return c;
 }
 
+/// The factors of coefficients() that depend on the parameters only, computed once: with
+/// them coefficients(P, C, V) needs three divisions instead of nine (a GPU waits about ten
+/// dependent instructions on each). The same functions, regrouped: every g0 in (B12)'s
+/// numerator and denominator cancels, so Gamma1 needs no division at all. Results differ
+/// from coefficients(P, V) by round-off (tests/unit/performance).
+struct Constants {
+  Real ready;   ///< 1 once prepare() filled the rest
+  Real cstar;   ///< c* (A9)
+  Real z0;      ///< zeta0*/g0 (A7)
+  Real nueta;   ///< nu_eta/g0 (A8)
+  Real ek;      ///< 0.4 (1+e)(1-3e) of (A6)
+  Real ek_den;  ///< (nu_eta - zeta0/2)/g0 of (A6)
+  Real gam;     ///< gamma*/(V G) (A5)
+  Real eta_g;   ///< 0.8 (1+e) of (A4)
+  Real eta0;    ///< 5 sqrt(pi)/96 rho_p d
+  Real diss;    ///< 144/(5 sqrt(pi)) rho_p/d
+  Real n_lam;   ///< 4/15 lambda of (B12)
+  Real n_p;     ///< (2/3 - e) c* of (B12)
+  Real b_p;     ///< (1 - e) of (B11)
+  Real b_n;     ///< 5/32 (1-e^2)(1+3c*/64) / (Dn/g0) of (B11)-(B13)
+  Real rf;      ///< 1/(2 V_sd V_m - V_m^2 - V_sd^2) of eq. (26)
+};
+inline Constants prepare(const Params& P) {
+  Constants C{};
+  const Real e = P.eps, e2 = e * e, e3 = e2 * e;
+  C.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9)
+  C.z0 = Real(5) / 12 * (1 - e2) * (1 + 3 * C.cstar / 32);                     // (A7)
+  C.nueta = (1 - Real(0.25) * (1 - e) * (1 - e)) * (1 - C.cstar / 64);         // (A8)
+  C.ek = Real(0.4) * (1 + e) * (1 - 3 * e);
+  C.ek_den = C.nueta - Real(0.5) * C.z0;
+  C.gam = Real(128) / (5 * kPi) * (1 + e) * (1 - C.cstar / 32);
+  C.eta_g = Real(0.8) * (1 + e);
+  C.eta0 = 5 * kSqrtPi / 96 * P.rho_p * P.d;
+  C.diss = 144 / (5 * kSqrtPi) * P.rho_p / P.d;
+  const Real lam = Real(0.375) * ((1 - e) * (5 * e2 + 4 * e - 1) + C.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));
+  const Real nugam = (1 + e) / 48 * (128 - 96 * e + 15 * e2 - 15 * e3 + C.cstar / 64 * (15 * e3 - 15 * e2 + 498 * e - 434));
+  const Real dn = Real(0.5) * C.z0 + nugam + Real(5) / 64 * C.cstar * (1 + 3 * C.cstar / 64) * (1 - e2);
+  C.n_lam = Real(4) / 15 * lam;
+  C.n_p = (Real(2) / 3 - e) * C.cstar;
+  C.b_p = 1 - e;
+  C.b_n = Real(5) / 32 * (1 - e2) * (1 + 3 * C.cstar / 64) / dn;
+  C.rf = 1 / (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd);
+  C.ready = 1;
+  return C;
+}
+
+/// coefficients(P, V) from the prepared constants (see Constants).
+SCREE_HD inline Coefficients coefficients(const Params& P, const Constants& C, Real V) {
+  Coefficients c;
+  const Real e = P.eps;
+  c.V = V;
+  const Real cs = (2 - V) / (2 * (1 - V) * (1 - V) * (1 - V));  // eq. (25)
+  if (V < P.Vm) {
+    c.g0 = cs;  // eq. (26), f = 1
+  } else {
+    const Real f = (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * C.rf;  // eq. (26)
+    c.g0 = f * cs + (1 - f) * 2 / (P.Vsd - V);                                     // eq. (25)
+  }
+  c.G = V * c.g0;                                  // eq. (23), ERRATA 1
+  c.p_star = 1 + 2 * (1 + e) * c.G;                // 4GF, eq. (20)+(A1)
+  c.cstar = C.cstar;                               // (A9)
+  c.zeta0 = C.z0 * c.g0;                           // (A7)
+  const Real eta_k = (1 - C.ek * c.G) / (C.ek_den * c.g0);  // (A6)
+  c.gam_star = C.gam * V * c.G;                    // (A5)
+  c.eta_star = eta_k * (1 + C.eta_g * c.G) + Real(0.6) * c.gam_star;  // (A4)
+  c.eta_hat = fmax(C.eta0 * c.eta_star, Real(0));  // eq. (21)
+  c.gam_hat = fmax(C.eta0 * c.gam_star, Real(0));  // eq. (22)
+  c.p_hat = P.rho_p * V * c.p_star;                // eq. (20)
+  c.diss_hat = C.diss * V * V * c.zeta0;           // eq. (28), ERRATA 2
+  c.div_hat = 0;
+  if (P.zeta1 > 0) {  // (B11)-(B14): br = -(1-e)(p*-1) + 5/32 (1-e^2)(1+3c*/64) g0 N/Dn
+    const Real N = C.n_lam * c.G + (c.p_star - 1) * C.n_p;
+    c.div_hat = Real(1.5) * P.rho_p * V * (-C.b_p * (c.p_star - 1) + C.b_n * N);
+  }
+  c.energy = Real(1.5) * P.rho_p * V;  // eq. (27)
+  return c;
+}
+
 /// Strain-rate invariants used by the energy balance: |dev D|^2 = dev D : dev D, tr D.
 struct RateInvariants {
   Real dev2;
@@ -170,7 +248,8 @@ SCREE_HD inline Real riccati_sqrt_temperature(Real x0, Real a, Real b, Real k, R
     return x0 / (1 + k * x0 * h);
   }
   const Real smb = b >= 0 ? 4 * k * a / (s + b) : s - b;
-  const Real den = (smb + E * (b + s)) / (2 * s) + (1 - E) * k * x0 / s;
+  const Real rs = 1 / s;
+  const Real den = (smb + E * (b + s)) * (Real(0.5) * rs) + (1 - E) * k * x0 * rs;
   const Real x = xp + y0 * E / den;
   return fmax(x, Real(0));
 }
@@ -180,9 +259,10 @@ SCREE_HD inline Real riccati_sqrt_temperature(Real x0, Real a, Real b, Real k, R
 SCREE_HD inline Real update_temperature(const Coefficients& c, Real T0, const RateInvariants& r, Real dt) {
   // energy * dT/dt = 2 eta dev2 + gamma tr^2 - p tr - Gamma0 - Gamma1   (eq. 27, sigma_col:D
   // with sigma_col = -p I + 2 eta dev D + gamma tr(D) I, tension positive, ERRATA 5)
-  const Real a = (2 * c.eta_hat * r.dev2 + c.gam_hat * r.tr * r.tr) / c.energy;  // ~ sqrt(T)
-  const Real b = -(c.p_hat + c.div_hat) * r.tr / c.energy;                        // ~ T
-  const Real k = c.diss_hat / c.energy;                                           // ~ T^{3/2}
+  const Real re = 1 / c.energy;
+  const Real a = (2 * c.eta_hat * r.dev2 + c.gam_hat * r.tr * r.tr) * re;  // ~ sqrt(T)
+  const Real b = -(c.p_hat + c.div_hat) * r.tr * re;                        // ~ T
+  const Real k = c.diss_hat * re;                                           // ~ T^{3/2}
   // dT/dt = a x + b x^2 - k x^3 with x = sqrt(T)  <=>  dx/dt = (a + b x - k x^2)/2
   const Real x = riccati_sqrt_temperature(sqrt(fmax(T0, Real(0))), a, b, k, dt);
   return x * x;

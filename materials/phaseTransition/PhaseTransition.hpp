@@ -31,6 +31,7 @@ struct PhaseTransition {
     kt::Params c;       ///< collisional constants
     Real e0;            ///< initial void ratio [-]
     Real T0;            ///< initial granular temperature [m^2/s^2]
+    kt::Constants ck{};  ///< c's parameter-only factors (read(); unset: computed every time)
   };
   struct State {
     Sym3 sigf;   ///< frictional stress sigma_f (tension positive) [Pa]
@@ -57,6 +58,7 @@ struct PhaseTransition {
     p.c = KineticTheory::read_collisional(r);
     p.e0 = r.scalar("initialVoidRatio");
     p.T0 = r.scalar("initialGranularTemperature");
+    p.ck = kt::prepare(p.c);
     return p;
   }
   static Real density(const Params& p) { return p.c.rho_p / (1 + p.e0); }
@@ -90,7 +92,8 @@ struct PhaseTransition {
     // collisional part at the shared void ratio
     const Real inv_dt = inc.dt > 0 ? 1 / inc.dt : Real(0);
     const Sym3 D = inc.deps * inv_dt;
-    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+    const Real V = kt::solid_fraction(p.c, s.e);
+    const kt::Coefficients c = p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
     const kt::RateInvariants ri = kt::rate_invariants(D);
     s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
     sigma = sf + kt::collisional_stress(c, s.T, D);     // eq. (1) with eq. (19)

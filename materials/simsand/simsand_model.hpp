@@ -64,6 +64,7 @@ struct Params {
   Real inv_m;    ///< 1/(1 - n)
   Real Amin;     ///< p_min^(1-n)
   Real Cfac;     ///< K0 p_at^(1-n): K = Cfac F(e) (p + p_min)^n
+  Real inv_pat;  ///< 1/p_at
   /// How powers are evaluated (the model is the same either way). 0, the default: the
   /// exponents 1/2, 2 and 1/4 by sqrt and products, and the two void-ratio powers of
   /// eqs. (17)-(18) from one logarithm (power() and ratios(); within a few ulps of pow()).
@@ -114,6 +115,7 @@ inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Rea
   P.inv_m = 1 / (1 - n);
   P.Amin = std::pow(pmin, 1 - n);
   P.Cfac = K0 * std::pow(pat, 1 - n);
+  P.inv_pat = 1 / pat;
   P.exact = 0;
   return P;
 }
@@ -140,6 +142,19 @@ SCREE_HD inline bool finite_sym(const Sym3& a) {
 /// sigma = s - p I.
 SCREE_HD inline Sym3 from_p_s(Real p, const Sym3& s) {
   return Sym3{{s[0] - p, s[1] - p, s[2] - p, s[3], s[4], s[5]}};
+}
+
+// Divisions are what the stress update waits on (on a GPU a double division is a chain of
+// about ten dependent instructions): the functions below multiply by reciprocals where a
+// quotient is a constant or is used more than once, and fold pairs of quotients into one.
+// The algebra is the same; the results differ from the plain quotients by round-off.
+inline constexpr Real kThird = Real(1) / 3;
+/// -tr(a)/3 (tensor.hpp's pressure()) by a product.
+SCREE_HD inline Real mean_pressure(const Sym3& a) { return -a.trace() * kThird; }
+/// a - tr(a)/3 I (tensor.hpp's deviator()) by a product.
+SCREE_HD inline Sym3 dev_part(const Sym3& a) {
+  const Real m = a.trace() * kThird;
+  return Sym3{{a[0] - m, a[1] - m, a[2] - m, a[3], a[4], a[5]}};
 }
 
 /// x^y for the exponents of the model: pow() on the reference path (P.exact); on the fast
@@ -173,14 +188,13 @@ SCREE_HD inline Real bulk_modulus(const Params& P, Real e, Real p) {
 
 /// Critical void ratio, eq. (16).
 SCREE_HD inline Real critical_void_ratio(const Params& P, Real p) {
-  return P.eref * exp(-P.lambda * pow(fmax(p, Real(0)) / P.pat, P.xi));  // eq. (16)
+  return P.eref * exp(-P.lambda * pow(fmax(p, Real(0)) * P.inv_pat, P.xi));  // eq. (16)
 }
 
 /// Stress ratio in triaxial compression for a friction angle given by its tangent:
 /// M = 6 sin phi/(3 - sin phi).
 SCREE_HD inline Real ratio_from_tan(Real t) {
-  const Real s = t / sqrt(1 + t * t);
-  return 6 * s / (3 - s);
+  return 6 * t / (3 * sqrt(1 + t * t) - t);  // sin phi = t/sqrt(1 + t^2), one quotient
 }
 
 /// Peak and phase-transformation stress ratios (eqs. 17-18) and the derivatives of M_p
@@ -204,15 +218,14 @@ SCREE_HD inline Real peak_factor(const Params& P, Real ec, Real e) {
 SCREE_HD inline Real peak_ratio(const Params& P, Real e, Real p) {
   e = fmax(e, Real(1e-6));
   const Real tp = peak_factor(P, critical_void_ratio(P, p), e) * P.tanphic;  // eq. (17)
-  const Real sp = tp / sqrt(1 + tp * tp);
-  return 6 * sp / (3 - sp);
+  return ratio_from_tan(tp);
 }
 
 SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) {
   Ratios r;
   e = fmax(e, Real(1e-6));
   const Real pe = fmax(p, P.pmin);
-  const Real pxi = pow(fmax(p, Real(0)) / P.pat, P.xi);
+  const Real pxi = pow(fmax(p, Real(0)) * P.inv_pat, P.xi);
   r.ec = P.eref * exp(-P.lambda * pxi);  // eq. (16), as critical_void_ratio()
   // (e_c/e)^n_p and (e/e_c)^n_d of eqs. (17)-(18), and (p_e/p_at)^(xi-1) of dM_p/dp: on the
   // fast path from one logarithm and from (p/p_at)^xi above, instead of three pow()s.
@@ -220,24 +233,23 @@ SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) {
   if (P.exact != 0) {
     fp = pow(r.ec / e, P.np);
     fd = pow(e / r.ec, P.nd);
-    pxi1 = pow(pe / P.pat, P.xi - 1);
+    pxi1 = pow(pe * P.inv_pat, P.xi - 1);
   } else {
     const Real L = log(r.ec / e);
     fp = exp(P.np * L);  // = peak_factor()
     fd = exp(-P.nd * L);
-    pxi1 = p >= P.pmin ? pxi * (P.pat / p) : pow(pe / P.pat, P.xi - 1);
+    pxi1 = p >= P.pmin ? pxi * (P.pat / p) : pow(pe * P.inv_pat, P.xi - 1);
   }
   const Real tp = fp * P.tanphic;  // eq. (17)
-  const Real sp = tp / sqrt(1 + tp * tp);
-  r.Mp = 6 * sp / (3 - sp);
+  const Real w = sqrt(1 + tp * tp), d3 = 3 * w - tp;  // sin = tp/w, 3 - sin = d3/w
+  r.Mp = 6 * tp / d3;
   const Real td = fd * P.tanphic;  // eq. (18)
   r.Mpt = ratio_from_tan(td);
-  // dM/dtan = 18/(3 - sin)^2 * cos^3;  dtan_p/de = -n_p tan_p/e;
+  // dM/dtan = 18/(3 - sin)^2 * cos^3 = 18/(d3^2 w);  dtan_p/de = -n_p tan_p/e;
   // dtan_p/dp = n_p tan_p/e_c de_c/dp = -n_p tan_p lambda xi (p/p_at)^(xi-1)/p_at
-  const Real c2 = 1 / (1 + tp * tp);
-  const Real dMdt = 18 / ((3 - sp) * (3 - sp)) * c2 * sqrt(c2);
+  const Real dMdt = 18 / (d3 * d3 * w);
   r.dMp_de = dMdt * (-P.np * tp / e);
-  r.dMp_dp = dMdt * (-P.np * tp * P.lambda * P.xi * pxi1 / P.pat);
+  r.dMp_dp = dMdt * (-P.np * tp * P.lambda * P.xi * pxi1 * P.inv_pat);
   return r;
 }
 
@@ -253,16 +265,18 @@ SCREE_HD inline Real lode_g(const Params& P, Real S) {
 /// sin 3theta = (3 sqrt3/2) J3(-s)/J2^{3/2}, so +1 in triaxial compression).
 struct Invariants {
   Real p, q, J2, J3, S;
+  Real rJ2;  ///< sqrt(J2)
   Sym3 s;
 };
 SCREE_HD inline Invariants invariants(const Sym3& sig) {
   Invariants v;
-  v.p = pressure(sig);
-  v.s = deviator(sig);
+  v.p = mean_pressure(sig);
+  v.s = dev_part(sig);
   v.J2 = Real(0.5) * ddot(v.s, v.s);
-  v.q = sqrt(3 * v.J2);
+  v.rJ2 = sqrt(v.J2);
+  v.q = Real(1.7320508075688772) * v.rJ2;  // sqrt(3 J2)
   v.J3 = sym_det(v.s);
-  v.S = v.J2 > 0 ? -Real(2.598076211353316) * v.J3 / (v.J2 * sqrt(v.J2)) : Real(0);
+  v.S = v.J2 > 0 ? -Real(2.598076211353316) * v.J3 / (v.J2 * v.rJ2) : Real(0);
   v.S = fmin(fmax(v.S, Real(-1)), Real(1));
   return v;
 }
@@ -274,12 +288,17 @@ SCREE_HD inline Real hardening(const Params& P, Real Mp, Real kappa) {
 }
 
 /// Yield function eq. (14): f = q/(p g) - M_p kappa/(k_p + kappa). At the apex (p ~ 0) 0.
+/// f from its parts, q/(p g) - M_p k/(k_p + k) as one quotient (k = max(kappa, 0)).
+SCREE_HD inline Real yield_value(const Params& P, Real q, Real p, Real g, Real Mp, Real kappa) {
+  const Real k = fmax(kappa, Real(0)), kk = P.kp + k, pg = p * g;
+  return (q * kk - Mp * k * pg) / (pg * kk);
+}
+
 SCREE_HD inline Real yield(const Params& P, const Sym3& sig, Real e, Real kappa) {
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex)) return 0;
   const Real g = lode_g(P, v.S);
-  const Real Mp = peak_ratio(P, e, v.p);
-  return v.q / (v.p * g) - hardening(P, Mp, kappa);
+  return yield_value(P, v.q, v.p, g, peak_ratio(P, e, v.p), kappa);
 }
 
 /// Put a stress on the yield surface by scaling its deviator at constant p and Lode angle
@@ -301,10 +320,10 @@ SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real 
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex)) return 0;
   const Real g = lode_g(P, v.S);
-  const Real H = hardening(P, peak_ratio(P, e, v.p), kappa);
-  const Real f = v.q / (v.p * g) - H;
+  const Real Mp = peak_ratio(P, e, v.p);
+  const Real f = yield_value(P, v.q, v.p, g, Mp, kappa);
   if ((both_sides ? fabs(f) : f) > kFtol && v.q > 0) {
-    sig = from_p_s(v.p, v.s * (H * g * v.p / v.q));
+    sig = from_p_s(v.p, v.s * (hardening(P, Mp, kappa) * g * v.p / v.q));
     projected = true;
   }
   return f;
@@ -315,7 +334,7 @@ SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real 
 /// shear modulus G = rG (p1 - p0)/(-eps_v) (exact along a straight strain path since G/K is
 /// constant). Returns false when the extension would take p below zero (separation).
 SCREE_HD inline bool elastic_predictor(const Params& P, const Sym3& sig0, Real e, const Sym3& deps, Sym3& sig1) {
-  const Real p0 = fmax(pressure(sig0), Real(0));
+  const Real p0 = fmax(mean_pressure(sig0), Real(0));
   const Real evc = -deps.trace();          // volumetric strain, compression positive
   const Real C = P.Cfac * void_function(e);  // K = C (p + p_min)^n
   const Real A0 = power(P, p0 + P.pmin, P.m);
@@ -333,7 +352,7 @@ SCREE_HD inline bool elastic_predictor(const Params& P, const Sym3& sig0, Real e
     p1 = p0 + Ksec * evc;
   }
   p1 = fmax(p1, Real(0));
-  const Sym3 s1 = deviator(sig0) + deviator(deps) * (2 * P.rG * Ksec);
+  const Sym3 s1 = dev_part(sig0) + dev_part(deps) * (2 * P.rG * Ksec);
   sig1 = from_p_s(p1, s1);
   return true;
 }
@@ -357,7 +376,7 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
   const Real p = v.p, q = v.q;
   const Real K = bulk_modulus(P, e, p);  // eq. (13)
   const Real G = P.rG * K;
-  const Sym3 dev = deviator(deps);
+  const Sym3 dev = dev_part(deps);
   const Real tr = deps.trace();
   // unit deviatoric direction of the flow (radial); along the strain deviator at q = 0
   Sym3 nh = Sym3::zero();
@@ -375,21 +394,28 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
     g = lode_g(P, v.S);
     const Real den_g = 1 + P.c4 - (1 - P.c4) * v.S;
     const Real dg = Real(0.25) * g * (1 - P.c4) / den_g;  // dg/dS
-    const Real J2 = v.J2, J2_15 = J2 * sqrt(J2);
+    // 1/J2^{3/2}, and 1/J2^{5/2} = (1/J2^{3/2})^2 sqrt(J2)
+    const Real r15 = 1 / (v.J2 * v.rJ2);
     // dS/dsigma = -(3 sqrt3/2) [dev(s s)/J2^{3/2} - 3/2 J3 s/J2^{5/2}]  (deviatoric, normal to s)
-    const Sym3 dJ3 = deviator(sym_square(v.s));
-    const Sym3 dS = (dJ3 * (1 / J2_15) - v.s * (Real(1.5) * v.J3 / (J2_15 * J2))) * Real(-2.598076211353316);
-    if (fabs(v.S) < Real(1) - Real(1e-9)) L = dS * (-q / (p * g * g) * dg);  // d(q/(p g))/dS dS/dsigma
+    const Sym3 dJ3 = dev_part(sym_square(v.s));
+    const Sym3 dS = (dJ3 * r15 - v.s * (Real(1.5) * v.J3 * r15 * r15 * v.rJ2)) * Real(-2.598076211353316);
+    // d(q/(p g))/dS dS/dsigma, with q/(p g^2) = q p (1/(p g))^2
+    if (fabs(v.S) < Real(1) - Real(1e-9)) {
+      const Real rpg = 1 / (p * g);
+      L = dS * (-q * p * rpg * rpg * dg);
+    }
   }
-  const Real eta = q / (p * g);
+  const Real rpg = 1 / (p * g);  // 1/(p g), used four times below
+  const Real eta = q * rpg;
   const Ratios R = ratios(P, e, p);  // eqs. (16)-(18)
-  const Real h = fmax(kappa, Real(0)) / (P.kp + fmax(kappa, Real(0)));
-  const Real dh = P.kp / ((P.kp + fmax(kappa, Real(0))) * (P.kp + fmax(kappa, Real(0))));
+  const Real kk = fmax(kappa, Real(0)), rk = 1 / (P.kp + kk);
+  const Real h = kk * rk;
+  const Real dh = P.kp * rk * rk;
   const Real d = P.Ad * (R.Mpt - eta);  // eq. (15): dilatancy, > 0 contractive
-  const Real a = eta / p + h * R.dMp_dp;
-  const Real c1 = Real(1.224744871391589) * 2 * G / (p * g);  // sqrt(3/2) 2G/(p g)
+  const Real a = eta * g * rpg + h * R.dMp_dp;  // eta/p + h dM_p/dp
+  const Real c1 = Real(1.224744871391589) * 2 * G * rpg;  // sqrt(3/2) 2G/(p g)
   const Real num = c1 * ddot(nh, dev) + a * K * tr + 2 * G * ddot(L, dev) - h * R.dMp_de * de;
-  const Real den0 = 3 * G / (p * g);
+  const Real den0 = 3 * G * rpg;
   Real den = den0 - a * K * d + R.Mp * dh;
   den = fmax(den, Real(1e-3) * den0);  // guard against a non-positive plastic modulus (README)
   const Real dl = fmax(num / den, Real(0));
@@ -401,7 +427,7 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
   ds[2] += iso;
   r.dsig = ds;
   r.dkappa = dl;
-  r.deq = dl * sqrt(2 * d * d / 9 + 1);  // sqrt(2/3 m:m) dlambda
+  r.deq = dl * sqrt(d * d * (Real(2) / 9) + 1);  // sqrt(2/3 m:m) dlambda
   r.num = num;
   return finite_sym(ds) && finite_real(dl);
 }
@@ -461,7 +487,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     v.e = fmax(v.e, Real(1e-6));
     return;
   }
-  Real p0 = pressure(sig);
+  Real p0 = mean_pressure(sig);
   if (!(p0 > P.papex)) {
     // ---- apex: stress-free point (after separation or at a free surface)
     Sym3 st;
@@ -566,7 +592,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
       if (ok) {
         sn = sig + (r1.dsig + r2.dsig) * Real(0.5);
         kn = v.kappa + Real(0.5) * (r1.dkappa + r2.dkappa);
-        if (pressure(sn) > P.papex) {
+        if (mean_pressure(sn) > P.papex) {
           // Relative error with a floor of 1e-3 p_at (~100 Pa): near a free surface the
           // stress is a few Pa and each MPM increment changes it by as much again, so a
           // purely relative error asked for hundreds of substeps per update there while
@@ -603,7 +629,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);
   }
   v.e = e1;
-  if (!finite_sym(sig) || !(pressure(sig) >= 0)) sig = Sym3::zero();
+  if (!finite_sym(sig) || !(mean_pressure(sig) >= 0)) sig = Sym3::zero();
 }
 
 /// State for an initial stress (tension positive): tension is cut to zero; kappa is chosen

@@ -19,6 +19,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+#include <tuple>
 #include <vector>
 
 #include "phaseTransition/PhaseTransition.hpp"
@@ -148,6 +150,7 @@ TEST(MaterialFastPath, SimsandSimpleShearPathAgrees) {
 // from random frictional states with a granular temperature, at dt = 1e-5 s.
 TEST(MaterialFastPath, PhaseTransitionRandomStates) {
   PhaseTransition::Params fast{collapse_f(false), collapse_c(), 0.95, 1e-12};
+  fast.ck = kt::prepare(fast.c);  // as PhaseTransition::read() does
   PhaseTransition::Params exact{collapse_f(true), collapse_c(), 0.95, 1e-12};
   std::mt19937_64 r(7);
   std::uniform_real_distribution<double> U(0, 1);
@@ -176,6 +179,26 @@ TEST(MaterialFastPath, PhaseTransitionRandomStates) {
     EXPECT_LE(fast_vs_ref.over[l], 2 * ref_vs_ref.over[l] + 5)
         << "differences above " << Census::kLevels[l] << ": fast " << fast_vs_ref.over[l] << ", reference +1 ulp "
         << ref_vs_ref.over[l];
+}
+
+// The collisional coefficients from prepared constants (kt::prepare) equal the plain ones
+// to round-off, on both branches of g0 (eq. 26) and with and without zeta1.
+TEST(MaterialFastPath, CollisionalCoefficientsFromPreparedConstants) {
+  for (double zeta1 : {1.0, 0.0}) {
+    kt::Params P = collapse_c();
+    P.zeta1 = zeta1;
+    const kt::Constants C = kt::prepare(P);
+    for (int i = 0; i <= 200; ++i) {
+      const double V = P.Vmin + (P.Vcap - P.Vmin) * i / 200.0;
+      const kt::Coefficients a = kt::coefficients(P, C, V), b = kt::coefficients(P, V);
+      for (auto [x, y, what] : {std::tuple{a.g0, b.g0, "g0"}, {a.p_hat, b.p_hat, "p_hat"}, {a.eta_hat, b.eta_hat, "eta_hat"},
+                                {a.gam_hat, b.gam_hat, "gam_hat"}, {a.diss_hat, b.diss_hat, "diss_hat"},
+                                {a.div_hat, b.div_hat, "div_hat"}, {a.energy, b.energy, "energy"},
+                                {a.p_star, b.p_star, "p_star"}})
+        EXPECT_NEAR(x, y, 1e-12 * (std::fabs(y) + 1e-300) + (std::string(what) == "div_hat" ? 1e-12 * b.p_hat : 0))
+            << what << " at V = " << V << ", zeta1 = " << zeta1;
+    }
+  }
 }
 
 // The kernels skip loading and rotating the incoming stress for phaseTransition
