@@ -228,6 +228,9 @@ struct ParticlePass {
         const bool from_new = flags & kStressFromNew;
         const bool want_L = flags & kStressPhases;
         const bool flip_increment = (flags & kGatherVelocity) && !apic && pp.pic_fraction < 1;
+        // Unrolled: the stencil's weights stay in registers (a loop index would put the
+        // Stencil in local memory, read back at every node).
+#pragma unroll
         for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
           Index I;
           Real N;
@@ -249,7 +252,9 @@ struct ParticlePass {
             for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] / m : vi[d];
             dv += N * (vn - v_mapped);
           }
-          if (want_L) L += outer(from_new ? vn : vi, gradN);  // eq. (7)
+          if (want_L)  // eq. (7); the velocity chosen per component (a reference to one of
+            for (int d = 0; d < D; ++d)  // two vectors would put both in local memory)
+              for (int e = 0; e < D; ++e) L.a[d][e] += (from_new ? vn[d] : vi[d]) * gradN[e];
           if (apic) {
             if constexpr (detail::kApicFromInertia<Shape>) B += outer(vn, dx) * N;
             else Lnew += outer(vn, gradN);
@@ -332,6 +337,7 @@ struct ParticlePass {
       atomic_add(field, value, serial);
 #endif
     };
+#pragma unroll
     for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
       Index I = 0;
       Real N = 0;
