@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <set>
 
+#include "scree/output/snapshot.hpp"
+
 namespace fs = std::filesystem;
 
 namespace scree {
@@ -257,6 +259,43 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     validate_plugin_entries(w->dict(), PluginKind::writer, reg, errors, dim);
   if (const Entry* f = c.control_.find("functions"); f && f->is_dict())
     validate_plugin_entries(f->dict(), PluginKind::functionObject, reg, errors, dim);
+
+  // `fields (...)` of writers and function objects: every name must be a field some body
+  // of this case will have (the standard ones or its material's), so that a typo is an
+  // error here, with its line, rather than a warning at the first write.
+  {
+    std::vector<std::string> known = standard_particle_fields();
+    for (const Entry& e : c.materials_.entries()) {
+      if (!e.is_dict() || is_variable(e) || !e.dict().has("type")) continue;
+      try {
+        if (const PluginEntry* pe = reg.find(PluginKind::material, e.dict().get_word("type")))
+          known.insert(known.end(), pe->output_fields.begin(), pe->output_fields.end());
+      } catch (const InputError&) {
+      }
+    }
+    known.push_back("all");
+    for (const char* group : {"writers", "functions"}) {
+      const Entry* g = c.control_.find(group);
+      if (!g || !g->is_dict()) continue;
+      for (const Entry& e : g->dict().entries()) {
+        if (!e.is_dict()) continue;
+        const Entry* f = e.dict().find("fields");
+        if (!f) continue;
+        try {
+          for (const Item& it : f->single_item().list) {
+            if (std::find(known.begin(), known.end(), it.text) != known.end()) continue;
+            std::string msg = "fields: no body of this case has a field '" + it.text + "'";
+            const std::string near = nearest_name(it.text, known);
+            if (!near.empty()) msg += "; did you mean '" + near + "'?";
+            msg += " Valid: ";
+            for (std::size_t i = 0; i + 1 < known.size(); ++i) msg += (i ? ", " : "") + known[i];
+            errors.emplace_back(it.where, msg);
+          }
+        } catch (const InputError&) {
+        }
+      }
+    }
+  }
 
   // Bodies: the core spec, and the material must exist.
   std::vector<std::string> materials;

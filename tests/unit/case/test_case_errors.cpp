@@ -95,6 +95,20 @@ TEST(CaseErrors, MissingCaseFilesAndBadCommandLine) {
   EXPECT_NE(r.err.find("expected cpu or cuda"), std::string::npos) << r.err;
 }
 
+TEST(CaseErrors, UnknownOutputFieldIsAnErrorWithItsLine) {
+  TempCase tc("fields");
+  write_valid_case(tc);
+  tc.write("system/controlDict",
+           "endTime 0.01;\ndeltaT 1e-3;\nwriteInterval 0.005;\n"
+           "writers\n{\n    vtk { type vtk; fields (velocity presure stress); }\n}\n");
+  const Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:6:38: fields: no body of this case has a field 'presure'; did you mean "
+                       "'pressure'?"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(CaseErrors, ListPluginsDocumentsParameters) {
   const Result r = run_scree("--list-plugins material");
   EXPECT_EQ(r.status, 0);

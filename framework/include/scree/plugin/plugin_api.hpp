@@ -57,6 +57,11 @@ void Registry::add_material() {
   auto spec = std::make_shared<ParamSpec>(M::spec());
   spec->allow_keys({"type"});
   e.spec = spec;
+  {
+    OutputFields<M> out;
+    M::describe(out);
+    for (const auto& f : out.fields()) e.output_fields.push_back(f.name);
+  }
   e.material.point = [spec](const Dictionary& d) -> std::unique_ptr<PointMaterial> {
     ParamReader r(*spec, d);
     return std::make_unique<PointMaterialOf<M>>(M::read(r));

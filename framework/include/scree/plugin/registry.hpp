@@ -46,6 +46,7 @@ struct PluginEntry {
   std::shared_ptr<const ParamSpec> spec;
   std::string library;  ///< the file it came from ("<core>" for built-ins)
   MaterialFactory material;  ///< kind == material
+  std::vector<std::string> output_fields;  ///< kind == material: its own output fields
   /// kind == boundaryCondition / writer / functionObject
   std::function<std::unique_ptr<BoundaryCondition>(const Dictionary&, const SolverContext&)> boundary;
   std::function<std::unique_ptr<Writer>(const Dictionary&, const SolverContext&)> writer;
