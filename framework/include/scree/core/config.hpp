@@ -17,6 +17,16 @@
 #define SCREE_INLINE inline
 #endif
 
+// SCREE_UNROLL: unroll the next loop (nvcc's `#pragma unroll`; GCC's own spelling on the
+// CPU, where the plain pragma is unknown).
+#if defined(__CUDACC__)
+#define SCREE_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__) && !defined(__clang__)
+#define SCREE_UNROLL _Pragma("GCC unroll 32")
+#else
+#define SCREE_UNROLL
+#endif
+
 #if defined(_WIN32)
 #define SCREE_API __declspec(dllexport)
 #else

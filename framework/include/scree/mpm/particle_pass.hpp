@@ -89,8 +89,8 @@ struct PassParams {
   bool reference = false;  ///< the straightforward kernel (see the top of this file)
   std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
   /// CUDA, 2D: run the stress kernel with a register cap (launch bounds of 64 threads and
-  /// this many blocks per SM, 6: 170 registers, 12 warps per SM) instead of the
-  /// compiler's choice (0; 254 registers for phaseTransition, 8 warps per SM).
+  /// this many blocks per SM, 6: 170 registers, 12 warps per SM; the solver's default)
+  /// instead of the compiler's choice (0; 254 registers for phaseTransition, 8 warps).
   int stress_blocks_per_sm = 0;
 };
 
@@ -118,7 +118,16 @@ struct Stencil {
   SCREE_INLINE Stencil(const Shape& sh, const GridGeometry<D>& g, const Vec<D>& x) {
     inside = true;
     for (int d = 0; d < D; ++d) {
-      sh.eval((x[d] - g.origin[d]) / g.h, base[d], w[d], dw[d]);
+      const Real xi = (x[d] - g.origin[d]) / g.h;
+      // Tested in floating point first: a non-finite or huge coordinate (a blown-up
+      // particle) converts to an arbitrary int, which may pass the integer test below.
+      if (!(xi > Real(-2) && xi < Real(g.n[d] + 2))) {
+        inside = false;
+        base[d] = 0;
+        for (int a = 0; a < S; ++a) w[d][a] = dw[d][a] = 0;
+        continue;
+      }
+      sh.eval(xi, base[d], w[d], dw[d]);
       if (base[d] < 0 || base[d] + S > g.n[d]) inside = false;
     }
   }
@@ -230,7 +239,7 @@ struct ParticlePass {
         const bool flip_increment = (flags & kGatherVelocity) && !apic && pp.pic_fraction < 1;
         // Unrolled: the stencil's weights stay in registers (a loop index would put the
         // Stencil in local memory, read back at every node).
-#pragma unroll
+SCREE_UNROLL
         for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
           Index I;
           Real N;
@@ -337,7 +346,7 @@ struct ParticlePass {
       atomic_add(field, value, serial);
 #endif
     };
-#pragma unroll
+SCREE_UNROLL
     for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
       Index I = 0;
       Real N = 0;
