@@ -73,6 +73,8 @@ int main(int argc, char** argv) {
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
       ("no-output", "run without writers and function objects (benchmarks)")
       ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs")
+      ("reference-kernels", "run the straightforward particle and grid kernels instead of the fast ones (no "
+                            "warp-combined scatter, no particle sorting, dense grid updates): a cross-check")
       ("profile", "time every kernel phase (synchronising after each) and print a table at the end");
   po::variables_map vm;
   try {
@@ -130,7 +132,7 @@ int main(int argc, char** argv) {
     std::cout << "scree: backend " << scree::to_string(opt.device)
               << (gpu ? " (a CUDA GPU is present)"
                       : (scree::mem::cuda_compiled() ? " (no CUDA GPU found)" : " (built without CUDA)"))
-              << "\n";
+              << std::endl;
   }
   opt.threads = vm.count("threads") ? vm["threads"].as<int>() : omp_get_max_threads();
   if (opt.threads < 1) {
@@ -140,6 +142,8 @@ int main(int argc, char** argv) {
   opt.max_steps = vm["max-steps"].as<long long>();
   opt.output = !vm.count("no-output");
   opt.use_graphs = !vm.count("no-graphs");
+  opt.reference_kernels = vm.count("reference-kernels") > 0;
+  if (opt.reference_kernels) opt.sparse_grid = false;
   opt.profile = vm.count("profile") > 0;
 
   const fs::path dir = vm["case"].as<std::string>();

@@ -356,6 +356,25 @@ void Solver<D>::check_time_step() {
   }
 }
 
+// A fixed step that was stable at the start may not stay so: the granular models stiffen
+// with pressure and density (K ~ p^n, eq. 13 of seed 001), and an impact can raise p
+// tenfold. Every 5 s of wall time the signal speed is measured again (one copy of the
+// particle state to the host: milliseconds) and the first time the step exceeds h / c
+// the user is told when, and what to do, before the run blows up.
+template <int D>
+void Solver<D>::watch_time_step() {
+  if (adaptive_ || dt_warned_ || wall_ - dt_watch_wall_ < 5.0) return;
+  dt_watch_wall_ = wall_;
+  Real cmax = 0;
+  for (auto& b : bodies_) cmax = std::max(cmax, b->max_signal_speed(grid_.h));
+  if (!(cmax > 0) || delta_t_ <= grid_.h / cmax) return;
+  log_ << "\nwarning: system/controlDict: at t = " << host_ctl_.t[step_ % 2] << " s (step " << step_
+       << ") deltaT " << delta_t_ << " s exceeds the stable time step " << grid_.h / cmax
+       << " s (h / c, largest signal speed c = " << cmax
+       << " m/s); the run may blow up. Use adjustTimeStep yes (maxCo 0.5) or a smaller deltaT.\n";
+  dt_warned_ = true;
+}
+
 // ------------------------------------------------------------------ the step
 
 template <int D>
@@ -621,10 +640,12 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     }
     if (with_output) output_due(false);
     if (opt_.progress) report_progress(false);
-    if (host_ctl_.lost > 0 && !dt_warned_) {
+    watch_time_step();
+    if (host_ctl_.lost > 0 && !lost_warned_) {
       log_ << "\nwarning: " << host_ctl_.lost
-           << " particle(s) left the grid and are frozen: enlarge the domain in system/gridDict\n";
-      dt_warned_ = true;
+           << " particle(s) left the grid and are frozen: enlarge the domain in system/gridDict, or, if "
+              "the run blew up, reduce deltaT\n";
+      lost_warned_ = true;
     }
   }
 }

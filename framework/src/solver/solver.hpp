@@ -101,6 +101,7 @@ class Solver {
   void output_due(bool force_all);
   void report_progress(bool final);
   void check_time_step();
+  void watch_time_step();
   PassParams<D> pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const;
   GridUpdateParams<D> grid_params(unsigned modes, int set) const;
   void destroy_graphs();
@@ -146,7 +147,9 @@ class Solver {
   bool pending_ = false;
   double start_time_ = 0, end_time_ = 0, delta_t_ = 0;
   bool adaptive_ = false;
-  bool dt_warned_ = false;
+  bool dt_warned_ = false;        // the fixed step already reported as unstable
+  bool lost_warned_ = false;      // particles leaving the grid already reported
+  double dt_watch_wall_ = 0;      // wall_ at the last stability watch (fixed steps)
 
   // Output
   std::vector<std::unique_ptr<BoundaryCondition>> boundaries_;
