@@ -1,46 +1,122 @@
 #!/usr/bin/env bash
-# The column collapse of seed 001 (section 4.1) at the paper's resolution on a lent GPU, with
-# the output the figures need, in one device call (issue 5).
+# The column collapse of seed 001 (section 4.1) on a lent GPU machine: the paper's 1 mm
+# runs, the Appendix C mesh study on the GPU and on the CPU cores, and the benchmark, run in
+# the background so that they can outlast one device call (issues 5 and 6).
 #
-#   scripts/gpu-column.sh [RUN...]      on the GPU machine, from the repository root
+#   scripts/gpu-column.sh start [GPU_RUNS] [-- CPU_RUNS]   set up and launch (returns at once)
+#   scripts/gpu-column.sh status                           progress of every run
+#   scripts/gpu-column.sh wait SECONDS                     status every 60 s until all done
+#   scripts/gpu-column.sh collect                          pack the results into $OUT
 #
-# RUN: pt (cases/columnCollapse, phaseTransition, 1 mm), frictional (the same with SIMSAND
-# alone), C-1, C-2, C-3 (the Appendix C meshes, phaseTransition); default: pt frictional.
-# Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda); device call: carry [".gpu-bundle"].
-# The snapshots are written in single precision with the fields the plots and a ParaView
-# picture need (the case files are the device's copy: the repository is not changed), and
-# each run comes back as $OUT/<run>.tar.gz: VTK/ (the snapshots at release and 0.05, 0.25,
-# 0.5, 1 s after it, with a .pvd listing them), postProcessing/ and the run's log.
-# Unpack with: mkdir -p runs/<run> && tar -xzf <run>.tar.gz -C runs/<run>
+# GPU_RUNS (one after another on the GPU, cores 0-1): pt (cases/columnCollapse,
+# phaseTransition, 1 mm), frictional (the same with SIMSAND alone), C-1, C-2, C-3 (Appendix
+# C meshes), bench (scree-bench: paper cases and weak scaling). Default: pt frictional bench
+# C-3 C-2 C-1. CPU_RUNS (one after another on cores 2-15, 14 threads): C-1 C-2 C-3 and
+# C-4w (1 mm, two 2,000-step windows, at rest and flowing, for an estimate of the whole run).
+# Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda): carry [".gpu-bundle"]. `start`
+# copies the executables and cases to /tmp/scree-session, so that later calls (on the same,
+# still warm machine) do not disturb the runs. Snapshots are single precision with the fields
+# the plots and a ParaView picture need; each run comes back as $OUT/<run>.tar.gz with its
+# snapshots at the release and 0.05, 0.25, 0.5 and 1 s after it, postProcessing/ and the log.
+# Here: mkdir -p runs/<run> && tar -xzf <run>.tar.gz -C runs/<run>
 set -uo pipefail
-out=${OUT:-gpu-column-out}
-mkdir -p "$out"
-[ -f .gpu-bundle/env.sh ] && source .gpu-bundle/env.sh
-bin=${SCREE_BIN:-build-cuda/bin}       # SCREE_BIN, SCREE_DEVICE: a local trial on the CPU
-runs=${*:-pt frictional}
-command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv | tee "$out/device.txt"
+S=/tmp/scree-session
+out=${OUT:-$PWD/gpu-column-out}
 
-# Lean snapshots: the fields of utilities/plot/column_collapse.py and the picture.
-cc=cases/columnCollapse/system/controlDict
-sed -i -e '/fields *(velocity/,/);/c\        fields  (velocity displacement stress pressure volume mass plasticStrain shearViscosity granularTemperature collisionalFraction);\n        precision single;\n        compressionLevel 6;' "$cc"
-grep -A4 "type    vtk" "$cc"
+case_dir() {
+  case $1 in
+    pt) echo $S/cases/columnCollapse ;;
+    frictional) echo $S/cases/columnCollapse/variants/frictional ;;
+    C-4w) echo $S/cases/columnCollapse ;;
+    *) echo $S/cases/columnCollapse/variants/$1 ;;
+  esac
+}
 
-declare -A dir=([pt]=cases/columnCollapse [frictional]=cases/columnCollapse/variants/frictional
-  [C-1]=cases/columnCollapse/variants/C-1 [C-2]=cases/columnCollapse/variants/C-2
-  [C-3]=cases/columnCollapse/variants/C-3)
-declare -A limit=([pt]=240 [frictional]=240 [C-1]=60 [C-2]=90 [C-3]=150)
-for r in $runs; do
-  d=${dir[$r]}
-  rm -rf "$d/VTK" "$d/postProcessing"
-  echo "==== $r: $d"
-  start=$(date +%s.%N)
-  timeout "${limit[$r]}" $bin/scree --case "$d" --device "${SCREE_DEVICE:-cuda}" > "$out/$r.log" 2>&1
+timed() {  # timed NAME LOG CMD...: run, append "NAME exit RC wall S s" to walltimes
+  local name=$1 log=$2
+  shift 2
+  local t0 t1 rc
+  t0=$(date +%s.%N)
+  "$@" > "$log" 2>&1
   rc=$?
-  end=$(date +%s.%N)
-  echo "$r exit $rc wall $(awk "BEGIN{printf \"%.1f\", $end - $start}") s" | tee -a "$out/walltimes.txt"
-  tail -4 "$out/$r.log"
-  # The snapshots at release (0.1 s) and 0.05, 0.25, 0.5, 1 s after it, and a .pvd of them.
-  keep=()
+  t1=$(date +%s.%N)
+  echo "$name exit $rc wall $(awk "BEGIN{printf \"%.1f\", $t1 - $t0}") s" >> $S/walltimes.txt
+}
+
+gpu_queue() {
+  for r in "$@"; do
+    if [ "$r" = bench ]; then
+      timed gpu:bench $S/logs/gpu-bench.log taskset -c 0-1 $S/build/bin/scree-bench --device cuda \
+        --cases column,flume,scaling --source-dir $S --materials phaseTransition,linearElastic --shapes linear \
+        --schemes USL --max-particles 10000000 --steps 400 --column-steps 2000 --flume-steps 1000 \
+        --csv $S/bench-gpu.csv --json /dev/null
+      continue
+    fi
+    d=$(case_dir "$r")
+    rm -rf "$d/VTK" "$d/postProcessing"
+    timed "gpu:$r" $S/logs/gpu-$r.log taskset -c 0-1 $S/build/bin/scree --case "$d" --device "${SCREE_GPU_DEVICE:-cuda}"
+  done
+}
+
+cpu_queue() {
+  for r in "$@"; do
+    if [ "$r" = C-4w ]; then  # windows of the 1 mm case on the CPU: at rest, then flowing
+      timed cpu:C-4w-rest-2000 $S/logs/cpu-C-4w-a.log taskset -c 2-15 $S/build/bin/scree \
+        --case $S/cases/cpu4/columnCollapse --device cpu --threads 14 --no-output --max-steps 2000
+      timed cpu:C-4w-to-14000 $S/logs/cpu-C-4w-b.log taskset -c 2-15 $S/build/bin/scree \
+        --case $S/cases/cpu4/columnCollapse --device cpu --threads 14 --no-output --max-steps 14000
+      continue
+    fi
+    d=$S/cases/cpu/columnCollapse/variants/$r
+    rm -rf "$d/VTK" "$d/postProcessing"
+    timed "cpu:$r" $S/logs/cpu-$r.log taskset -c 2-15 $S/build/bin/scree --case "$d" --device cpu --threads 14
+  done
+}
+
+start() {
+  local gpu=() cpu=() side=gpu
+  for a in "$@"; do
+    if [ "$a" = -- ]; then side=cpu; continue; fi
+    if [ $side = gpu ]; then gpu+=("$a"); else cpu+=("$a"); fi
+  done
+  [ ${#gpu[@]} -eq 0 ] && [ "$side" = gpu ] && gpu=(pt frictional bench C-3 C-2 C-1)
+  [ ${#cpu[@]} -eq 0 ] && [ "$side" = gpu ] && cpu=(C-1 C-2 C-3 C-4w)
+  rm -rf $S && mkdir -p $S/logs $S/cases/cpu $S/cases/cpu4
+  source .gpu-bundle/env.sh
+  cp -r build-cuda $S/build && cp -r .gpu-bundle/lib $S/lib
+  cp -r cases/columnCollapse cases/flume $S/cases/
+  # Lean snapshots: the fields of utilities/plot/column_collapse.py and the picture.
+  sed -i -e '/fields *(velocity/,/);/c\        fields  (velocity displacement stress pressure volume mass plasticStrain shearViscosity granularTemperature collisionalFraction);\n        precision single;\n        compressionLevel 6;' \
+    $S/cases/columnCollapse/system/controlDict
+  cp -r $S/cases/columnCollapse $S/cases/cpu/ && cp -r $S/cases/columnCollapse $S/cases/cpu4/
+  nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv > $S/device.txt
+  lscpu | grep -E "Model name|^CPU\(s\)" >> $S/device.txt
+  cat > $S/run.sh <<EOF
+export LD_LIBRARY_PATH=$S/lib:\${LD_LIBRARY_PATH:-}
+source $PWD/scripts/gpu-column.sh
+( gpu_queue ${gpu[*]}; echo gpu > $S/gpu.done ) &
+( cpu_queue ${cpu[*]}; echo cpu > $S/cpu.done ) &
+wait
+EOF
+  [ ${#cpu[@]} -eq 0 ] && echo cpu > $S/cpu.done
+  setsid nohup bash $S/run.sh > $S/logs/session.log 2>&1 < /dev/null &
+  echo "started: GPU ${gpu[*]}; CPU ${cpu[*]}"
+  cat $S/device.txt
+}
+
+status() {
+  echo "---- $(date +%T)"
+  for f in $S/logs/*.log; do
+    [ -s "$f" ] || continue
+    printf '%-28s %s\n' "$(basename "$f")" "$(tail -c 400 "$f" | tr '\r' '\n' | grep -v '^$' | tail -1 | cut -c1-110)"
+  done
+  cat $S/walltimes.txt 2>/dev/null
+}
+
+pack() {  # pack RUN: the run's snapshots at release and 0.05, 0.25, 0.5, 1 s after it
+  local r=$1 d pvd keep=() t f
+  d=$(case_dir "$r")
+  [ "${r%%-*}" = cpu ] && d=$S/cases/cpu/columnCollapse/variants/${r#cpu-}
   pvd=$d/VTK/particles.pvd
   if [ -f "$pvd" ]; then
     for t in 0.1 0.15 0.35 0.6 1.1; do
@@ -50,10 +126,40 @@ for r in $runs; do
     { grep -v "<DataSet" "$pvd" | sed '/<\/Collection>/,$d'
       for f in "${keep[@]}"; do grep "file=\"$f\"" "$pvd"; done
       sed -n '/<\/Collection>/,$p' "$pvd"; } > "$d/VTK/selected.pvd"
-    mv "$d/VTK/selected.pvd" "$pvd"
   fi
-  cp "$out/$r.log" "$d/run.log"
-  (cd "$d" && tar -czf - run.log postProcessing $(printf 'VTK/%s ' "${keep[@]}") $( [ -f VTK/particles.pvd ] && echo VTK/particles.pvd)) > "$out/$r.tar.gz"
-  ls -la "$out/$r.tar.gz"
-done
-cat "$out/walltimes.txt"
+  (cd "$d" && tar -czf - --transform "s,VTK/selected.pvd,VTK/particles.pvd," postProcessing $(printf 'VTK/%s ' "${keep[@]}") \
+     $([ -f VTK/selected.pvd ] && echo VTK/selected.pvd)) > "$out/$r.tar.gz"
+}
+
+collect() {
+  mkdir -p "$out"
+  status > "$out/status.txt"
+  cp $S/device.txt $S/walltimes.txt "$out/" 2>/dev/null
+  [ -f $S/bench-gpu.csv ] && cp $S/bench-gpu.csv "$out/"
+  (cd $S/logs && tar -czf "$out/logs.tar.gz" *.log)
+  for r in pt frictional; do [ -d "$(case_dir $r)/postProcessing" ] && pack $r; done
+  # the mesh study: postProcessing only (run-out, height, energy)
+  tar -czf "$out/mesh.tar.gz" -C $S/cases columnCollapse/variants/C-1/postProcessing \
+    columnCollapse/variants/C-2/postProcessing columnCollapse/variants/C-3/postProcessing \
+    cpu/columnCollapse/variants/C-1/postProcessing cpu/columnCollapse/variants/C-2/postProcessing \
+    cpu/columnCollapse/variants/C-3/postProcessing 2>/dev/null
+  ls -la "$out"
+}
+
+if [ "${BASH_SOURCE[0]}" = "$0" ]; then
+  cmd=${1:-status}
+  shift || true
+  case $cmd in
+    start) start "$@" ;;
+    status) status ;;
+    wait)
+      end=$(($(date +%s) + ${1:-500}))
+      while [ "$(date +%s)" -lt $end ]; do
+        if [ -f $S/gpu.done ] && [ -f $S/cpu.done ]; then break; fi
+        sleep 30
+      done
+      status ;;
+    collect) collect ;;
+    *) echo "usage: $0 start|status|wait SECONDS|collect" >&2; exit 2 ;;
+  esac
+fi
