@@ -83,6 +83,7 @@ struct Vars {
 inline constexpr Real kFtol = 1e-9;        ///< yield-function tolerance (f is a stress ratio)
 inline constexpr int kMaxSubsteps = 1000;  ///< substeps with error control per update (then relaxed)
 inline constexpr Real kMinSubstep = 1e-4;  ///< smallest substep, as a fraction of the increment
+inline constexpr int kApexIter = 8;        ///< rate evaluations to locate where a substep reaches the apex
 
 /// Host: fill the derived constants. phi_c in degrees.
 inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Real eref, Real lambda, Real xi,
@@ -475,6 +476,60 @@ SCREE_HD inline Real yield_crossing(const Params& P, const Sym3& sig0, Real kapp
   return fmin(a0, a1) > 0 ? fmin(a0, a1) : Real(0);
 }
 
+/// Apex branch: the increment deps from the stress-free apex (sigma = 0), e_mid the void ratio
+/// of the elastic predictor (mid-increment), e1 at the end. An extension separates (sigma = 0,
+/// the deviatoric strain is plastic); a compression rebuilds stress by the elastic trial from
+/// zero, returned radially in the deviatoric plane (constant p) onto the cone. Isochoric shear
+/// keeps the point stress-free. Does not update v.e.
+SCREE_HD inline void apex_update(const Params& P, Sym3& sig, Vars& v, const Sym3& deps, Real e_mid, Real e1) {
+  Sym3 st;
+  if (!elastic_predictor(P, Sym3::zero(), e_mid, deps, st)) {
+    separate(sig, v, deps, 1);
+    return;
+  }
+  const Invariants iv = invariants(st);
+  const Real H = hardening(P, peak_ratio(P, e1, iv.p), v.kappa);
+  const Real qt = H * lode_g(P, iv.S) * iv.p;
+  if (iv.q > qt && iv.q > 0) {  // return radially in the deviatoric plane at constant p
+    const Real dq = iv.q - qt;
+    const Real G = P.rG * bulk_modulus(P, e1, iv.p);
+    st = from_p_s(iv.p, iv.s * (qt / iv.q));
+    v.kappa += dq / (3 * G);
+    v.epsEq += dq / (3 * G);
+  }
+  sig = st;
+}
+
+/// One modified-Euler (Heun) substep of size x (fraction of the plastic part drem) from
+/// (sig, kappa) at void ratio ea: the first rate is r1u (for the whole of drem) scaled by x,
+/// the second is evaluated at the Euler end state. Returns false when the second rate cannot be
+/// evaluated (the Euler end state has p <= p_apex); sn, kn are then the Euler end state.
+SCREE_HD inline bool heun_substep(const Params& P, const Sym3& sig, Real kappa, const Rate& r1u, const Sym3& drem,
+                                  Real x, Real eb, Real de, Rate& r1, Rate& r2, Sym3& sn, Real& kn) {
+  r1.dsig = r1u.dsig * x;
+  r1.dkappa = r1u.dkappa * x;
+  r1.deq = r1u.deq * x;
+  r1.num = r1u.num * x;
+  sn = sig + r1.dsig;
+  kn = kappa + r1.dkappa;
+  if (!plastic_rate(P, sn, kn, eb, drem * x, de, r2)) return false;
+  sn = sig + (r1.dsig + r2.dsig) * Real(0.5);
+  kn = kappa + Real(0.5) * (r1.dkappa + r2.dkappa);
+  return true;
+}
+
+/// Local error estimate of a Heun substep (Sloan et al. 2001): relative to max(|sigma|, s_e).
+SCREE_HD inline Real heun_error(const Params& P, const Rate& r1, const Rate& r2, const Sym3& sn, Real kn) {
+  // Relative error with a floor of 1e-3 p_at (~100 Pa): near a free surface the
+  // stress is a few Pa and each MPM increment changes it by as much again, so a
+  // purely relative error asked for hundreds of substeps per update there while
+  // the absolute error (stol x 100 Pa = 0.01 Pa at 1e-4) is far below anything
+  // the flow can feel. Measured on the C-1 column collapse: 5x fewer substeps.
+  const Real es = norm(r2.dsig - r1.dsig) / fmax(norm(sn), P.serr);
+  const Real ek = fabs(r2.dkappa - r1.dkappa) / (kn + P.kp);
+  return Real(0.5) * fmax(es, ek);
+}
+
 /// One stress update of the frictional model: sig (tension positive) and the internal
 /// variables v over the strain increment deps. Always returns a defined state: p >= 0,
 /// no tension, finite values.
@@ -490,23 +545,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   Real p0 = mean_pressure(sig);
   if (!(p0 > P.papex)) {
     // ---- apex: stress-free point (after separation or at a free surface)
-    Sym3 st;
-    if (!elastic_predictor(P, Sym3::zero(), void_ratio_at(ope0, tr, Real(0.5)), deps, st)) {
-      separate(sig, v, deps, 1);
-      v.e = e1;
-      return;
-    }
-    const Invariants iv = invariants(st);
-    const Real H = hardening(P, peak_ratio(P, e1, iv.p), v.kappa);
-    const Real qt = H * lode_g(P, iv.S) * iv.p;
-    if (iv.q > qt && iv.q > 0) {  // return radially in the deviatoric plane at constant p
-      const Real dq = iv.q - qt;
-      const Real G = P.rG * bulk_modulus(P, e1, iv.p);
-      st = from_p_s(iv.p, iv.s * (qt / iv.q));
-      v.kappa += dq / (3 * G);
-      v.epsEq += dq / (3 * G);
-    }
-    sig = st;
+    apex_update(P, sig, v, deps, void_ratio_at(ope0, tr, Real(0.5)), e1);
     v.e = e1;
     return;
   }
@@ -517,7 +556,10 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   if (projected) f0 = 0;
   // ---- elastic trial (exact for the nonlinear elasticity)
   Sym3 sig_tr;
-  if (!elastic_predictor(P, sig, void_ratio_at(ope0, tr, Real(0.5)), deps, sig_tr)) {
+  // An extension whose elastic trial ends at the apex (p <= p_apex, where yield() no longer
+  // bounds q) separates like one that would end in tension: otherwise a small stress rebuilt at
+  // the apex could be pulled back to p ~ 0 with its deviator kept (q >> p; found by the fuzz test).
+  if (!elastic_predictor(P, sig, void_ratio_at(ope0, tr, Real(0.5)), deps, sig_tr) || !(mean_pressure(sig_tr) > P.papex)) {
     separate(sig, v, deps, 1);
     v.e = e1;
     return;
@@ -565,6 +607,10 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   const Sym3 drem = deps * (1 - alpha);
   Real T = 0, dT = 1, dT_relaxed = -1;
   Real ea = void_ratio_at(ope0, tr, alpha);  // e at the start of the substep (the last eb)
+  // The local error the control accepts near zero stress, where the floor s_e makes it absolute:
+  // STOL x s_e (0.1 Pa with STOL = 1e-3).
+  const Real snear = P.stol * P.serr;
+  bool at_apex = false;  // the path has reached the stress-free apex: the remainder is done there
   int n = 0;
   while (T < 1) {
     ++n;
@@ -575,43 +621,82 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     if (relaxed && dT_relaxed < 0) dT_relaxed = (1 - T) / kMaxSubsteps;
     if (relaxed) dT = fmin(fmax(dT, dT_relaxed), 1 - T);
     if (n > 3 * kMaxSubsteps) dT = 1 - T;
-    const Sym3 d = drem * dT;
     const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + dT));
-    const Real de = eb - ea;
     if (!have_r1u) have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u);
-    bool ok = have_r1u;
     Rate r1, r2;
-    r1.dsig = r1u.dsig * dT;
-    r1.dkappa = r1u.dkappa * dT;
-    r1.deq = r1u.deq * dT;
-    r1.num = r1u.num * dT;
     Sym3 sn = sig;
     Real kn = v.kappa, R = Real(1e300);
-    if (ok) {
-      ok = plastic_rate(P, sig + r1.dsig, v.kappa + r1.dkappa, eb, d, de, r2);
-      if (ok) {
-        sn = sig + (r1.dsig + r2.dsig) * Real(0.5);
-        kn = v.kappa + Real(0.5) * (r1.dkappa + r2.dkappa);
-        if (mean_pressure(sn) > P.papex) {
-          // Relative error with a floor of 1e-3 p_at (~100 Pa): near a free surface the
-          // stress is a few Pa and each MPM increment changes it by as much again, so a
-          // purely relative error asked for hundreds of substeps per update there while
-          // the absolute error (stol x 100 Pa = 0.01 Pa at 1e-4) is far below anything
-          // the flow can feel. Measured on the C-1 column collapse: 5x fewer substeps.
-          const Real es = norm(r2.dsig - r1.dsig) / fmax(norm(sn), P.serr);
-          const Real ek = fabs(r2.dkappa - r1.dkappa) / (kn + P.kp);
-          R = Real(0.5) * fmax(es, ek);
+    const bool ok = have_r1u && heun_substep(P, sig, v.kappa, r1u, drem, dT, eb, eb - ea, r1, r2, sn, kn);
+    if (ok && mean_pressure(sn) > P.papex) R = heun_error(P, r1, r2, sn, kn);
+    if (!(R < Real(1e299))) {
+      // p would drop to zero within the substep (Heun or Euler end state at p <= p_apex): the
+      // path reaches the stress-free apex. This used to cut dT by 10 (regrowing by 1.1 per
+      // accepted substep): on the C-2 column collapse, grains at a few tenths of a Pa that
+      // load towards the apex then took 1,000-3,000 substeps in one update (93,163 of the
+      // 93,320 rejections in such updates were these cuts) and separated in the end all the
+      // same, and on the GPU a step lasts as long as its slowest update. Instead:
+      const Real ph = mean_pressure(sn);
+      if (!have_r1u || (ph <= P.papex && (norm(sig) <= snear || n > 3 * kMaxSubsteps))) {
+        // - already within the error the control accepts per substep (STOL x s_e) of the
+        //   apex, and heading there: finish at the apex (also when the rates fail at sig, or
+        //   when the work bound is spent). Only here, on the way to the apex: a grain being
+        //   compressed from a small stress takes the ordinary path and builds stress.
+        at_apex = true;
+        break;
+      }
+      if (!(ph <= P.papex)) {  // a rate could not be evaluated (not finite): smaller substep
+        if (dT > kMinSubstep && n <= 3 * kMaxSubsteps) {
+          dT = fmax(Real(0.1) * dT, kMinSubstep);
+          continue;
         }
+        at_apex = true;
+        break;
       }
-    }
-    if (!(R < Real(1e299))) {  // p would drop to zero within the substep
-      if (dT > kMinSubstep && n <= 3 * kMaxSubsteps) {
-        dT = fmax(Real(0.1) * dT, kMinSubstep);
-        continue;
+      // - otherwise locate the crossing: Pegasus on the substep size x in (0, dT) with the
+      //   pressure of the Heun end state as the function, aiming a little above zero (pt).
+      //   A Heun state within STOL x s_e of the apex whose local error passes the usual test
+      //   is accepted, and the remainder done at the apex; one whose error fails gives the
+      //   next substep size (Sloan's rule); with no such state after kApexIter evaluations the
+      //   substepping goes on from the largest size with p > pt at its end.
+      const Real pt = P.papex + Real(0.25) * snear;
+      Real xa = 0, ha = mean_pressure(sig) - pt, xb = dT, hb = ph - pt, xpos = 0, xnext = -1;
+      for (int it = 0; it < kApexIter; ++it) {
+        ++n;  // one rate evaluation, like a rejected substep (bounded work)
+        const Real x = xb - hb * (xb - xa) / (hb - ha);
+        if (!(x > 0 && x < dT)) break;
+        const Real ex = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + x));
+        const bool okx = heun_substep(P, sig, v.kappa, r1u, drem, x, ex, ex - ea, r1, r2, sn, kn);
+        const Real px = mean_pressure(sn);
+        if (okx && px > P.papex) {
+          if (norm(sn) <= snear) {  // the crossing, to within what the error control accepts
+            const Real Rx = heun_error(P, r1, r2, sn, kn);
+            if (Rx <= P.stol || relaxed) {
+              sig = sn;
+              v.kappa = kn;
+              v.epsEq += Real(0.5) * (r1.deq + r2.deq);
+              T += x;
+              ea = ex;
+              at_apex = true;
+            } else {
+              xnext = x * fmax(Real(0.9) * sqrt(P.stol / Rx), Real(0.1));
+            }
+            break;
+          }
+          xpos = fmax(xpos, x);
+        }
+        const Real hx = px - pt;
+        if (hx * hb < 0) {
+          xa = xb;
+          ha = hb;
+        } else {
+          ha = ha * hb / (hb + hx);
+        }
+        xb = x;
+        hb = hx;
       }
-      separate(sig, v, drem, 1 - T);  // cannot follow the path further: the point separates
-      v.e = e1;
-      return;
+      if (at_apex) break;
+      dT = fmax(xnext > 0 ? xnext : (xpos > 0 ? xpos : Real(0.1) * dT), Real(1e-3) * kMinSubstep);
+      continue;
     }
     if (R > P.stol && !relaxed && dT > kMinSubstep) {  // reject: smaller substep (Sloan et al. 2001)
       dT = fmax(dT * fmax(Real(0.9) * sqrt(P.stol / R), Real(0.1)), kMinSubstep);
@@ -627,6 +712,15 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     if (T >= 1 - Real(1e-12)) break;
     const Real fac = R > 0 ? fmin(Real(0.9) * sqrt(P.stol / R), Real(1.1)) : Real(1.1);
     dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);
+  }
+  if (at_apex) {
+    // the remainder of the increment at the apex: the point separates (sigma = 0, the
+    // deviatoric strain of the remainder is plastic: kappa and epsEq grow); the next update
+    // starts from the apex branch. Not the apex branch over the remainder: its one elastic trial
+    // from zero rebuilds K |tr deps| at once where the converged path (many small increments)
+    // stays at the apex, dragged back by the contractive flow (replayed C-2 updates: 25-60 Pa
+    // instead of 0).
+    separate(sig, v, drem, 1 - fmin(fmax(T, Real(0)), Real(1)));
   }
   v.e = e1;
   if (!finite_sym(sig) || !(mean_pressure(sig) >= 0)) sig = Sym3::zero();
