@@ -8,7 +8,8 @@
 #   scripts/gpu-column.sh wait SECONDS                     status every 60 s until all done
 #   scripts/gpu-column.sh collect                          pack the results into $OUT
 #
-# GPU_RUNS (one after another on the GPU, cores 0-1): pt (cases/columnCollapse,
+# GPU_RUNS (one after another on the GPU; "/" starts another queue sharing the GPU, each
+# queue on its own host core): pt (cases/columnCollapse,
 # phaseTransition, 1 mm), frictional (the same with SIMSAND alone), C-1, C-2, C-3 (Appendix
 # C meshes), bench (scree-bench: paper cases and weak scaling). Default: pt frictional bench
 # C-3 C-2 C-1. CPU_RUNS (one after another on cores 2-15, 14 threads): C-1 C-2 C-3 and
@@ -43,10 +44,12 @@ timed() {  # timed NAME LOG CMD...: run, append "NAME exit RC wall S s" to wallt
   echo "$name exit $rc wall $(awk "BEGIN{printf \"%.1f\", $t1 - $t0}") s" >> $S/walltimes.txt
 }
 
-gpu_queue() {
+gpu_queue() {  # gpu_queue CORE RUN...
+  local core=$1
+  shift
   for r in "$@"; do
     if [ "$r" = bench ]; then
-      timed gpu:bench $S/logs/gpu-bench.log taskset -c 0-1 $S/build/bin/scree-bench --device cuda \
+      timed gpu:bench $S/logs/gpu-bench.log taskset -c $core $S/build/bin/scree-bench --device cuda \
         --cases column,flume,scaling --source-dir $S --materials phaseTransition,linearElastic --shapes linear \
         --schemes USL --max-particles 10000000 --steps 400 --column-steps 2000 --flume-steps 1000 \
         --csv $S/bench-gpu.csv --json /dev/null
@@ -54,7 +57,7 @@ gpu_queue() {
     fi
     d=$(case_dir "$r")
     rm -rf "$d/VTK" "$d/postProcessing"
-    timed "gpu:$r" $S/logs/gpu-$r.log taskset -c 0-1 $S/build/bin/scree --case "$d" --device "${SCREE_GPU_DEVICE:-cuda}"
+    timed "gpu:$r" $S/logs/gpu-$r.log taskset -c $core $S/build/bin/scree --case "$d" --device "${SCREE_GPU_DEVICE:-cuda}"
   done
 }
 
@@ -80,6 +83,15 @@ start() {
     if [ $side = gpu ]; then gpu+=("$a"); else cpu+=("$a"); fi
   done
   [ ${#gpu[@]} -eq 0 ] && [ "$side" = gpu ] && gpu=(pt frictional bench C-3 C-2 C-1)
+  # "/" splits the GPU runs into queues that share the GPU, each on its own host core
+  local queues="" q=() core=0 a
+  for a in "${gpu[@]}" /; do
+    if [ "$a" = / ]; then
+      [ ${#q[@]} -gt 0 ] && queues+="( gpu_queue $core ${q[*]} ) & "
+      q=(); core=$((core + 1)); continue
+    fi
+    q+=("$a")
+  done
   [ ${#cpu[@]} -eq 0 ] && [ "$side" = gpu ] && cpu=(C-1 C-2 C-3 C-4w)
   rm -rf $S && mkdir -p $S/logs $S/cases/cpu $S/cases/cpu4
   source .gpu-bundle/env.sh
@@ -94,7 +106,7 @@ start() {
   cat > $S/run.sh <<EOF
 export LD_LIBRARY_PATH=$S/lib:\${LD_LIBRARY_PATH:-}
 source $PWD/scripts/gpu-column.sh
-( gpu_queue ${gpu[*]}; echo gpu > $S/gpu.done ) &
+( $queues wait; echo gpu > $S/gpu.done ) &
 ( cpu_queue ${cpu[*]}; echo cpu > $S/cpu.done ) &
 wait
 EOF
@@ -113,13 +125,14 @@ status() {
   cat $S/walltimes.txt 2>/dev/null
 }
 
-pack() {  # pack RUN: the run's snapshots at release and 0.05, 0.25, 0.5, 1 s after it
+pack() {  # pack RUN TIMES...: the run's snapshots at these times (release at 0.1 s)
   local r=$1 d pvd keep=() t f
+  shift
   d=$(case_dir "$r")
   [ "${r%%-*}" = cpu ] && d=$S/cases/cpu/columnCollapse/variants/${r#cpu-}
   pvd=$d/VTK/particles.pvd
   if [ -f "$pvd" ]; then
-    for t in 0.1 0.15 0.35 0.6 1.1; do
+    for t in "$@"; do
       f=$(grep -oE "timestep=\"$t[0-9]*\"[^>]*file=\"[^\"]+\"" "$pvd" | head -1 | sed -E 's/.*file="([^"]+)".*/\1/')
       [ -n "$f" ] && keep+=("$f")
     done
@@ -129,6 +142,10 @@ pack() {  # pack RUN: the run's snapshots at release and 0.05, 0.25, 0.5, 1 s af
   fi
   (cd "$d" && tar -czf - --transform "s,VTK/selected.pvd,VTK/particles.pvd," postProcessing $(printf 'VTK/%s ' "${keep[@]}") \
      $([ -f VTK/selected.pvd ] && echo VTK/selected.pvd)) > "$out/$r.tar.gz"
+  # what comes back from the device is at most 16 MiB a file: cat $r.tar.gz.* | tar -xz
+  if [ "$(stat -c %s "$out/$r.tar.gz")" -gt 15000000 ]; then
+    split -b 15000000 "$out/$r.tar.gz" "$out/$r.tar.gz." && rm "$out/$r.tar.gz"
+  fi
 }
 
 collect() {
@@ -137,7 +154,14 @@ collect() {
   cp $S/device.txt $S/walltimes.txt "$out/" 2>/dev/null
   [ -f $S/bench-gpu.csv ] && cp $S/bench-gpu.csv "$out/"
   (cd $S/logs && tar -czf "$out/logs.tar.gz" *.log)
-  for r in pt frictional; do [ -d "$(case_dir $r)/postProcessing" ] && pack $r; done
+  # phase transition: release and 0.05, 0.25, 0.5, 1 s after it (Figs. 10-12); frictional:
+  # 0.5 s after the release and the end (Figs. 15-17)
+  [ -d "$(case_dir pt)/postProcessing" ] && pack pt 0.1 0.15 0.35 0.6 1.1
+  [ -d "$(case_dir frictional)/postProcessing" ] && pack frictional 0.6 1.1
+  for r in C-3 frictional-C-3; do  # the 2.5 mm pair, on either backend
+    [ -d "$(case_dir $r)/VTK" ] && pack $r 0.1 0.15 0.35 0.6 1.1
+    [ -d "$S/cases/cpu/columnCollapse/variants/$r/VTK" ] && pack cpu-$r 0.1 0.15 0.35 0.6 1.1
+  done
   # the mesh study: postProcessing only (run-out, height, energy)
   tar -czf "$out/mesh.tar.gz" -C $S/cases columnCollapse/variants/C-1/postProcessing \
     columnCollapse/variants/C-2/postProcessing columnCollapse/variants/C-3/postProcessing \
