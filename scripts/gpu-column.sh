@@ -8,8 +8,8 @@
 #   scripts/gpu-column.sh wait SECONDS                     status every 60 s until all done
 #   scripts/gpu-column.sh collect                          pack the results into $OUT
 #
-# GPU_RUNS (one after another on the GPU; "/" starts another queue sharing the GPU, each
-# queue on its own host core): pt (cases/columnCollapse,
+# GPU_RUNS (one after another on the GPU, cores 0-1; two processes sharing the GPU
+# time-slice it and each ran 3x slower, so there is one queue): pt (cases/columnCollapse,
 # phaseTransition, 1 mm), frictional (the same with SIMSAND alone), C-1, C-2, C-3 (Appendix
 # C meshes), bench (scree-bench: paper cases and weak scaling). Default: pt frictional bench
 # C-3 C-2 C-1. CPU_RUNS (one after another on cores 2-15, 14 threads): C-1 C-2 C-3 and
@@ -44,12 +44,10 @@ timed() {  # timed NAME LOG CMD...: run, append "NAME exit RC wall S s" to wallt
   echo "$name exit $rc wall $(awk "BEGIN{printf \"%.1f\", $t1 - $t0}") s" >> $S/walltimes.txt
 }
 
-gpu_queue() {  # gpu_queue CORE RUN...
-  local core=$1
-  shift
+gpu_queue() {
   for r in "$@"; do
     if [ "$r" = bench ]; then
-      timed gpu:bench $S/logs/gpu-bench.log taskset -c $core $S/build/bin/scree-bench --device cuda \
+      timed gpu:bench $S/logs/gpu-bench.log taskset -c 0-1 $S/build/bin/scree-bench --device cuda \
         --cases column,flume,scaling --source-dir $S --materials phaseTransition,linearElastic --shapes linear \
         --schemes USL --max-particles 10000000 --steps 400 --column-steps 2000 --flume-steps 1000 \
         --csv $S/bench-gpu.csv --json /dev/null
@@ -57,7 +55,7 @@ gpu_queue() {  # gpu_queue CORE RUN...
     fi
     d=$(case_dir "$r")
     rm -rf "$d/VTK" "$d/postProcessing"
-    timed "gpu:$r" $S/logs/gpu-$r.log taskset -c $core $S/build/bin/scree --case "$d" --device "${SCREE_GPU_DEVICE:-cuda}"
+    timed "gpu:$r" $S/logs/gpu-$r.log taskset -c 0-1 $S/build/bin/scree --case "$d" --device "${SCREE_GPU_DEVICE:-cuda}"
   done
 }
 
@@ -83,15 +81,6 @@ start() {
     if [ $side = gpu ]; then gpu+=("$a"); else cpu+=("$a"); fi
   done
   [ ${#gpu[@]} -eq 0 ] && [ "$side" = gpu ] && gpu=(pt frictional bench C-3 C-2 C-1)
-  # "/" splits the GPU runs into queues that share the GPU, each on its own host core
-  local queues="" q=() core=0 a
-  for a in "${gpu[@]}" /; do
-    if [ "$a" = / ]; then
-      [ ${#q[@]} -gt 0 ] && queues+="( gpu_queue $core ${q[*]} ) & "
-      q=(); core=$((core + 1)); continue
-    fi
-    q+=("$a")
-  done
   [ ${#cpu[@]} -eq 0 ] && [ "$side" = gpu ] && cpu=(C-1 C-2 C-3 C-4w)
   rm -rf $S && mkdir -p $S/logs $S/cases/cpu $S/cases/cpu4
   source .gpu-bundle/env.sh
@@ -106,7 +95,7 @@ start() {
   cat > $S/run.sh <<EOF
 export LD_LIBRARY_PATH=$S/lib:\${LD_LIBRARY_PATH:-}
 source $PWD/scripts/gpu-column.sh
-( $queues wait; echo gpu > $S/gpu.done ) &
+( gpu_queue ${gpu[*]}; echo gpu > $S/gpu.done ) &
 ( cpu_queue ${cpu[*]}; echo cpu > $S/cpu.done ) &
 wait
 EOF
@@ -156,11 +145,12 @@ collect() {
   (cd $S/logs && tar -czf "$out/logs.tar.gz" *.log)
   # phase transition: release and 0.05, 0.25, 0.5, 1 s after it (Figs. 10-12); frictional:
   # 0.5 s after the release and the end (Figs. 15-17)
-  [ -d "$(case_dir pt)/postProcessing" ] && pack pt 0.1 0.15 0.35 0.6 1.1
+  local figs=(0.1 0.15 0.35 0.6 1.1) r
+  [ -d "$(case_dir pt)/postProcessing" ] && pack pt "${figs[@]}"
   [ -d "$(case_dir frictional)/postProcessing" ] && pack frictional 0.6 1.1
   for r in C-3 frictional-C-3; do  # the 2.5 mm pair, on either backend
-    [ -d "$(case_dir $r)/VTK" ] && pack $r 0.1 0.15 0.35 0.6 1.1
-    [ -d "$S/cases/cpu/columnCollapse/variants/$r/VTK" ] && pack cpu-$r 0.1 0.15 0.35 0.6 1.1
+    [ -d "$(case_dir $r)/VTK" ] && pack $r "${figs[@]}"
+    [ -d "$S/cases/cpu/columnCollapse/variants/$r/VTK" ] && pack cpu-$r "${figs[@]}"
   done
   # the mesh study: postProcessing only (run-out, height, energy)
   tar -czf "$out/mesh.tar.gz" -C $S/cases columnCollapse/variants/C-1/postProcessing \

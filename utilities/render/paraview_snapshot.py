@@ -20,6 +20,9 @@ from paraview.simple import (
     ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, PVDReader, ResetCamera,
     SaveScreenshot, Show)
 
+# component name -> index of a vector (x, y, z) or of Scree's symmetric tensor (Voigt order)
+COMPONENTS = {"X": 0, "Y": 1, "Z": 2, "XX": 0, "YY": 1, "ZZ": 2, "XY": 3, "YZ": 4, "XZ": 5}
+
 
 def main(argv):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -44,6 +47,8 @@ def main(argv):
     view.OrientationAxesVisibility = 0
     src.UpdatePipeline(t)
 
+    if a.component and a.component not in COMPONENTS:
+        sys.exit(f"paraview_snapshot: component '{a.component}' is not one of {', '.join(COMPONENTS)}")
     names = src.PointData.keys()
     if a.field not in names:
         sys.exit(f"paraview_snapshot: no point array '{a.field}' in {a.pvd}; it has: {', '.join(names)}")
@@ -64,10 +69,7 @@ def main(argv):
     lut.ApplyPreset(a.preset, True)
     if a.component:
         lut.VectorMode = "Component"
-        comps = {"X": 0, "Y": 1, "Z": 2, "XX": 0, "YY": 1, "ZZ": 2, "XY": 3, "YZ": 4, "XZ": 5}
-        if a.component not in comps:
-            sys.exit(f"paraview_snapshot: component '{a.component}' is not one of {', '.join(comps)}")
-        lut.VectorComponent = comps[a.component]
+        lut.VectorComponent = COMPONENTS[a.component]
     if a.range:
         lut.RescaleTransferFunction(*a.range)
     else:
