@@ -14,7 +14,8 @@
 # C meshes), bench (scree-bench: paper cases and weak scaling). Default: pt frictional bench
 # C-3 C-2 C-1. CPU_RUNS (one after another on cores 2-15, 14 threads): C-1 C-2 C-3 and
 # C-4w (1 mm, two 2,000-step windows, at rest and flowing, for an estimate of the whole run).
-# Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda): carry [".gpu-bundle"]. `start`
+# Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda; another build folder: SCREE_BUILD_DIR=...):
+# carry [".gpu-bundle"]. `start`
 # copies the executables and cases to /tmp/scree-session, so that later calls (on the same,
 # still warm machine) do not disturb the runs. Snapshots are single precision with the fields
 # the plots and a ParaView picture need; each run comes back as $OUT/<run>.tar.gz with its
@@ -84,7 +85,7 @@ start() {
   [ ${#cpu[@]} -eq 0 ] && [ "$side" = gpu ] && cpu=(C-1 C-2 C-3 C-4w)
   rm -rf $S && mkdir -p $S/logs $S/cases/cpu $S/cases/cpu4
   source .gpu-bundle/env.sh
-  cp -r build-cuda $S/build && cp -r .gpu-bundle/lib $S/lib
+  cp -r "${SCREE_BUILD_DIR:-build-cuda}" $S/build && cp -r .gpu-bundle/lib $S/lib
   cp -r cases/columnCollapse cases/flume $S/cases/
   # Lean snapshots: the fields of utilities/plot/column_collapse.py and the picture.
   sed -i -e '/fields *(velocity/,/);/c\        fields  (velocity displacement stress pressure volume mass plasticStrain shearViscosity granularTemperature collisionalFraction);\n        precision single;\n        compressionLevel 6;' \
