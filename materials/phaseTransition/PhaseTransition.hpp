@@ -85,11 +85,24 @@ struct PhaseTransition {
     Sym3 sf = corotate(s.sigf, inc.spin);
     simsand::Vars v{s.e, s.kappa, s.epsEq};
     simsand::integrate(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
+    collisional(p, s, sf, v, sigma, inc);
+  }
+  /// The same when the frictional increment is elastic; false (nothing changed) otherwise
+  /// (material.hpp: optional update_elastic).
+  SCREE_HD static bool update_elastic(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    Sym3 sf = corotate(s.sigf, inc.spin);
+    simsand::Vars v{s.e, s.kappa, s.epsEq};
+    if (!simsand::integrate_elastic(p.f, sf, v, inc.deps)) return false;
+    collisional(p, s, sf, v, sigma, inc);
+    return true;
+  }
+  /// Store the frictional result (sf, v) and add the collisional part at the shared void ratio.
+  SCREE_HD static void collisional(const Params& p, State& s, const Sym3& sf, const simsand::Vars& v, Sym3& sigma,
+                                   const StrainIncrement& inc) {
     s.sigf = sf;
     s.e = v.e;
     s.kappa = v.kappa;
     s.epsEq = v.epsEq;
-    // collisional part at the shared void ratio
     const Real inv_dt = inc.dt > 0 ? 1 / inc.dt : Real(0);
     const Sym3 D = inc.deps * inv_dt;
     const Real V = kt::solid_fraction(p.c, s.e);
@@ -102,7 +115,10 @@ struct PhaseTransition {
   }
 
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
-    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+    // the same call as in update(), so that the compiler computes the coefficients once
+    // when the kernel asks for the speed right after the update
+    const Real V = kt::solid_fraction(p.c, s.e);
+    const kt::Coefficients c = p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
     return simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, s.T) +
            kt::viscous_speed(c, s.T, rho, h);
   }

@@ -102,6 +102,16 @@ struct Simsand {
   SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     simsand::Vars v{s.e, s.kappa, s.epsEq};
     simsand::integrate(p.m, sigma, v, inc.deps);
+    commit(s, v, inc);
+  }
+  /// The elastic case of update() alone (material.hpp: optional update_elastic).
+  SCREE_HD static bool update_elastic(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    simsand::Vars v{s.e, s.kappa, s.epsEq};
+    if (!simsand::integrate_elastic(p.m, sigma, v, inc.deps)) return false;
+    commit(s, v, inc);
+    return true;
+  }
+  SCREE_HD static void commit(State& s, const simsand::Vars& v, const StrainIncrement& inc) {
     s.e = v.e;
     s.kappa = v.kappa;
     s.epsEq = v.epsEq;

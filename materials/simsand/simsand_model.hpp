@@ -530,46 +530,87 @@ SCREE_HD inline Real heun_error(const Params& P, const Rate& r1, const Rate& r2,
   return Real(0.5) * fmax(es, ek);
 }
 
+/// The opening of every stress update (integrate() and integrate_elastic() below): the void
+/// ratios of the increment, the start stress brought back onto a yield surface that moved
+/// since the last step (e, p or kappa changed), and the exact elastic trial. Needs a finite
+/// sig and deps with p > p_apex (the caller handles the rest).
+struct ElasticTrial {
+  Real tr;         ///< tr deps (tension positive)
+  Real ope0;       ///< 1 + e at the start
+  Real e1;         ///< e at the end of the increment
+  Real f0;         ///< yield function at the (projected) start stress
+  Sym3 sig0;       ///< start stress after the projection
+  Sym3 sig_tr;     ///< elastic trial stress at the end
+  Real ftr;        ///< yield function at sig_tr (0 when it separates)
+  bool separates;  ///< the trial ends in tension or at the apex: the point separates
+  bool elastic;    ///< the whole increment is elastic: sig_tr is the answer
+};
+SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, const Vars& v, const Sym3& deps) {
+  ElasticTrial t;
+  t.tr = deps.trace();
+  t.ope0 = 1 + v.e;
+  t.e1 = void_ratio_at(t.ope0, t.tr, 1);
+  t.sig0 = sig;
+  bool projected;
+  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected);
+  if (projected) t.f0 = 0;
+  // An extension whose elastic trial ends at the apex (p <= p_apex, where yield() no longer
+  // bounds q) separates like one that would end in tension: otherwise a small stress rebuilt at
+  // the apex could be pulled back to p ~ 0 with its deviator kept (q >> p; found by the fuzz test).
+  t.separates = !elastic_predictor(P, t.sig0, void_ratio_at(t.ope0, t.tr, Real(0.5)), deps, t.sig_tr) ||
+                !(mean_pressure(t.sig_tr) > P.papex);
+  t.ftr = t.separates ? Real(0) : yield(P, t.sig_tr, t.e1, v.kappa);
+  t.elastic = !t.separates && t.ftr <= kFtol;
+  return t;
+}
+
+/// The common cheap case of integrate(), alone: when the increment is elastic from a stressed
+/// state, updates sig and v exactly as integrate() would and returns true; otherwise (apex,
+/// separation, plastic loading, non-finite input) returns false and changes nothing. The GPU
+/// kernels run it first over all points and integrate() only over the others, so that the
+/// common path runs in a fraction of the registers (docs/performance.md, entry 13).
+SCREE_HD inline bool integrate_elastic(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
+  if (!finite_sym(sig) || !finite_sym(deps) || !(mean_pressure(sig) > P.papex)) return false;
+  const ElasticTrial t = elastic_trial(P, sig, v, deps);
+  if (!t.elastic) return false;
+  sig = t.sig_tr;
+  v.e = t.e1;
+  return true;
+}
+
 /// One stress update of the frictional model: sig (tension positive) and the internal
 /// variables v over the strain increment deps. Always returns a defined state: p >= 0,
 /// no tension, finite values.
 SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
-  const Real tr = deps.trace();
-  const Real ope0 = 1 + v.e;
-  const Real e1 = void_ratio_at(ope0, tr, 1);
   if (!finite_sym(sig)) sig = Sym3::zero();
   if (!finite_sym(deps)) {  // nothing sensible to integrate
     v.e = fmax(v.e, Real(1e-6));
     return;
   }
-  Real p0 = mean_pressure(sig);
-  if (!(p0 > P.papex)) {
+  if (!(mean_pressure(sig) > P.papex)) {
     // ---- apex: stress-free point (after separation or at a free surface)
-    apex_update(P, sig, v, deps, void_ratio_at(ope0, tr, Real(0.5)), e1);
+    const Real tr = deps.trace();
+    const Real e1 = void_ratio_at(1 + v.e, tr, 1);
+    apex_update(P, sig, v, deps, void_ratio_at(1 + v.e, tr, Real(0.5)), e1);
     v.e = e1;
     return;
   }
-
-  // ---- start of step: the surface may have moved (e, p or kappa changed last step)
-  bool projected;
-  Real f0 = yield_and_project(P, sig, v.e, v.kappa, false, projected);
-  if (projected) f0 = 0;
-  // ---- elastic trial (exact for the nonlinear elasticity)
-  Sym3 sig_tr;
-  // An extension whose elastic trial ends at the apex (p <= p_apex, where yield() no longer
-  // bounds q) separates like one that would end in tension: otherwise a small stress rebuilt at
-  // the apex could be pulled back to p ~ 0 with its deviator kept (q >> p; found by the fuzz test).
-  if (!elastic_predictor(P, sig, void_ratio_at(ope0, tr, Real(0.5)), deps, sig_tr) || !(mean_pressure(sig_tr) > P.papex)) {
+  const ElasticTrial t = elastic_trial(P, sig, v, deps);
+  const Real tr = t.tr, ope0 = t.ope0, e1 = t.e1, f0 = t.f0;
+  const Sym3& sig_tr = t.sig_tr;
+  sig = t.sig0;
+  if (t.separates) {
     separate(sig, v, deps, 1);
     v.e = e1;
     return;
   }
-  const Real ftr = yield(P, sig_tr, e1, v.kappa);
-  if (ftr <= kFtol) {  // elastic: the common cheap path
+  if (t.elastic) {  // elastic: the common cheap path
     sig = sig_tr;
     v.e = e1;
     return;
   }
+  const Real ftr = t.ftr;
+  bool projected;
   // ---- elastic fraction alpha of the increment
   Real alpha = 0;
   Rate r1u;               // rate at the start of the current substep for the whole remaining

@@ -23,7 +23,11 @@
 // (scalar_mpm.hpp), particle-steps/s per core.
 // Kernel variants: fast (default), reference (RunOptions::reference_kernels: the
 // straightforward kernels), uncapped (fast, but the 2D stress kernel without its register
-// cap: RunOptions::stress_blocks_per_sm = 0).
+// cap: RunOptions::stress_blocks_per_sm = 0), split / unsplit (fast, with the stress pass
+// always split in an elastic-only kernel and one for the rest, or never: RunOptions::
+// split_elastic on / off; fast lets the solver time both and choose), elastic-uncapped
+// (the split always, its elastic-only kernel without a register cap:
+// RunOptions::elastic_blocks_per_sm = 0).
 #include <omp.h>
 
 #include <boost/program_options.hpp>
@@ -125,6 +129,12 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   o.progress = false;
   o.reference_kernels = variant == "reference";
   if (variant == "uncapped") o.stress_blocks_per_sm = 0;
+  if (variant == "split") o.split_elastic = scree::StressSplit::on;
+  if (variant == "unsplit") o.split_elastic = scree::StressSplit::off;
+  if (variant == "elastic-uncapped") {
+    o.split_elastic = scree::StressSplit::on;
+    o.elastic_blocks_per_sm = 0;
+  }
   static std::ostringstream sink;
   o.log = &sink;
   return o;
@@ -331,7 +341,8 @@ int main(int argc, char** argv) {
       "comma-separated: column, flume, scaling, cpu")(
       "kernels", po::value<std::string>()->default_value("fast"),
       "comma-separated kernel variants: fast, reference (the straightforward kernels), uncapped (CUDA: no register "
-      "cap on the 2D stress kernel)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
+      "cap on the 2D stress kernel), split / unsplit (the stress pass always / never split in an elastic-only kernel and one for the rest; "
+      "fast chooses by timing both), elastic-uncapped (CUDA: always split, no register cap on the elastic-only kernel)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
       "cpu-steps", po::value<long long>()->default_value(50), "timed steps on the CPU")(
       "max-particles", po::value<long long>()->default_value(10000000), "largest scaling size")(
       "materials", po::value<std::string>()->default_value("linearElastic,phaseTransition"), "scaling materials")(

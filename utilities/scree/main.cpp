@@ -158,6 +158,9 @@ int main(int argc, char** argv) {
     std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in "
               << st.wall_seconds << " s wall (" << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0)
               << " steps/s, " << st.particles << " particles)\n";
+    if (st.split_steps > 0)  // RunOptions::split_elastic: what the tuner chose, for the record
+      std::cout << "scree: stress pass split (elastic points first) in " << st.split_steps << " of " << st.steps
+                << " steps\n";
     if (st.lost_particles)
       std::cout << "scree: warning: " << st.lost_particles << " particle(s) left the grid during the run\n";
   } catch (const scree::InputErrors& e) {

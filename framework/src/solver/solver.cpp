@@ -138,6 +138,11 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   setup_grid();
   setup_time();
   setup_bodies();
+  for (auto& b : bodies_) can_split_ = can_split_ || b->can_split_stress();
+  can_split_ = can_split_ && !o.reference_kernels;
+  split_ = can_split_ && (o.split_elastic == StressSplit::on || o.split_elastic == StressSplit::alternate ||
+                          (o.split_elastic == StressSplit::automatic && exec_.device == Device::cuda));
+  tuner_.active = split_ && o.split_elastic == StressSplit::automatic;
   setup_boundaries();
   if (opt_.output) setup_output();
   check_time_step();
@@ -395,6 +400,8 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.need_speed = adaptive_ || opt_.reference_kernels;
   pp.tile_stamps = sparse_ ? tile_stamps_[scatter_set].data() : nullptr;
   pp.stress_blocks_per_sm = opt_.stress_blocks_per_sm;
+  pp.split_elastic = split_;
+  pp.elastic_blocks_per_sm = opt_.elastic_blocks_per_sm;
   return pp;
 }
 
@@ -633,6 +640,9 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (sec > 0) chunk_rate_ = 0.7 * chunk_rate_ + 0.3 * (n / sec);
     wall_ += sec;
+    if (split_) split_steps_ += n;
+    if (tuner_.active) tune_split(n, sec);
+    if (opt_.split_elastic == StressSplit::alternate && can_split_) set_split(!split_);
     if (budget > 0) budget -= n;
     if (sort_interval_ > 0 && step_ % sort_interval_ == 0) {
       // Queued on the stream; a pending G2P applies to the particles in their new order.
@@ -648,6 +658,43 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
       lost_warned_ = true;
     }
   }
+}
+
+/// The split's tuner (RunOptions::split_elastic = automatic): after a chunk of steps run one
+/// way, record its rate; every kTrialSeconds of run time run one chunk the other way, then
+/// keep whichever was faster (by 3%, so that noise does not flip it back and forth). The
+/// flow changes what is faster (the share of plastic points, and so the second kernel's
+/// work), hence the repeated trials; a trial costs at most a chunk (~0.5 s) in ~10 s.
+template <int D>
+void Solver<D>::tune_split(std::int64_t n, double seconds) {
+  constexpr double kTrialSeconds = 10;
+  // Chunks of a few steps (the first ones, or cut short by an event) time the host, not
+  // the kernels.
+  if (n < 50 || seconds <= 0) return;
+  const int now = split_ ? 1 : 0;
+  tuner_.rate[now] = static_cast<double>(n) / seconds;
+  bool want = split_;
+  if (tuner_.trial) {
+    tuner_.trial = false;
+    // keep the trial's way only if it beat the other clearly
+    if (tuner_.rate[now] < 1.03 * tuner_.rate[1 - now]) want = !split_;
+    tuner_.next_trial_wall = wall_ + kTrialSeconds;
+  } else if (wall_ >= tuner_.next_trial_wall) {
+    tuner_.trial = true;
+    want = !split_;
+  }
+  set_split(want);
+}
+
+template <int D>
+void Solver<D>::set_split(bool on) {
+  if (on == split_) return;
+  split_ = on;
+  // The split's kernels clear the counter of the step after theirs: when they stop, the
+  // last step's count stays behind, and a later split step of that parity would re-run
+  // the points it lists (a 2.5 mm column collapse on the GPU took 50% more steps so).
+  for (auto& b : bodies_) b->reset_split();
+  destroy_graphs();  // captured with the other way's kernels
 }
 
 template <int D>
@@ -833,6 +880,7 @@ RunStats Solver<D>::stats() const {
   r.nodes = grid_.num_nodes();
   r.peak_device_bytes = mem::peak_bytes(exec_.device);
   r.lost_particles = host_ctl_.lost;
+  r.split_steps = split_steps_;
   return r;
 }
 

@@ -105,6 +105,8 @@ class Solver {
   PassParams<D> pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const;
   GridUpdateParams<D> grid_params(unsigned modes, int set) const;
   void destroy_graphs();
+  void tune_split(std::int64_t n, double seconds);
+  void set_split(bool on);
   /// Run `f` as phase `name`; with profiling on, synchronise and accumulate its time.
   template <class F>
   void phase(const char* name, F&& f);
@@ -159,6 +161,17 @@ class Solver {
   Scheduled write_schedule_;
   std::unique_ptr<OutputThread> output_thread_;
   bool writers_want_grid_ = false;
+
+  // Elastic-first split of the stress pass (RunOptions::split_elastic): on or off now, and
+  // for `automatic` on CUDA the tuner that times both ways now and then and keeps the faster.
+  bool split_ = false, can_split_ = false;
+  struct SplitTuner {
+    bool active = false;          // automatic, on CUDA, with a body that can split
+    bool trial = false;           // this chunk runs the other way, to time it
+    double rate[2] = {0, 0};      // steps per second, last measured split off [0] and on [1]
+    double next_trial_wall = 0;   // wall_ at which the next trial starts
+  } tuner_;
+  std::int64_t split_steps_ = 0;  // steps run split
 
   // CUDA graphs (two steps each, starting at parity 0 and 1)
   void* graphs_[2] = {nullptr, nullptr};

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "material_test_util.hpp"
@@ -191,4 +192,44 @@ TEST(Robustness, WaveSpeedIncludesViscousLimit) {
               1e-9 * m.wave_speed(sig, h1));
   const double K = simsand::bulk_modulus(P.f, s.e, pressure(s.sigf));
   EXPECT_GT(m.wave_speed(sig, 1e30), std::sqrt(K / rho));
+}
+
+// update_elastic (material.hpp), the GPU kernels' cheap first pass, must be update() itself
+// wherever it accepts an increment -- the same numbers to the last bit, since both run the
+// same code (simsand::elastic_trial) -- and must leave the state and stress untouched
+// wherever it declines. Along a fuzzed path (the fuzz's increments, so elastic steps,
+// plastic loading, separation and the apex all occur), both outcomes must occur often.
+template <class M>
+void expect_elastic_path_is_update(const typename M::Params& P, const Sym3& sig0, unsigned seed) {
+  typename M::State s;
+  Sym3 sig = sig0;
+  s = M::initial_state(P, sig);
+  Fuzzer fz(seed);
+  int accepted = 0, declined = 0;
+  for (int i = 0; i < 20000; ++i) {
+    StrainIncrement inc = fz.next();
+    if (i % 2) inc.deps = inc.deps * 1e-3;  // many small (elastic) increments too
+    const Sym3 sig_rot = corotate(sig, inc.spin);
+    typename M::State s_full = s, s_el = s;
+    Sym3 sig_full = sig_rot, sig_el = sig_rot;
+    M::update(P, s_full, sig_full, inc);
+    const bool ok = M::update_elastic(P, s_el, sig_el, inc);
+    const typename M::State& want = ok ? s_full : s;
+    const Sym3& want_sig = ok ? sig_full : sig_rot;
+    ASSERT_EQ(std::memcmp(&s_el, &want, sizeof s_el), 0) << "state, step " << i << (ok ? " (accepted)" : " (declined)");
+    for (int c = 0; c < 6; ++c) ASSERT_EQ(sig_el[c], want_sig[c]) << "stress " << c << ", step " << i;
+    (ok ? accepted : declined)++;
+    s = s_full;
+    sig = sig_full;
+  }
+  EXPECT_GT(accepted, 2000) << "declined " << declined;
+  EXPECT_GT(declined, 2000) << "accepted " << accepted;
+}
+
+TEST(Robustness, ElasticPathIsUpdateSimsand) {
+  expect_elastic_path_is_update<Simsand>(Simsand::Params{table1(), 2650, 0.85}, k0_stress(50e3, 0.5), 21);
+}
+TEST(Robustness, ElasticPathIsUpdatePhaseTransition) {
+  expect_elastic_path_is_update<PhaseTransition>(
+      PhaseTransition::Params{table3_collapse_f(), table3_collapse_c(), 0.95, 1e-12}, k0_stress(2e3, 0.5), 22);
 }

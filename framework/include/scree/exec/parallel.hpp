@@ -13,6 +13,7 @@
 // virtual is called inside f: materials are template parameters of the functors.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -55,6 +56,20 @@ template <int Block, int MinBlocks, class F>
 __global__ void __launch_bounds__(Block, MinBlocks) for_each_warp_kernel_bounded(Index n, F f) {
   const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
   f(i < n ? i : n - 1, i < n);
+}
+/// Whole warps over the first *count entries of `list` (count read on the device, so the
+/// launch needs no host round trip): f(list[j], j < *count), grid-stride. One thread then
+/// zeroes *reset (see parallel_for_listed_warps).
+template <int Block, int MinBlocks, class F>
+__global__ void __launch_bounds__(Block, MinBlocks)
+    for_listed_warp_kernel(const Index* list, const unsigned* count, unsigned* reset, F f) {
+  const Index n = *count;
+  if (reset && blockIdx.x == 0 && threadIdx.x == 0) *reset = 0;
+  const Index stride = Index(gridDim.x) * blockDim.x;
+  for (Index base = Index(blockIdx.x) * blockDim.x + (threadIdx.x & ~31u); base < n; base += stride) {
+    const Index j = base + (threadIdx.x & 31u);
+    f(list[j < n ? j : base], j < n);
+  }
 }
 }  // namespace detail
 #endif
@@ -124,6 +139,55 @@ void parallel_for_warps_bounded(const Exec& ex, Index n, const F& f) {
   } else {
     parallel_for_warps(ex, n, f);
   }
+}
+
+/// parallel_for_warps over the items list[0 .. *count) that an earlier kernel collected
+/// (push_index below), with launch bounds as parallel_for_warps_bounded. `count` lives on
+/// the device; the CUDA launch has `max_blocks` blocks (at most ceil(n_max / Block)) and
+/// loops over the list. `reset`, if not null, is set to zero by the kernel: the counter
+/// the next collecting kernel will use (a kernel cannot clear its own counter while other
+/// blocks still read it).
+template <int Block, int MinBlocks, class F>
+void parallel_for_listed_warps(const Exec& ex, const Index* list, const unsigned* count, unsigned* reset,
+                               Index n_max, int max_blocks, const F& f) {
+  if (n_max <= 0) return;
+  if (ex.device == Device::cuda) {
+#if defined(__CUDACC__)
+    const Index blocks = std::min<Index>((n_max + Block - 1) / Block, max_blocks);
+    detail::for_listed_warp_kernel<Block, MinBlocks>
+        <<<static_cast<unsigned>(blocks), Block, 0, static_cast<cudaStream_t>(ex.stream)>>>(list, count, reset, f);
+    check_cuda_launch("parallel_for_listed_warps");
+#else
+    throw std::logic_error("parallel_for_listed_warps: a CUDA launch from a translation unit compiled without CUDA");
+#endif
+  } else {
+    const Index n = *count;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(ex.threads > 0 ? ex.threads : 1)
+#endif
+    for (Index j = 0; j < n; ++j) f(list[j], true);
+    if (reset) *reset = 0;
+  }
+}
+
+/// Append i to list (counter *count): one atomic per warp on CUDA for the lanes that push.
+/// Every lane of the warp must call it (warp-collective), with push saying whether it adds.
+SCREE_INLINE void push_index(Index* list, unsigned* count, Index i, bool push, bool serial) {
+#if defined(__CUDA_ARCH__)
+  (void)serial;
+  const unsigned lanes = __ballot_sync(0xffffffffu, push);
+  if (lanes == 0) return;
+  const unsigned lane = threadIdx.x & 31u;
+  const int leader = __ffs(lanes) - 1;
+  unsigned base = 0;
+  if (static_cast<int>(lane) == leader) base = atomicAdd(count, static_cast<unsigned>(__popc(lanes)));
+  base = __shfl_sync(0xffffffffu, base, leader);
+  if (push) list[base + __popc(lanes & ((1u << lane) - 1u))] = i;
+#else
+  if (!push) return;
+  const unsigned j = serial ? (*count)++ : __atomic_fetch_add(count, 1u, __ATOMIC_RELAXED);
+  list[j] = i;
+#endif
 }
 
 /// Atomic a += v on either backend. On the CPU it is a plain add when the loop runs on

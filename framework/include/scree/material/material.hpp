@@ -17,6 +17,13 @@
 //       // the stress update of one step. sigma arrives already rotated objectively
 //       // (the framework applies corotate(sigma, inc.spin)); tensor-valued state must be
 //       // rotated by the model itself with corotate(x, inc.spin).
+//   SCREE_HD static bool update_elastic(const Params& p, State& s, Sym3& sigma,
+//                                       const StrainIncrement& inc);          // optional
+//       // the model's cheap common case alone (an elastic step of an elastoplastic model):
+//       // when it applies, the same result as update() and true; otherwise false with s
+//       // and sigma untouched. The GPU kernels then run it over all points in a kernel
+//       // without the expensive branch, and update() over the others (PassParams::
+//       // split_elastic), so the common case runs at a higher occupancy.
 //   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3& sigma,
 //                                   Real density, Real cell_size);
 //       // the largest signal speed c [m/s] for the CFL time step dt = CFL h / c: the
@@ -32,6 +39,7 @@
 // geomechanics outputs (p, q) are compression positive and say so in their docs.
 #pragma once
 
+#include <concepts>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -51,6 +59,14 @@ struct StrainIncrement {
   Real dt;     ///< time step [s]
   Real J;      ///< volume ratio V/V0 = det F after this increment, [-]
 };
+
+/// Whether M has the optional update_elastic (see the top of this file).
+template <class M>
+inline constexpr bool material_has_elastic_path() {
+  return requires(const typename M::Params& p, typename M::State& s, Sym3& sigma, const StrainIncrement& inc) {
+    { M::update_elastic(p, s, sigma, inc) } -> std::same_as<bool>;
+  };
+}
 
 /// Number of Reals in a material's State (0 for an empty State).
 template <class S>

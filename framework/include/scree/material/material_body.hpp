@@ -42,6 +42,14 @@ inline void cuda_ok(cudaError_t e) {
 }  // namespace detail
 #endif
 
+namespace detail {
+/// Sets c[0..n) to zero, as a kernel on the body's stream (stream-ordered with its passes).
+struct ZeroCounters {
+  unsigned* c;
+  SCREE_HD void operator()(Index i) const { c[i] = 0; }
+};
+}  // namespace detail
+
 template <int D, class M>
 class MaterialBody final : public Body<D> {
  public:
@@ -88,6 +96,10 @@ class MaterialBody final : public Body<D> {
     }
     data_.resize(host.size(), exec_.device);
     data_.copy_from_host(host);
+    if constexpr (material_has_elastic_path<M>()) {  // the elastic-first split's list (zeroed)
+      deferred_.resize(static_cast<std::size_t>(n), exec_.device);
+      deferred_count_.resize(2, exec_.device);
+    }
     bind();
     OutputFields<M> out;
     M::describe(out);
@@ -95,6 +107,10 @@ class MaterialBody final : public Body<D> {
   }
 
   const std::string& name() const override { return name_; }
+  bool can_split_stress() const override { return material_has_elastic_path<M>(); }
+  void reset_split() override {
+    if constexpr (material_has_elastic_path<M>()) parallel_for(exec_, 2, detail::ZeroCounters{deferred_count_.data()});
+  }
   const std::string& material_type() const override { return type_; }
   Index size() const override { return n_; }
   const ParticleArrays<D>& arrays() const override { return arrays_; }
@@ -384,6 +400,11 @@ class MaterialBody final : public Body<D> {
       ParticlePass<D, Shape, M, kTransferPhases> k{pp, arrays_, shape, params_};
       parallel_for_warps(exec_, n_, k, kTransferBlock);
     } else {
+      if constexpr (material_has_elastic_path<M>())
+        if (!pp.reference && pp.split_elastic && (pp.flags & kStressPhases)) {
+          launch_elastic_first(pp, shape);
+          return;
+        }
       ParticlePass<D, Shape, M, kAllPhases> k{pp, arrays_, shape, params_};
       if constexpr (D == 2)
         if (!pp.reference && pp.stress_blocks_per_sm == 6) {
@@ -393,6 +414,34 @@ class MaterialBody final : public Body<D> {
       parallel_for_warps(exec_, n_, k, pp.reference ? kCudaBlockSize : kStressBlock);
     }
   }
+
+  /// The elastic-first split (PassParams::split_elastic): every point through the
+  /// elastic-only kernel, then the whole pass over the points it deferred, read from the
+  /// device-side list (no host round trip; CUDA-graph safe). The second kernel clears the
+  /// other parity's counter, which the next step's first kernel fills.
+  template <class Shape>
+  void launch_elastic_first(const PassParams<D>& pp, const Shape& shape) {
+    PassParams<D> first = pp;
+    first.deferred = deferred_.data();
+    first.deferred_count = deferred_count_.data();
+    ParticlePass<D, Shape, M, kAllPhases, true> elastic{first, arrays_, shape, params_};
+    if (D == 2 && pp.elastic_blocks_per_sm == kElasticBlocks2D)
+      parallel_for_warps_bounded<kStressBlock, kElasticBlocks2D>(exec_, n_, elastic);
+    else
+      parallel_for_warps(exec_, n_, elastic, kStressBlock);
+    ParticlePass<D, Shape, M, kAllPhases> full{pp, arrays_, shape, params_};
+    unsigned* count = deferred_count_.data();
+    constexpr int kMinBlocks = D == 2 ? 6 : 1;  // the whole update's register cap, as launch()
+    parallel_for_listed_warps<kStressBlock, kMinBlocks>(exec_, deferred_.data(), count + pp.parity,
+                                                        count + (1 - pp.parity), n_, kDeferredBlocks, full);
+  }
+  /// The 2D elastic-only kernel's register cap (PassParams::elastic_blocks_per_sm) as
+  /// blocks of 64 per SM: 10 is 96 registers and 20 warps per SM, with 300-600 bytes of
+  /// spills (nvcc 13, phaseTransition); the compiler alone takes 146 (14 warps), and the
+  /// whole update 254, capped to 168 (12 warps).
+  static constexpr int kElasticBlocks2D = 10;
+  /// Blocks of the deferred points' kernel (grid-stride): about a wave on a large GPU.
+  static constexpr int kDeferredBlocks = 1024;
 
   Params params_;
   std::string name_;
@@ -416,6 +465,8 @@ class MaterialBody final : public Body<D> {
   void* stage_free_ = nullptr;
   std::mutex pinned_mutex_;
   std::vector<Real*> pinned_free_;
+  Buffer<Index> deferred_;            // the elastic-first split's deferred points
+  Buffer<unsigned> deferred_count_;   // their number, one counter per step parity
   Buffer<char> sort_temp_;
   Buffer<Real> sort_scratch_;
   int sort_chunk_ = 0;

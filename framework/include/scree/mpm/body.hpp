@@ -72,6 +72,11 @@ class Body {
   virtual void set_velocities(const std::vector<Real>& v) = 0;
   /// Reorder particles by grid cell (locality for P2G atomics); ids move with them.
   virtual void sort_by_cell(const GridGeometry<D>& g) = 0;
+  /// Whether the body's stress pass can run split (its material has update_elastic).
+  virtual bool can_split_stress() const { return false; }
+  /// Empty the split's list counters (before the stress pass starts or stops splitting:
+  /// while it does not split, no kernel clears them). Queued on the body's stream.
+  virtual void reset_split() {}
 };
 
 }  // namespace scree

@@ -92,6 +92,18 @@ struct PassParams {
   /// this many blocks per SM, 6: 170 registers, 12 warps per SM; the solver's default)
   /// instead of the compiler's choice (0; 254 registers for phaseTransition, 8 warps).
   int stress_blocks_per_sm = 0;
+  /// Elastic first (fast kernels; materials with update_elastic, material.hpp): the stress
+  /// pass updates the points whose increment is elastic, in a kernel compiled without the
+  /// plastic integration (a fraction of its registers: more warps per SM), and appends the
+  /// others to `deferred`, counted in deferred_count[parity]; a second launch runs the whole
+  /// pass over those (MaterialBody::launch). One stress pass per step, so the counters of
+  /// the two parities alternate. False: one kernel with the whole update.
+  bool split_elastic = true;
+  /// CUDA, 2D: the elastic-only kernel's register cap (10 blocks of 64 per SM: 96
+  /// registers, 20 warps per SM; the solver's default) or 0 (the compiler's choice).
+  int elastic_blocks_per_sm = 0;
+  Index* deferred = nullptr;
+  unsigned* deferred_count = nullptr;
 };
 
 namespace detail {
@@ -191,7 +203,11 @@ inline constexpr bool material_reads_stress() {
   else return true;
 }
 
-template <int D, class Shape, class M, unsigned May = kAllPhases>
+/// The particle pass. ElasticFirst: the first kernel of the elastic-first split
+/// (PassParams::split_elastic): a point whose stress update is not elastic is appended to
+/// pp.deferred and left untouched (no state, position or velocity written, nothing
+/// scattered); the ordinary pass then runs over the deferred points alone.
+template <int D, class Shape, class M, unsigned May = kAllPhases, bool ElasticFirst = false>
 struct ParticlePass {
   PassParams<D> pp;
   ParticleArrays<D> pa;
@@ -226,6 +242,7 @@ struct ParticlePass {
 
     // ---------------- gather phases (weights at the current position) ----------------
     Real speed = 0;  // signal speed c + |v| after the stress update
+    bool defer = false;  // ElasticFirst: the update is not elastic, left to the second kernel
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
       if (!st.inside) {
@@ -270,7 +287,7 @@ SCREE_UNROLL
           }
         }
         if constexpr ((May & kStressPhases) != 0)
-          if (flags & kStressPhases) speed = stress_update(p, L, dt, v, mass);
+          if (flags & kStressPhases) defer = !stress_update<ElasticFirst>(p, L, dt, v, mass, speed);
 
         if (flags & kGatherVelocity) {
           if (apic) {
@@ -285,6 +302,10 @@ SCREE_UNROLL
         }
         if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
       }
+    }
+    if constexpr (ElasticFirst) {
+      push_index(pp.deferred, pp.deferred_count + pp.parity, p, defer, pp.serial);
+      if (defer) active = false;  // nothing of it is written or scattered here
     }
     if constexpr ((May & kStressPhases) != 0)
       if ((flags & kStressPhases) && pp.need_speed) {
@@ -379,12 +400,13 @@ SCREE_UNROLL
     return F;
   }
 
-  /// eqs. (8)-(9) with an objective stress update. Returns the signal speed c + |v| when
-  /// the pass needs it (adaptive time step), else 0.
-  SCREE_INLINE Real stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass) const {
+  /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c + |v|
+  /// when the pass needs it (adaptive time step), else 0. ElasticOnly: the material's
+  /// update_elastic; when that declines, nothing is written and the result is false.
+  template <bool ElasticOnly>
+  SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass, Real& speed) const {
     Mat<D> F = load_F(p);
     F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
-    for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
     const Real J = det(F);
     StrainIncrement inc;
     inc.deps = sym3_from(L) * dt;
@@ -398,13 +420,21 @@ SCREE_UNROLL
     if constexpr (material_reads_stress<M>()) sigma = corotate(detail::load_stress<D>(pa.sigma, p), inc.spin);
     typename M::State s;
     load_state(s, pa.state, pa.n, p);
-    M::update(mp, s, sigma, inc);
+    if constexpr (ElasticOnly) {
+      if (!M::update_elastic(mp, s, sigma, inc)) return false;
+    } else {
+      M::update(mp, s, sigma, inc);
+    }
+    for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
     store_state(s, pa.state, pa.n, p);
     detail::store_stress<D>(pa.sigma, p, sigma);
-    if (!pp.need_speed) return 0;
-    const Real vol = pa.volume0[p] * J;
-    const Real rho = vol > 0 ? mass / vol : Real(0);
-    return M::wave_speed(mp, s, sigma, rho, pp.grid.h) + norm(v);
+    speed = 0;
+    if (pp.need_speed) {
+      const Real vol = pa.volume0[p] * J;
+      const Real rho = vol > 0 ? mass / vol : Real(0);
+      speed = M::wave_speed(mp, s, sigma, rho, pp.grid.h) + norm(v);
+    }
+    return true;
   }
 
   /// Freeze a particle whose stencil left the grid (negative volume0 marks it) and

@@ -21,6 +21,10 @@
 
 namespace scree {
 
+/// RunOptions::split_elastic. alternate: on and off by turns, a chunk of steps each (for
+/// tests of the switch).
+enum class StressSplit { automatic, on, off, alternate };
+
 struct RunOptions {
   Device device = Device::cpu;
   int threads = 1;             ///< CPU threads (OpenMP)
@@ -39,10 +43,22 @@ struct RunOptions {
   /// (PassParams::stress_blocks_per_sm; 6: 170 registers, 12 warps per SM, measured 14-27%
   /// faster at rest on an H200 than the compiler's 254 registers; 0: no cap)
   int stress_blocks_per_sm = 6;
+  /// Fast kernels: the elastic-first split of the stress pass (PassParams::split_elastic)
+  /// for materials that provide update_elastic. automatic: on CUDA the solver times the
+  /// run both ways now and then (every ~10 s of run time) and keeps the faster: the split
+  /// gains for problems of many waves of threads (more warps per SM) and loses for those
+  /// under a wave or two, where its two kernels run one after the other
+  /// (docs/performance.md, entry 13); off on the CPU. on/off: always/never.
+  StressSplit split_elastic = StressSplit::automatic;
+  /// CUDA, 2D: the register cap of the split's elastic-only kernel as blocks of 64 threads
+  /// per SM (10: 96 registers, 20 warps per SM; 0: the compiler's choice, 146 registers
+  /// for phaseTransition)
+  int elastic_blocks_per_sm = 10;
   std::ostream* log = nullptr; ///< messages (default std::cout)
 };
 
 struct RunStats {
+  std::int64_t split_steps = 0;  ///< steps whose stress pass ran split (RunOptions::split_elastic)
   std::int64_t steps = 0;
   double simulated_time = 0;   ///< [s]
   double wall_seconds = 0;     ///< time-loop wall time, setup excluded [s]
