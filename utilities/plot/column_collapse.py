@@ -7,7 +7,10 @@ CASE is a finished run of cases/columnCollapse (phaseTransition); CASE_F the sam
 run with the purely frictional material (constant/bodies: material sandFrictional).
 Reads VTK/particles.pvd (and its .vtp files), postProcessing/deposit/runOut.csv and
 postProcessing/probes/{A,B,C}.csv; times are shown from the gate's release
-(_releaseTime in system/stages). Writes PNGs and summary.json to OUTDIR:
+(_releaseTime in system/stages). CASE needs snapshots at the release and 0.05, 0.25, 0.5
+and 1 s after it; CASE_F only its last snapshot (1 s after the release) and, for Fig. 16,
+one 0.5 s after it (scripts/gpu-column.sh keeps only those two for a frictional run).
+Writes PNGs and summary.json to OUTDIR:
 
   fig09_initial_stress.png      vertical stress at release against rho g (H - y) (Fig. 9b)
   fig10_free_surface.png        final free surface, with the paper's d_inf and h_inf
@@ -19,7 +22,15 @@ postProcessing/probes/{A,B,C}.csv; times are shown from the gate's release
   fig15_surface_comparison.png  final surfaces, phase transition vs frictional
   fig16_velocity_x.png          v_x at 0.5 s after release, both models
   fig17_plastic_strain.png      plastic strain at the end, both models
-  runout_history.png            run-out, deposit height and kinetic energy over time
+  runout_history.png            run-out, deposit height and kinetic energy over time (both
+                                models with --frictional)
+  summary.json                  the numbers, for each run (the frictional one under
+                                "frictional"): run-out and height (furthest particle of the
+                                continuous deposit plus half a particle spacing; highest
+                                particle plus half a spacing), kinetic energy (peak, 0.5 and
+                                1 s after release) and the run-out tracker's front and top
+                                (particle centres) from runOut.csv, the step number of each
+                                snapshot, |v_x| statistics 0.5 s after release
 
 Run with Debian's /usr/bin/python3 (python3-vtk9, python3-matplotlib, python3-numpy).
 """
@@ -40,6 +51,7 @@ import numpy as np  # noqa: E402
 PAPER_RUNOUT = 0.42   # m, seed 001 section 4.1.1 (Bui et al. 2008 experiment)
 PAPER_HEIGHT = 0.10   # m
 SNAP_TIMES = [0.05, 0.25, 0.5, 1.0]  # s after release (Figs. 11-12)
+TOL = 1e-3  # s: a snapshot counts as "at" a time when it is this close
 
 
 def release_time(case):
@@ -95,6 +107,72 @@ class Series:
             if a is not None:
                 out[f] = vtk_to_numpy(a)
         return out
+
+
+def snapshot_steps(series, tr):
+    """Step number of every snapshot (field data "step" of the .vtp), by time after release."""
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    out = []
+    for t, f in series.items:
+        r = vtkXMLPolyDataReader()
+        r.SetFileName(f)
+        r.Update()
+        a = r.GetOutput().GetFieldData().GetAbstractArray("step")
+        out.append({"time_after_release_s": round(t - tr, 9),
+                    "step": int(a.GetVariantValue(0).ToDouble()) if a is not None else None})
+    return out
+
+
+def history_numbers(ro, tr):
+    """Kinetic energy peak and values 0.5 and 1 s after the release, and the run-out
+    tracker's front and top (particle centres) there, from runOut.csv."""
+    t, ke = ro["time"], ro["kinetic_energy"]
+    i = int(np.nanargmax(np.where(t >= tr, ke, -np.inf)))
+    out = {"kinetic_energy_peak_J_per_m": float(ke[i]),
+           "kinetic_energy_peak_time_after_release_s": round(float(t[i] - tr), 9)}
+    for ts in (0.5, 1.0):
+        j = int(np.argmin(np.abs(t - (tr + ts))))
+        key = "%gs" % ts
+        out["kinetic_energy_at_%s_J_per_m" % key] = float(ke[j])
+        out["kinetic_energy_at_%s_over_peak" % key] = float(ke[j] / ke[i])
+        out["max_speed_at_%s_m_per_s" % key] = float(ro["max_speed"][j])
+        out["tracker_front_at_%s_m" % key] = float(ro["runout"][j])
+        out["tracker_height_at_%s_m" % key] = float(ro["height"][j])
+    return out
+
+
+def plateau_edge(x, y, drop=0.001, width=0.001):
+    """Right edge of the undisturbed top of the column: the first bin (of `width`) whose
+    highest particle centre lies `drop` below the initial top (PAPER_HEIGHT)."""
+    sx, sy = surface_profile(x, y, width)
+    low = np.nonzero(sy < PAPER_HEIGHT - drop)[0]
+    return float(sx[low[0]]) if len(low) else float("nan")
+
+
+def velocity_numbers(d):
+    """|v_x| statistics of one snapshot: 99th percentile over the particles, largest v_x,
+    fraction of particles faster than 0.1 m/s, area (particle volume per metre of
+    thickness) moving faster than 0.2 and 0.3 m/s in x."""
+    vx = d["velocity"][:, 0]
+    sp = np.linalg.norm(d["velocity"], axis=1)
+    out = {"vx_p99": float(np.percentile(np.abs(vx), 99)), "vx_max": float(vx.max()),
+           "fraction_speed_above_0.1": float(np.mean(sp > 0.1))}
+    if "volume" in d:
+        for v in (0.2, 0.3):
+            out["area_vx_above_%g_m2" % v] = float(d["volume"][vx > v].sum())
+    return out
+
+
+def end_state(d):
+    """What still moves in the last snapshot: particles faster than 0.05 m/s and their
+    median position; the plateau edge (plateau_edge)."""
+    x, y = d["x"][:, 0], d["x"][:, 1]
+    moving = np.linalg.norm(d["velocity"], axis=1) > 0.05
+    return {"largest_speed_m_per_s": float(np.linalg.norm(d["velocity"], axis=1).max()),
+            "particles_faster_than_0.05": int(moving.sum()),
+            "their_median_x_m": float(np.median(x[moving])) if moving.any() else None,
+            "their_median_y_m": float(np.median(y[moving])) if moving.any() else None,
+            "plateau_edge_m": plateau_edge(x, y)}
 
 
 def surface_profile(x, y, width=0.002):
@@ -211,6 +289,10 @@ def main():
     summary["kinetic_energy_peak_J_per_m"] = ke_peak
     summary["kinetic_energy_final_J_per_m"] = float(ke[-1])
     summary["kinetic_energy_final_over_peak"] = float(ke[-1] / ke_peak) if ke_peak > 0 else float("nan")
+    summary.update(history_numbers(ro, tr))
+    summary["particles"] = int(len(x))
+    summary["snapshot_steps"] = snapshot_steps(series, tr)
+    summary["end_state"] = end_state(final)
 
     fig, ax = plt.subplots(figsize=(7, 2.6))
     ax.fill_between([0, 0.2], [0.1, 0.1], color="0.9", label="initial column")
@@ -321,15 +403,25 @@ def main():
         fs = Series(a.frictional)
         trf = release_time(a.frictional)
         tf_end, ff_end = fs.items[-1]
-        ffinal = Series.read(ff_end, ["plasticStrain", "volume"])
+        ffinal = Series.read(ff_end, ["plasticStrain", "velocity", "volume"])
         fx, fy = ffinal["x"][:, 0], ffinal["x"][:, 1]
-        fsx, fsy = surface_profile(fx, fy, max(2 * spacing, 0.001))
-        f_runout = deposit_front(fx, fy, spacing) + half
-        summary["frictional"] = {"runout_m": f_runout, "deposit_height_m": fy.max() + half}
+        fspacing = particle_spacing(a.frictional, ffinal)  # its own (the same cells: the same)
+        fhalf = 0.5 * fspacing
+        fsx, fsy = surface_profile(fx, fy, max(2 * fspacing, 0.001))
+        f_runout = deposit_front(fx, fy, fspacing) + fhalf
+        f_height = fy.max() + fhalf
+        fro = runs[1][2]
+        summary["frictional"] = {"final_time_after_release_s": tf_end - trf, "runout_m": f_runout,
+                                 "deposit_height_m": f_height, "runout_error": f_runout / PAPER_RUNOUT - 1,
+                                 "height_error": f_height / PAPER_HEIGHT - 1, "particles": int(len(fx))}
+        summary["frictional"].update(history_numbers(fro, trf))
+        summary["frictional"]["snapshot_steps"] = snapshot_steps(fs, trf)
         fig, ax = plt.subplots(figsize=(7, 2.6))
         ax.fill_between([0, 0.2], [0.1, 0.1], color="0.9", label="initial column")
         ax.plot(sx, sy, "k-", label="phase transition: d$_\\infty$ = %.3f m" % runout)
         ax.plot(fsx, fsy, "r--", label="frictional only: d$_\\infty$ = %.3f m" % f_runout)
+        ax.axvline(PAPER_RUNOUT, color="b", ls=":", lw=1, label="paper / experiment: d$_\\infty$ = 0.42 m")
+        ax.set_title("Final free surfaces, %.2f s after release (Fig. 15)" % (t_end - tr), fontsize=9)
         ax.set_aspect("equal")
         ax.set_xlim(0, 0.5)
         ax.set_ylim(0, 0.12)
@@ -340,20 +432,33 @@ def main():
         fig.savefig(os.path.join(out, "fig15_surface_comparison.png"), dpi=150)
         plt.close(fig)
         fig, axs = plt.subplots(2, 1, figsize=(7, 4))
-        speeds = {}
+        speeds, vnum = {}, {}
         for ax, (label, ser, r) in zip(axs, (("phase transition", series, tr), ("frictional", fs, trf))):
             t, f = ser.nearest(r + 0.5)
-            d = Series.read(f, ["velocity"])
-            s = scatter(ax, d, "velocity", "%s: v$_x$ [m/s] at t = %.2f s" % (label, t - r), 0, 0.4, "jet", comp=0)
+            if abs(t - (r + 0.5)) > TOL:  # e.g. a frictional run written without it
+                ax.set_title("%s: no snapshot 0.5 s after release (nearest %.2f s)" % (label, t - r), fontsize=9)
+                ax.set_axis_off()
+                print("column_collapse.py: %s run has no snapshot 0.5 s after the release" % label, file=sys.stderr)
+                continue
+            d = Series.read(f, ["velocity", "volume"])
+            s = scatter(ax, d, "velocity", "%s: v$_x$ [m/s] at t = %.2f s after release" % (label, t - r),
+                        0, 0.4, "jet", comp=0)
             plt.colorbar(s, ax=ax, shrink=0.8)
-            speeds[label] = float(np.percentile(np.abs(d["velocity"][:, 0]), 99))
+            x5, y5 = d["x"][:, 0], d["x"][:, 1]
+            vnum[label] = velocity_numbers(d)
+            vnum[label]["plateau_edge_m"] = plateau_edge(x5, y5)
+            speeds[label] = vnum[label]["vx_p99"]
         summary["vx_p99_at_0.5s"] = speeds
+        summary["velocity_at_0.5s"] = vnum
+        summary["frictional"]["end_state"] = end_state(ffinal)
         fig.tight_layout()
         fig.savefig(os.path.join(out, "fig16_velocity_x.png"), dpi=140)
         plt.close(fig)
         fig, axs = plt.subplots(2, 1, figsize=(7, 4))
-        for ax, (label, d) in zip(axs, (("phase transition", final), ("frictional", ffinal))):
-            s = scatter(ax, d, "plasticStrain", label + ": equivalent plastic strain (end)", 0, 1.0, "jet")
+        ends = (("phase transition", final, t_end - tr), ("frictional", ffinal, tf_end - trf))
+        for ax, (label, d, te) in zip(axs, ends):
+            s = scatter(ax, d, "plasticStrain", "%s: equivalent plastic strain, %.2f s after release"
+                        % (label, te), 0, 1.0, "jet")
             plt.colorbar(s, ax=ax, shrink=0.8)
         fig.tight_layout()
         fig.savefig(os.path.join(out, "fig17_plastic_strain.png"), dpi=140)

@@ -4,12 +4,15 @@ File > Open particles.pvd in ParaView, saved without a window.
 
     pvbatch paraview_snapshot.py case/VTK/particles.pvd out.png [--field plasticStrain]
         [--component X] [--time 1.1] [--range 0 1] [--preset Jet] [--size 1600 520]
-        [--radius 0.0005] [--zoom 1.0]
+        [--radius 0.0005] [--zoom 1.0 | --scale 3.5e-4]
 
 Needs ParaView's pvbatch (Debian: apt-get install paraview python3-paraview). Debian's
 ParaView renders through X: without a display run it under `xvfb-run -a pvbatch ...`.
 --time picks the step nearest to that time (default: the last); --radius is the disc
 radius in metres (default: 0.6 x the smallest particle spacing, sqrt of the `volume` array, 2D).
+The view frames the data shown (ParaView's Reset Camera), so with --zoom the scale depends on
+the extent of the particles; --scale M sets it instead (M metres per pixel), so that pictures
+of different runs can be compared by length. The scale of every picture is printed.
 """
 
 import argparse
@@ -36,6 +39,7 @@ def main(argv):
     p.add_argument("--size", type=int, nargs=2, default=[1600, 520], metavar=("W", "H"))
     p.add_argument("--radius", type=float, help="disc radius [m]")
     p.add_argument("--zoom", type=float, default=1.0, help="> 1 zooms in")
+    p.add_argument("--scale", type=float, help="metres per pixel (instead of --zoom)")
     a = p.parse_args(argv)
 
     src = PVDReader(FileName=a.pvd)
@@ -78,9 +82,14 @@ def main(argv):
     view.InteractionMode = "2D"
     ResetCamera()
     cam = view.GetActiveCamera()
-    cam.Zoom(a.zoom)
+    if a.scale:
+        cam.SetParallelScale(0.5 * a.scale * a.size[1])  # half the view height [m]
+    else:
+        cam.Zoom(a.zoom)
     SaveScreenshot(a.png, view, ImageResolution=a.size)
-    print(f"paraview_snapshot: wrote {a.png} ({a.field}{' ' + a.component if a.component else ''} at t = {t:g} s)")
+    scale = 2 * cam.GetParallelScale() / a.size[1]
+    print(f"paraview_snapshot: wrote {a.png} ({a.field}{' ' + a.component if a.component else ''} at t = {t:g} s; "
+          f"{scale:.6g} m per pixel, 0.1 m = {0.1 / scale:.1f} pixels)")
 
 
 if __name__ == "__main__":
