@@ -97,8 +97,9 @@ struct PassParams {
   /// plastic integration (a fraction of its registers: more warps per SM), and appends the
   /// others to `deferred`, counted in deferred_count[parity]; a second launch runs the whole
   /// pass over those (MaterialBody::launch). One stress pass per step, so the counters of
-  /// the two parities alternate. False: one kernel with the whole update.
-  bool split_elastic = true;
+  /// the two parities alternate. False (the default; the solver decides, RunOptions::
+  /// split_elastic): one kernel with the whole update.
+  bool split_elastic = false;
   /// CUDA, 2D: the elastic-only kernel's register cap (10 blocks of 64 per SM: 96
   /// registers, 20 warps per SM; the solver's default) or 0 (the compiler's choice).
   int elastic_blocks_per_sm = 0;
