@@ -105,8 +105,7 @@ struct PhaseTransition {
     s.epsEq = v.epsEq;
     const Real inv_dt = inc.dt > 0 ? 1 / inc.dt : Real(0);
     const Sym3 D = inc.deps * inv_dt;
-    const Real V = kt::solid_fraction(p.c, s.e);
-    const kt::Coefficients c = p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
+    const kt::Coefficients c = coefficients(p, s.e);
     const kt::RateInvariants ri = kt::rate_invariants(D);
     s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
     sigma = sf + kt::collisional_stress(c, s.T, D);     // eq. (1) with eq. (19)
@@ -114,11 +113,17 @@ struct PhaseTransition {
     s.trD = ri.tr;
   }
 
+  /// The collisional coefficients (eqs. 20-24) at the void ratio e: from the prepared
+  /// parameter-only factors when read() made them. update() and wave_speed() both call this,
+  /// so that the compiler computes them once when the kernel asks for the speed right after
+  /// the update.
+  SCREE_HD static kt::Coefficients coefficients(const Params& p, Real e) {
+    const Real V = kt::solid_fraction(p.c, e);
+    return p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
+  }
+
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
-    // the same call as in update(), so that the compiler computes the coefficients once
-    // when the kernel asks for the speed right after the update
-    const Real V = kt::solid_fraction(p.c, s.e);
-    const kt::Coefficients c = p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
+    const kt::Coefficients c = coefficients(p, s.e);
     return simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, s.T) +
            kt::viscous_speed(c, s.T, rho, h);
   }
@@ -146,11 +151,11 @@ struct PhaseTransition {
     out.derived("collisionalDeviatoricStress", "Pa", "q_col of sigma_col = sigma - sigma_f",
                 [](const Params&, const State& s, const Sym3& sig) { return deviatoric_stress(sig - s.sigf); });
     out.derived("shearViscosity", "Pa s", "eta (eq. 21)", [](const Params& p, const State& s, const Sym3&) {
-      const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+      const kt::Coefficients c = coefficients(p, s.e);
       return c.eta_hat * sqrt(fmax(s.T, Real(0)));
     });
     out.derived("bulkViscosity", "Pa s", "gamma (eq. 22)", [](const Params& p, const State& s, const Sym3&) {
-      const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+      const kt::Coefficients c = coefficients(p, s.e);
       return c.gam_hat * sqrt(fmax(s.T, Real(0)));
     });
     out.derived("collisionalFraction", "-", "K_col = q_col/(q_col + q_f) (section 4.1.2)",

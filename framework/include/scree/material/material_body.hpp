@@ -425,10 +425,13 @@ class MaterialBody final : public Body<D> {
     first.deferred = deferred_.data();
     first.deferred_count = deferred_count_.data();
     ParticlePass<D, Shape, M, kAllPhases, true> elastic{first, arrays_, shape, params_};
-    if (D == 2 && pp.elastic_blocks_per_sm == kElasticBlocks2D)
-      parallel_for_warps_bounded<kStressBlock, kElasticBlocks2D>(exec_, n_, elastic);
-    else
-      parallel_for_warps(exec_, n_, elastic, kStressBlock);
+    bool capped = false;
+    if constexpr (D == 2)  // the capped kernel exists only in 2D (no unused 3D instance to compile)
+      if (pp.elastic_blocks_per_sm == kElasticBlocks2D) {
+        parallel_for_warps_bounded<kStressBlock, kElasticBlocks2D>(exec_, n_, elastic);
+        capped = true;
+      }
+    if (!capped) parallel_for_warps(exec_, n_, elastic, kStressBlock);
     ParticlePass<D, Shape, M, kAllPhases> full{pp, arrays_, shape, params_};
     unsigned* count = deferred_count_.data();
     constexpr int kMinBlocks = D == 2 ? 6 : 1;  // the whole update's register cap, as launch()
