@@ -35,6 +35,15 @@
 #include "scree/core/config.hpp"
 #include "scree/core/tensor.hpp"
 
+// Diagnostics (off unless defined): with SCREE_SIMSAND_REPORT_SUBSTEPS = N, e.g. from the
+// CMake option of that name in a diagnostic build, every update of integrate() that takes
+// more than N substeps prints one line (printf, on the GPU too) with its count, its input
+// stress, void ratio, kappa and strain increment at full precision: enough to replay it on
+// the CPU and see where the substeps go (docs/performance.md, entry 15).
+#if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
+#include <cstdio>
+#endif
+
 namespace scree::materials::simsand {
 
 /// Host-prepared constants (trivially copyable).
@@ -71,6 +80,9 @@ struct Params {
   /// 1: pow() for every power, the straightforward evaluation the fast one is tested
   /// against (tests/unit/performance).
   Real exact;
+  /// 1, the default: stiff remainders of an update by implicit returns (integrate(), README step
+  /// 5); 0: modified-Euler substeps throughout (the reference the returns are tested against).
+  Real stiff_return;
 };
 
 /// Internal variables integrated together with the stress.
@@ -84,6 +96,13 @@ inline constexpr Real kFtol = 1e-9;        ///< yield-function tolerance (f is a
 inline constexpr int kMaxSubsteps = 1000;  ///< substeps with error control per update (then relaxed)
 inline constexpr Real kMinSubstep = 1e-4;  ///< smallest substep, as a fraction of the increment
 inline constexpr int kApexIter = 8;        ///< rate evaluations to locate where a substep reaches the apex
+/// Stiff updates (integrate(), README step 5): after kStiffAfter substep attempts, a remainder
+/// that would need more than kStiffRemaining substeps of the current size is done in
+/// kReturnSubsteps implicit returns, if the state is looser than critical and p does not grow
+/// along them.
+inline constexpr int kStiffAfter = 64;
+inline constexpr Real kStiffRemaining = 32;
+inline constexpr int kReturnSubsteps = 8;
 
 /// Host: fill the derived constants. phi_c in degrees.
 inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Real eref, Real lambda, Real xi,
@@ -118,6 +137,7 @@ inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Rea
   P.Cfac = K0 * std::pow(pat, 1 - n);
   P.inv_pat = 1 / pat;
   P.exact = 0;
+  P.stiff_return = 1;
   return P;
 }
 
@@ -530,6 +550,128 @@ SCREE_HD inline Real heun_error(const Params& P, const Rate& r1, const Rate& r2,
   return Real(0.5) * fmax(es, ek);
 }
 
+/// The implicit return of a stiff substep in the p-q plane: the plastic multiplier x = d eps_d^p
+/// (= d kappa) that brings the elastic trial (p_t, q_t) back onto the yield surface, with the
+/// moduli K, G = rG K, the ratios M_p, M_pt and g(theta) frozen at the trial (backward Euler,
+/// the flow evaluated at the end state, where q/(p g) = H):
+///   q(x) = q_t - 3G x,   p(x) = p_t - K d x,   d = A_d (M_pt - H(x))          eqs. (13), (15)
+///   H(x) = M_p (kappa + x)/(k_p + kappa + x)                                     eq. (14)
+///   phi(x) = q(x) - H(x) g p(x) = 0                                             eq. (14)
+/// (the flow is radial in the deviatoric plane, so the Lode angle stays the trial's).
+struct StiffReturn {
+  Real pt, qt, G3, KAd, Mp, Mpt, g, kappa, kp;  ///< KAd = K A_d
+  SCREE_HD Real H(Real x) const { return Mp * (kappa + x) / (kp + kappa + x); }
+  SCREE_HD Real p(Real x) const { return pt - KAd * (Mpt - H(x)) * x; }
+  SCREE_HD Real phi(Real x) const { return qt - G3 * x - H(x) * g * p(x); }
+};
+
+/// Whether the stiff remainder drem of an update from sig (void ratio e) may be done by the
+/// implicit returns (integrate(), README step 5), as the margin by which the plastic contraction
+/// outweighs the volumetric compression of drem; below 0: not at all.
+/// - the state must be looser than critical, e >= e_c(p) (eq. 16): then M_pt >= M_c >= M_p
+///   (eqs. 17-18) and the flow contracts (d >= 0, eq. 15) at every stress ratio the yield surface
+///   allows, whatever the hardening (denser, dilatancy can build p by orders of magnitude along
+///   the path, which returns with moduli frozen at the trial do not follow);
+/// - margin = A_d (M_pt - M_p) eps_d(drem) / max(-tr drem, 0): the contraction at its slowest
+///   over the elastic compression. The caller asks for 1 (p stays bounded: the balance of the
+///   two near the apex, or a fall to it), and before it lets a return separate the point either
+///   p <= p_min, where K ~ (p + p_min)^n hardly varies along the path and the frozen moduli are
+///   all but exact, or 1.25 (where the two nearly balance at a larger p, whether the path falls
+///   to the apex depends on how K varies along it).
+SCREE_HD inline Real stiff_return_margin(const Params& P, const Sym3& sig, Real e, const Sym3& drem) {
+  const Real p = mean_pressure(sig);
+  if (!(p > P.papex)) return -1;
+  const Ratios R = ratios(P, e, p);
+  if (!(R.Mpt >= R.Mp)) return -1;  // denser than critical
+  const Real contraction = P.Ad * (R.Mpt - R.Mp) * equivalent_deviatoric_strain(drem);
+  const Real compression = fmax(-drem.trace(), Real(0));
+  return contraction >= Real(1e300) * compression ? Real(1e300) : contraction / compression;
+}
+inline constexpr Real kStiffMargin = 1;        ///< stiff_return_margin() needed for the returns
+inline constexpr Real kStiffApexMargin = 1.25;  ///< ... and for a return to separate a point at p > p_min
+
+/// One stiff substep (integrate(), README step 5): the elastic predictor over d from sig at the
+/// void ratio e_mid, then the implicit return above, solved for x in (0, q_t/3G) by the Pegasus
+/// method (phi(0) > 0 outside the surface, phi(q_t/3G) = -H g p < 0 while p > 0), then the drift
+/// correction of the substepping. Returns false (nothing changed) when the substep reaches the
+/// apex: the trial separates, or p(x) would reach p_apex before q/(p g) comes down to H.
+SCREE_HD inline bool stiff_substep(const Params& P, Sym3& sig, Vars& v, Real e_mid, Real eb, const Sym3& d) {
+  Sym3 st;
+  if (!elastic_predictor(P, sig, e_mid, d, st)) return false;
+  const Invariants iv = invariants(st);
+  if (!(iv.p > P.papex)) return false;
+  const Ratios R = ratios(P, eb, iv.p);
+  const Real K = bulk_modulus(P, eb, iv.p);
+  const StiffReturn ret{iv.p, iv.q, 3 * P.rG * K, K * P.Ad, R.Mp, R.Mpt, lode_g(P, iv.S), fmax(v.kappa, Real(0)),
+                        P.kp};
+  Real xa = 0, fa = ret.phi(0);
+  Real x = 0;
+  if (fa > 0) {  // plastic: locate the root of phi in (0, q_t/3G)
+    Real xb = iv.q / ret.G3, fb = ret.phi(xb);
+    if (!(fb < 0) || !(ret.p(xb) > P.papex)) return false;
+    const Real tol = Real(1e-12) * (iv.q + ret.g * ret.Mp * iv.p);
+    for (int it = 0; it < 100; ++it) {
+      x = xb - fb * (xb - xa) / (fb - fa);
+      const Real fx = ret.phi(x);
+      if (fabs(fx) <= tol || fabs(xb - xa) <= Real(1e-15) * xb) break;
+      if (fx * fb < 0) {
+        xa = xb;
+        fa = fb;
+      } else {
+        fa = fa * fb / (fb + fx);
+      }
+      xb = x;
+      fb = fx;
+    }
+    const Real pe = ret.p(x);
+    if (!(pe > P.papex)) return false;
+    const Real qe = iv.q - ret.G3 * x;
+    st = from_p_s(pe, iv.s * (fmax(qe, Real(0)) / iv.q));
+    const Real dil = P.Ad * (R.Mpt - ret.H(x));
+    v.kappa += x;
+    v.epsEq += x * sqrt(dil * dil * (Real(2) / 9) + 1);  // sqrt(2/3 m:m) dlambda, as plastic_rate()
+  }
+  sig = st;
+  bool projected;
+  yield_and_project(P, sig, eb, v.kappa, true, projected);  // drift correction
+  return true;
+}
+
+/// What stiff_remainder() did.
+enum StiffOutcome { kStiffDone, kStiffApex, kStiffDeclined };
+
+/// The remainder (T, 1] of the plastic part drem of an update in kReturnSubsteps stiff substeps
+/// (integrate(), README step 5). kStiffDone: sig, v and T = 1 updated. kStiffApex: a return
+/// reached the apex (allowed when may_separate); sig, v and T are those after the returns before
+/// it (the caller separates the rest). kStiffDeclined: p grew along the returns beyond twice its
+/// start (+ STOL s_e), where frozen moduli are not accurate, or a return reached the apex where
+/// that is not certain; nothing changed (the caller goes on with Heun substeps).
+SCREE_HD inline StiffOutcome stiff_remainder(const Params& P, Sym3& sig, Vars& v, Real ope0, Real tr, Real alpha,
+                                             Real& T, const Sym3& drem, bool may_separate) {
+  Sym3 s = sig;
+  Vars w = v;
+  Real Ts = T;
+  const Real pcap = 2 * mean_pressure(sig) + P.stol * P.serr;
+  for (int j = 1; j <= kReturnSubsteps; ++j) {
+    const Real Tn = j == kReturnSubsteps ? Real(1) : T + (1 - T) * j / kReturnSubsteps;
+    const Real em = void_ratio_at(ope0, tr, alpha + (1 - alpha) * Real(0.5) * (Ts + Tn));
+    const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * Tn);
+    if (!stiff_substep(P, s, w, em, eb, drem * (Tn - Ts))) {
+      if (!may_separate) return kStiffDeclined;
+      sig = s;
+      v = w;
+      T = Ts;
+      return kStiffApex;
+    }
+    if (mean_pressure(s) > pcap) return kStiffDeclined;
+    Ts = Tn;
+  }
+  sig = s;
+  v = w;
+  T = 1;
+  return kStiffDone;
+}
+
 /// The opening of every stress update (integrate() and integrate_elastic() below): the void
 /// ratios of the increment, the start stress brought back onto a yield surface that moved
 /// since the last step (e, p or kappa changed), and the exact elastic trial. Needs a finite
@@ -587,6 +729,10 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     v.e = fmax(v.e, Real(1e-6));
     return;
   }
+#if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
+  const Sym3 sig_in = sig;
+  const Vars v_in = v;
+#endif
   if (!(mean_pressure(sig) > P.papex)) {
     // ---- apex: stress-free point (after separation or at a free surface)
     const Real tr = deps.trace();
@@ -652,9 +798,26 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   // STOL x s_e (0.1 Pa with STOL = 1e-3).
   const Real snear = P.stol * P.serr;
   bool at_apex = false;  // the path has reached the stress-free apex: the remainder is done there
+  bool stiff_tried = false;  // implicit returns tried for the remainder (README step 5), once
   int n = 0;
   while (T < 1) {
     ++n;
+    if (P.stiff_return != 0 && !stiff_tried && n > kStiffAfter && 1 - T > kStiffRemaining * dT) {
+      // ---- a stiff remainder: the substep the error control asks for is set by the elastic
+      // stiffness (about p/(3G |de_d|): hundreds of substeps near the apex, or where M_p is
+      // tiny at a large void ratio), not by the curvature of the path.
+      stiff_tried = true;
+      const Real margin = stiff_return_margin(P, sig, ea, drem);
+      const StiffOutcome o = margin >= kStiffMargin
+                                 ? stiff_remainder(P, sig, v, ope0, tr, alpha, T, drem,
+                                                   margin >= kStiffApexMargin || mean_pressure(sig) <= P.pmin)
+                                 : kStiffDeclined;
+      if (o == kStiffDone) break;
+      if (o == kStiffApex) {
+        at_apex = true;
+        break;
+      }
+    }
     // bounded work: after kMaxSubsteps substeps the error control is switched off and the
     // substep is not allowed below 1/kMaxSubsteps of what then remained; after 3 kMaxSubsteps
     // the remainder is done in one step.
@@ -754,6 +917,13 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     const Real fac = R > 0 ? fmin(Real(0.9) * sqrt(P.stol / R), Real(1.1)) : Real(1.1);
     dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);
   }
+#if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
+  if (n > SCREE_SIMSAND_REPORT_SUBSTEPS)
+    printf("simsand-substeps %d apex %d sig %.17g %.17g %.17g %.17g %.17g %.17g e %.17g kappa %.17g "
+           "deps %.17g %.17g %.17g %.17g %.17g %.17g\n",
+           n, at_apex ? 1 : 0, sig_in[0], sig_in[1], sig_in[2], sig_in[3], sig_in[4], sig_in[5], v_in.e, v_in.kappa,
+           deps[0], deps[1], deps[2], deps[3], deps[4], deps[5]);
+#endif
   if (at_apex) {
     // the remainder of the increment at the apex: the point separates (sigma = 0, the
     // deviatoric strain of the remainder is plastic: kappa and epsEq grow); the next update

@@ -129,6 +129,102 @@ TEST(Robustness, LargeIncrementEqualsManySmall) {
   }
 }
 
+// Stiff updates (simsand_model.hpp, integrate() step 5; docs/performance.md entry 15): eight
+// updates recorded on the GPU in the 1 mm column collapse (steps 10,000-62,000), among the
+// slowest of 178,220 that took more than 300 substeps: three stretched points (e = 19-46, M_p
+// nearly 0) and five grains at a tenth of a pascal (3G|de_d|/p ~ 3,000). Replayed, each must
+// match the converged path (1,000 sub-increments at STOL = 1e-8, modified Euler throughout)
+// within 1 Pa = 10 STOL s_e (the error the substepping accepts per substep, ten times) and
+// within 1e-4 in kappa. The explicit scheme alone missed it by up to 46 Pa on the stretched
+// points (it carried p ~ 27 Pa where the converged path falls to the apex).
+TEST(Robustness, StiffUpdatesMatchConvergedPath) {
+  struct Recorded {
+    int substeps;  // what the update took on the GPU before the implicit returns
+    Sym3 sig;
+    double e, kappa;
+    Sym3 deps;
+  };
+  const Recorded rec[] = {
+    {1448,
+     {{-74.646564228520603, -74.632991302552483, -74.635196714282458, 0.0020152717435200054, 0, 0}},
+     30.878511815601549, 10.667610402493079,
+     {{-0.0015458995639904658, 0.00030375263531509682, 0, 0.00027594088399184903, 0, 0}}},
+    {1422,
+     {{-85.336718360153768, -85.31293319628584, -85.311451104846981, 0.022555546272188549, 0, 0}},
+     19.16810412328185, 6.4264474604284452,
+     {{-0.0012621590671802157, -6.9005706314294738e-05, 0, 0.0011424209350001018, 0, 0}}},
+    {1325,
+     {{-46.992047456702494, -46.990497486497176, -46.990197964944379, 0.0015808373240092301, 0, 0}},
+     45.534494175928728, 6.1544494783687052,
+     {{-0.00083350114864077574, -0.00013302070144406781, 0, 0.00071838024215061631, 0, 0}}},
+    {1045,
+     {{-0.086657780976775206, -0.050602862414894131, -0.07523354092698939, 0.011207470672417154, 0, 0}},
+     1.0532667611847357, 6.7606105495379936,
+     {{-0.00070827278704712487, 0.00064999922456418675, 0, 0.00068099310753476957, 0, 0}}},
+    {1035,
+     {{-0.095681055217613817, -0.059114635634915251, -0.078518395118406165, 0.016548586429918688, 0, 0}},
+     1.0531471135020158, 6.7614776100451328,
+     {{-0.00069853249898697205, 0.0006440957427947772, 0, 0.00067115895061682597, 0, 0}}},
+    {1034,
+     {{-0.076097492580072604, -0.058687616782054183, -0.055417504466128954, 0.019559677187893594, 0, 0}},
+     1.0535212040127646, 6.7588866512242083,
+     {{-0.00069783463813984504, 0.00063443042558918646, 0, 0.00067183712593001555, 0, 0}}},
+    {841,
+     {{-0.072406104638818414, -0.082195302087622518, -0.0758194680459678, 0.0245777623820807, 0, 0}},
+     1.0491543480590346, 11.113749725516261,
+     {{0.00017296571206047303, -0.00021463215962389548, 0, 0.00074702459680853683, 0, 0}}},
+    {837,
+     {{-0.06618904420286631, -0.07066451312575571, -0.066022642811818841, 0.022112837140974211, 0, 0}},
+     1.0495371421156596, 11.110263162510115,
+     {{0.00017941718781056879, -0.00021403925150100672, 0, 0.00075360854689664192, 0, 0}}},
+  };
+  // cases/columnCollapse: Table 3 with integrationTolerance 1e-3
+  simsand::Params P = simsand::make_params(120, 0.2, 0.5, 101300, 19.8, 0.977, 0.0596, 0.365, 0.7, 0.0044, 2.4,
+                                           2.9, 1.0, 1e-3, true);
+  simsand::Params R = P;
+  R.stol = 1e-8;
+  R.stiff_return = 0;
+  for (const Recorded& r : rec) {
+    Sym3 a = r.sig, c = r.sig;
+    simsand::Vars va{r.e, r.kappa, 0}, vc = va;
+    simsand::integrate(P, a, va, r.deps);
+    for (int i = 0; i < 1000; ++i) simsand::integrate(R, c, vc, r.deps * 1e-3);
+    EXPECT_LT(norm(a - c), 10 * P.stol * P.serr) << "recorded update of " << r.substeps << " substeps";
+    EXPECT_NEAR(va.kappa, vc.kappa, 1e-4) << "recorded update of " << r.substeps << " substeps";
+    EXPECT_NEAR(va.e, vc.e, 1e-11 * (1 + vc.e));  // 1 + e follows the volume: the same up to round-off
+  }
+}
+
+// The returns stay out of what they cannot follow: denser than critical (dilatancy builds p
+// along the path) or compression outweighing the plastic contraction. There integrate() gives
+// the modified-Euler answer, bit for bit.
+TEST(Robustness, StiffReturnsLeaveDenseAndCompressedPathsAlone) {
+  simsand::Params P = simsand::make_params(120, 0.2, 0.5, 101300, 19.8, 0.977, 0.0596, 0.365, 0.7, 0.0044, 2.4,
+                                           2.9, 1.0, 1e-3, true);
+  simsand::Params E = P;
+  E.stiff_return = 0;
+  struct Case {
+    double p, e, kappa, vol;  // vol: tr deps per unit of |dev deps|
+  };
+  for (const Case& k : {Case{1, 0.75, 0.05, 0.0}, Case{10, 0.85, 0.002, 0.0}, Case{10, 1.2, 0.002, -1.0},
+                        Case{30, 1.2, 0.05, -1.0}}) {
+    Sym3 s0 = Sym3{{-k.p + 0.3 * k.p, -k.p - 0.3 * k.p, -k.p, 0.2 * k.p, 0, 0}};
+    bool projected;
+    simsand::yield_and_project(P, s0, k.e, k.kappa, true, projected);
+    const double G = P.rG * simsand::bulk_modulus(P, k.e, k.p);
+    Sym3 d{{0.6, -0.6, 0, 0.5, 0, 0}};
+    d = d * (500 * k.p / (3 * G) / norm(d));  // 3G|de_d|/p = 500: hundreds of substeps
+    d[0] += 0.5 * k.vol * norm(d);
+    d[1] += 0.5 * k.vol * norm(d);
+    Sym3 a = s0, b = s0;
+    simsand::Vars va{k.e, k.kappa, 0}, vb = va;
+    simsand::integrate(P, a, va, d);
+    simsand::integrate(E, b, vb, d);
+    for (int c = 0; c < 6; ++c) EXPECT_EQ(a[c], b[c]) << "p " << k.p << " e " << k.e;
+    EXPECT_EQ(va.kappa, vb.kappa);
+  }
+}
+
 // Free surface: a lightly stressed point under extension separates (stress-free, no
 // tension, no NaN); shearing at the apex keeps it stress-free; compression rebuilds a
 // stress inside the yield cone; the wave speed stays positive (p_min regularisation).
