@@ -39,10 +39,13 @@
 // CMake option of that name in a diagnostic build, every update of integrate() that takes
 // more than N substeps prints one line (printf, on the GPU too) with its count, its input
 // stress, void ratio, kappa and strain increment at full precision: enough to replay it on
-// the CPU and see where the substeps go (docs/performance.md, entry 15).
+// the CPU and see where the substeps go (docs/performance.md, entry 15). In GPU builds with
+// SCREE_REPORT_CYCLES, every update notes its substeps and paths for the particle pass's
+// report of slow warps (scree/core/report_cycles.hpp; entry 16).
 #if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
 #include <cstdio>
 #endif
+#include "scree/core/report_cycles.hpp"
 
 namespace scree::materials::simsand {
 
@@ -474,23 +477,33 @@ SCREE_HD inline Real elastic_path_yield(const Params& P, const Sym3& sig0, Real 
   return yield(P, sig_a, void_ratio_at(ope0, tr, a), kappa);
 }
 
+/// The Pegasus method (Dowell & Jarratt 1972), a secant search that keeps a root bracketed,
+/// used by every scalar search below: the next point from the bracket (xa, fa), (xb, fb), with
+/// (xb, fb) the latest evaluation, ...
+SCREE_HD inline Real pegasus_point(Real xa, Real fa, Real xb, Real fb) { return xb - fb * (xb - xa) / (fb - fa); }
+/// ... and the bracket after f(x) = fx: x replaces xb; where the sign did not change, fa is
+/// scaled by fb/(fb + fx) (Pegasus' rule; plain regula falsi would keep fa and stall).
+SCREE_HD inline void pegasus_bracket(Real x, Real fx, Real& xa, Real& fa, Real& xb, Real& fb) {
+  if (fx * fb < 0) {
+    xa = xb;
+    fa = fb;
+  } else {
+    fa = fa * fb / (fb + fx);
+  }
+  xb = x;
+  fb = fx;
+}
+
 /// Pegasus search of the elastic fraction a in (a0, a1) where the elastic path crosses f = 0
 /// (f0 < 0 < f1).
 SCREE_HD inline Real yield_crossing(const Params& P, const Sym3& sig0, Real kappa, Real ope0, const Sym3& deps,
                                     Real a0, Real f0, Real a1, Real f1) {
   Sym3 tmp;
   for (int it = 0; it < 60; ++it) {
-    const Real a = a1 - f1 * (a1 - a0) / (f1 - f0);
+    const Real a = pegasus_point(a0, f0, a1, f1);
     const Real fa = elastic_path_yield(P, sig0, kappa, ope0, deps, a, tmp);
     if (fabs(fa) <= kFtol) return a;
-    if (fa * f1 < 0) {
-      a0 = a1;
-      f0 = f1;
-    } else {
-      f0 = f0 * f1 / (f1 + fa);
-    }
-    a1 = a;
-    f1 = fa;
+    pegasus_bracket(a, fa, a0, f0, a1, f1);
     if (fabs(a1 - a0) < Real(1e-14)) break;
   }
   return fmin(a0, a1) > 0 ? fmin(a0, a1) : Real(0);
@@ -561,8 +574,14 @@ SCREE_HD inline Real heun_error(const Params& P, const Rate& r1, const Rate& r2,
 struct StiffReturn {
   Real pt, qt, G3, KAd, Mp, Mpt, g, kappa, kp;  ///< KAd = K A_d
   SCREE_HD Real H(Real x) const { return Mp * (kappa + x) / (kp + kappa + x); }
-  SCREE_HD Real p(Real x) const { return pt - KAd * (Mpt - H(x)) * x; }
-  SCREE_HD Real phi(Real x) const { return qt - G3 * x - H(x) * g * p(x); }
+  SCREE_HD Real p(Real x) const { return p(x, H(x)); }
+  SCREE_HD Real phi(Real x) const {
+    const Real h = H(x);
+    return qt - G3 * x - h * g * p(x, h);
+  }
+
+ private:
+  SCREE_HD Real p(Real x, Real h) const { return pt - KAd * (Mpt - h) * x; }
 };
 
 /// Whether the stiff remainder drem of an update from sig (void ratio e) may be done by the
@@ -611,17 +630,10 @@ SCREE_HD inline bool stiff_substep(const Params& P, Sym3& sig, Vars& v, Real e_m
     if (!(fb < 0) || !(ret.p(xb) > P.papex)) return false;
     const Real tol = Real(1e-12) * (iv.q + ret.g * ret.Mp * iv.p);
     for (int it = 0; it < 100; ++it) {
-      x = xb - fb * (xb - xa) / (fb - fa);
+      x = pegasus_point(xa, fa, xb, fb);
       const Real fx = ret.phi(x);
       if (fabs(fx) <= tol || fabs(xb - xa) <= Real(1e-15) * xb) break;
-      if (fx * fb < 0) {
-        xa = xb;
-        fa = fb;
-      } else {
-        fa = fa * fb / (fb + fx);
-      }
-      xb = x;
-      fb = fx;
+      pegasus_bracket(x, fx, xa, fa, xb, fb);
     }
     const Real pe = ret.p(x);
     if (!(pe > P.papex)) return false;
@@ -799,6 +811,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   const Real snear = P.stol * P.serr;
   bool at_apex = false;  // the path has reached the stress-free apex: the remainder is done there
   bool stiff_tried = false;  // implicit returns tried for the remainder (README step 5), once
+  bool apex_searched = false;  // the crossing of the apex searched (diagnostics only)
   int n = 0;
   while (T < 1) {
     ++n;
@@ -864,9 +877,10 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
       //   substepping goes on from the largest size with p > pt at its end.
       const Real pt = P.papex + Real(0.25) * snear;
       Real xa = 0, ha = mean_pressure(sig) - pt, xb = dT, hb = ph - pt, xpos = 0, xnext = -1;
+      apex_searched = true;
       for (int it = 0; it < kApexIter; ++it) {
         ++n;  // one rate evaluation, like a rejected substep (bounded work)
-        const Real x = xb - hb * (xb - xa) / (hb - ha);
+        const Real x = pegasus_point(xa, ha, xb, hb);
         if (!(x > 0 && x < dT)) break;
         const Real ex = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + x));
         const bool okx = heun_substep(P, sig, v.kappa, r1u, drem, x, ex, ex - ea, r1, r2, sn, kn);
@@ -888,15 +902,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
           }
           xpos = fmax(xpos, x);
         }
-        const Real hx = px - pt;
-        if (hx * hb < 0) {
-          xa = xb;
-          ha = hb;
-        } else {
-          ha = ha * hb / (hb + hx);
-        }
-        xb = x;
-        hb = hx;
+        pegasus_bracket(x, px - pt, xa, ha, xb, hb);
       }
       if (at_apex) break;
       dT = fmax(xnext > 0 ? xnext : (xpos > 0 ? xpos : Real(0.1) * dT), Real(1e-3) * kMinSubstep);
@@ -924,6 +930,8 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
            n, at_apex ? 1 : 0, sig_in[0], sig_in[1], sig_in[2], sig_in[3], sig_in[4], sig_in[5], v_in.e, v_in.kappa,
            deps[0], deps[1], deps[2], deps[3], deps[4], deps[5]);
 #endif
+  // paths: 1 implicit returns tried, 2 the apex crossing searched, 4 the remainder at the apex
+  diag::report_work(unsigned(n), (stiff_tried ? 1u : 0u) | (apex_searched ? 2u : 0u) | (at_apex ? 4u : 0u));
   if (at_apex) {
     // the remainder of the increment at the apex: the point separates (sigma = 0, the
     // deviatoric strain of the remainder is plastic: kappa and epsEq grow); the next update

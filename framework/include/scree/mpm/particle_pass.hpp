@@ -25,6 +25,7 @@
 #pragma once
 
 #include "scree/core/config.hpp"
+#include "scree/core/report_cycles.hpp"
 #include "scree/core/tensor.hpp"
 #include "scree/exec/parallel.hpp"
 #include "scree/material/material.hpp"
@@ -220,6 +221,12 @@ struct ParticlePass {
   SCREE_HD void operator()(Index p, bool valid) const { run(p, valid); }
 
   SCREE_HD void run(Index p, bool valid) const {
+#if defined(SCREE_REPORT_CYCLES) && defined(__CUDA_ARCH__)
+    // Diagnostic builds (CMake option SCREE_REPORT_CYCLES = C): a warp whose pass takes more
+    // than C clock cycles prints one line (scree/core/report_cycles.hpp).
+    diag::report_clear();
+    const long long pass_in = clock64();
+#endif
     StepControl* ctl = pp.control;
     const Real dt = ctl->dt[pp.gather_parity];
     const GridGeometry<D>& g = pp.grid;
@@ -330,6 +337,26 @@ SCREE_UNROLL
       if (apic)
         for (int i = 0; i < D * D; ++i) pa.C[i][p] = C.a[i / D][i % D];
     }
+#if defined(SCREE_REPORT_CYCLES) && defined(__CUDA_ARCH__)
+    {
+      const long long pass_cycles = clock64() - pass_in;
+      const unsigned n = diag::report_substeps[diag::report_slot()], paths = diag::report_paths[diag::report_slot()];
+      const unsigned all = __activemask();
+      unsigned sum = n, top = n;
+      for (int o = 16; o > 0; o /= 2) {
+        sum += __shfl_xor_sync(all, sum, o);
+        top = max(top, __shfl_xor_sync(all, top, o));
+      }
+      const int busy = __popc(__ballot_sync(all, n > 0));
+      const int p1 = __popc(__ballot_sync(all, paths & 1u)), p2 = __popc(__ballot_sync(all, paths & 2u)),
+                p4 = __popc(__ballot_sync(all, paths & 4u));
+      const long long slowest = warp_max(Real(pass_cycles));
+      if (detail::first_lane() && slowest > SCREE_REPORT_CYCLES)
+        printf("pass-cycles %lld step %llu elastic-first %d block %u lanes %d substeps-sum %u substeps-max %u "
+               "paths %d %d %d\n",
+               slowest, ctl->step[pp.gather_parity], ElasticFirst ? 1 : 0, blockIdx.x, busy, sum, top, p1, p2, p4);
+    }
+#endif
   }
 
   /// P2G: mass, momentum and force into the set S. `active` becomes false when the
