@@ -149,7 +149,8 @@ void grid_update(const Exec& ex, const GridUpdateParams<D>& p) {
   }
   if (p.modes & kAdvance) GridUpdate<D>::advance(p.control, p.parity);
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(ex.threads > 0 ? ex.threads : 1)
+#pragma omp parallel for schedule(static) if (tiles * Tiles<D>::kNodes >= kCpuParallelMinItems) \
+    num_threads(ex.threads > 0 ? ex.threads : 1)
 #endif
   for (Index t = 0; t < tiles; ++t) {
     bool act, clr;

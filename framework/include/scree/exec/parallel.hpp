@@ -76,6 +76,17 @@ __global__ void __launch_bounds__(Block, MinBlocks)
 
 inline constexpr int kCudaBlockSize = 256;
 
+/// CPU loops shorter than this run on the calling thread alone. A parallel region costs
+/// a fork and a barrier (microseconds when the team is hot), and a barrier waits for a
+/// whole scheduler time slice (milliseconds) whenever one of its threads has been
+/// descheduled -- which happens on every step when other processes share the cores (two
+/// ctest jobs on two cores did that: a 320-particle test ran 300x slower). A loop of a
+/// few hundred particles or nodes does less work than one such wait.
+inline constexpr Index kCpuParallelMinItems = 2048;
+/// The same for loops whose items are each a whole stress update with substepping
+/// (parallel_for_listed_warps): tens of microseconds each, so a few dozen fill a thread.
+inline constexpr Index kCpuParallelMinCostlyItems = 64;
+
 template <class F>
 void parallel_for(const Exec& ex, Index n, const F& f, int block = kCudaBlockSize) {
   if (n <= 0) return;
@@ -92,7 +103,8 @@ void parallel_for(const Exec& ex, Index n, const F& f, int block = kCudaBlockSiz
   } else {
     (void)block;
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(ex.threads > 0 ? ex.threads : 1)
+#pragma omp parallel for schedule(static) if (n >= kCpuParallelMinItems) \
+    num_threads(ex.threads > 0 ? ex.threads : 1)
 #endif
     for (Index i = 0; i < n; ++i) f(i);
   }
@@ -116,7 +128,8 @@ void parallel_for_warps(const Exec& ex, Index n, const F& f, int block = kCudaBl
   } else {
     (void)block;
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(ex.threads > 0 ? ex.threads : 1)
+#pragma omp parallel for schedule(static) if (n >= kCpuParallelMinItems) \
+    num_threads(ex.threads > 0 ? ex.threads : 1)
 #endif
     for (Index i = 0; i < n; ++i) f(i, true);
   }
@@ -163,7 +176,8 @@ void parallel_for_listed_warps(const Exec& ex, const Index* list, const unsigned
   } else {
     const Index n = *count;
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 16) num_threads(ex.threads > 0 ? ex.threads : 1)
+#pragma omp parallel for schedule(dynamic, 16) if (n >= kCpuParallelMinCostlyItems) \
+    num_threads(ex.threads > 0 ? ex.threads : 1)
 #endif
     for (Index j = 0; j < n; ++j) f(list[j], true);
     if (reset) *reset = 0;
