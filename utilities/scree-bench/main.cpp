@@ -1,6 +1,6 @@
 // scree-bench: the performance harness (issue 6; docs/performance.md).
 //
-//   scree-bench [--device cpu|cuda|both] [--quick] [--cases column,flume,scaling,cpu]
+//   scree-bench [--device cpu|cuda|both] [--quick] [--cases column,flume,scaling,cpu,updates]
 //               [--kernels fast,reference,uncapped] [--steps N] [--cpu-steps N]
 //               [--max-particles N] [--column-steps N] [--column-late-at STEP] [--flume-steps N]
 //               [--csv FILE] [--json FILE]
@@ -23,7 +23,9 @@
 // (c) weak scaling of a granular block resting on a floor from 1e4 to 1e7 particles,
 // for linearElastic and phaseTransition and each shape function. (d) cpu: Scree's CPU
 // backend against a straightforward scalar loop written for the comparison
-// (scalar_mpm.hpp), particle-steps/s per core.
+// (scalar_mpm.hpp), particle-steps/s per core. (e) updates: the slow SIMSAND stress
+// updates recorded late in the 1 mm column collapse, replayed on one CPU thread (us per
+// update; replay_updates).
 // Kernel variants: fast (default), reference (RunOptions::reference_kernels: the
 // straightforward kernels), uncapped (fast, but the 2D stress kernel without its register
 // cap: RunOptions::stress_blocks_per_sm = 0), split / unsplit (fast, with the stress pass
@@ -339,6 +341,63 @@ void cpu_comparison(scree::PluginRuntime& rt, const fs::path& root, const fs::pa
   }
 }
 
+/// (e) updates: the slow SIMSAND stress updates recorded late in the 1 mm column collapse
+/// (docs/performance-data/simsand-late-updates-1mm-column.txt; performance log, entries
+/// 16-17), replayed through simsand::integrate on one CPU thread with the column case's own
+/// parameters. On the GPU the late step lasts as long as the slowest such update in one
+/// lane, so their cost per update is the CPU's proxy for that step.
+void replay_updates(scree::PluginRuntime& rt, const fs::path& src, std::vector<Row>& rows) {
+  namespace ss = scree::materials::simsand;
+  const fs::path data = src / "docs/performance-data/simsand-late-updates-1mm-column.txt";
+  std::ifstream in(data);
+  if (!in) throw std::runtime_error(data.string() + ": cannot read the recorded updates");
+  struct Update {
+    scree::Sym3 sig, deps;
+    ss::Vars v;
+  };
+  std::vector<Update> ups;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("simsand-substeps", 0) != 0) continue;  // comments
+    std::istringstream is(line);
+    std::string w;
+    int n = 0, apex = 0;
+    Update u{};
+    is >> w >> n >> w >> apex >> w;
+    for (int i = 0; i < 6; ++i) is >> u.sig[i];
+    is >> w >> u.v.e >> w >> u.v.kappa >> w;
+    for (int i = 0; i < 6; ++i) is >> u.deps[i];
+    if (is) ups.push_back(u);
+  }
+  if (ups.empty()) throw std::runtime_error(data.string() + ": no updates in it");
+  scree::Case c = scree::Case::read(src / "cases/columnCollapse", rt);
+  scree::ParamSpec spec = scree::materials::PhaseTransition::spec();
+  spec.allow_keys({"type"});
+  const ss::Params P = scree::materials::PhaseTransition::read(scree::ParamReader(spec, c.materials().sub("sand"))).f;
+  double best = 1e300, sink = 0;
+  for (int rep = 0; rep < 5; ++rep) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const Update& u : ups) {
+      scree::Sym3 sig = u.sig;
+      ss::Vars v = u.v;
+      ss::integrate(P, sig, v, u.deps);
+      sink += sig[0];
+    }
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  Row r;
+  r.name = "simsand late updates (replayed)";
+  r.device = "cpu";
+  r.variant = "fast";
+  r.material = "phaseTransition";
+  r.particles = static_cast<long long>(ups.size());
+  r.steps = 1;
+  r.ms_per_step = 1e3 * best;
+  r.particle_steps_per_s = double(ups.size()) / best;
+  rows.push_back(r);
+  std::printf("  %-44s %10lld updates %8.2f us per update (best of 5; checksum %.6g)\n", r.name.c_str(), r.particles,
+              1e6 * best / double(ups.size()), sink / 5);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -346,8 +405,9 @@ int main(int argc, char** argv) {
   opts.add_options()("help,h", "print this help")(
       "device", po::value<std::string>()->default_value("both"), "cpu, cuda or both (cuda only when a GPU is present)")(
       "quick", "tiny sizes and few steps (CI)")(
-      "cases", po::value<std::string>()->default_value("column,flume,scaling,cpu"),
-      "comma-separated: column, flume, scaling, cpu")(
+      "cases", po::value<std::string>()->default_value("column,flume,scaling,cpu,updates"),
+      "comma-separated: column, flume, scaling, cpu, updates (CPU: the recorded slow SIMSAND "
+      "updates)")(
       "kernels", po::value<std::string>()->default_value("fast"),
       "comma-separated kernel variants: fast, reference (the straightforward kernels), uncapped (CUDA: no register "
       "cap on the 2D stress kernel), split / unsplit (the stress pass always / never split in an elastic-only kernel and one for the rest; "
@@ -504,6 +564,8 @@ int main(int argc, char** argv) {
     cpu_comparison<scree::materials::LinearElastic>(rt, tmp, src, "linearElastic", n, cpu_steps, threads, rows);
     cpu_comparison<scree::materials::PhaseTransition>(rt, tmp, src, "phaseTransition", n, cpu_steps, threads, rows);
   }
+
+  if (wants("updates")) replay_updates(rt, src, rows);
 
   print(rows);
   // Memory: peak device bytes per particle of the largest block, and what fits in 80 GB.
