@@ -293,17 +293,21 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
+/// The parameters of material `name` of a case, read as the plugin reads them.
+template <class M>
+typename M::Params case_material_params(const scree::Case& c, const std::string& name) {
+  scree::ParamSpec spec = M::spec();
+  spec.allow_keys({"type"});
+  return M::read(scree::ParamReader(spec, c.materials().sub(name)));
+}
+
 /// Scree's CPU backend against the scalar loop on the same block (one thread each, then
 /// Scree on every thread): particle-steps/s, and the ratio that issue 6 keeps within 2.
 template <class M>
 void cpu_comparison(scree::PluginRuntime& rt, const fs::path& root, const fs::path& src, const std::string& material,
                     long long n, long long steps, int threads, std::vector<Row>& rows) {
   const fs::path dir = write_block_case(root, n, material, "linear", "USL", src);
-  scree::Case c = scree::Case::read(dir, rt);
-  const scree::Dictionary& md = c.materials().sub("sand");
-  scree::ParamSpec spec = M::spec();
-  spec.allow_keys({"type"});
-  const typename M::Params mp = M::read(scree::ParamReader(spec, md));
+  const typename M::Params mp = case_material_params<M>(scree::Case::read(dir, rt), "sand");
   const long long cells = std::max(4LL, static_cast<long long>(std::llround(std::sqrt(double(std::max(1LL, n / 4))))));
   const double dt = 0.2 * (1.0 / cells) / 60.0;
   scree::bench::ScalarMpm<M> scalar(mp, static_cast<int>(cells), dt);
@@ -369,10 +373,9 @@ void replay_updates(scree::PluginRuntime& rt, const fs::path& src, std::vector<R
     if (is) ups.push_back(u);
   }
   if (ups.empty()) throw std::runtime_error(data.string() + ": no updates in it");
-  scree::Case c = scree::Case::read(src / "cases/columnCollapse", rt);
-  scree::ParamSpec spec = scree::materials::PhaseTransition::spec();
-  spec.allow_keys({"type"});
-  const ss::Params P = scree::materials::PhaseTransition::read(scree::ParamReader(spec, c.materials().sub("sand"))).f;
+  const ss::Params P =
+      case_material_params<scree::materials::PhaseTransition>(scree::Case::read(src / "cases/columnCollapse", rt), "sand")
+          .f;
   double best = 1e300, sink = 0;
   for (int rep = 0; rep < 5; ++rep) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -427,6 +430,9 @@ int main(int argc, char** argv) {
       "cpu-particles", po::value<long long>()->default_value(100000), "size of the CPU comparison block")(
       "threads", po::value<int>()->default_value(omp_get_max_threads()), "CPU threads")(
       "source-dir", po::value<std::string>()->default_value(SCREE_SOURCE_DIR), "the Scree source tree (for cases/)")(
+      "write-block", po::value<std::string>(),
+      "write the scaling case's block of --max-particles particles (the first of --materials, --shapes and "
+      "--schemes) under this directory, print its path and exit (scripts/gpu-ncu-block.sh)")(
       "csv", po::value<std::string>()->default_value("scree-bench.csv"), "CSV output")(
       "json", po::value<std::string>()->default_value("scree-bench.json"), "JSON output");
   po::variables_map vm;
@@ -458,6 +464,14 @@ int main(int argc, char** argv) {
   const long long gpu_steps = quick ? 20 : vm["steps"].as<long long>();
   const long long cpu_steps = quick ? 5 : vm["cpu-steps"].as<long long>();
   const long long max_n = quick ? 1000 : vm["max-particles"].as<long long>();
+  if (vm.count("write-block")) {
+    const fs::path dir = write_block_case(vm["write-block"].as<std::string>(), max_n,
+                                          split(vm["materials"].as<std::string>()).at(0),
+                                          split(vm["shapes"].as<std::string>()).at(0),
+                                          split(vm["schemes"].as<std::string>()).at(0), src);
+    std::cout << dir.string() << "\n";
+    return 0;
+  }
 
   scree::PluginRuntime rt;
   rt.load_default_plugins();

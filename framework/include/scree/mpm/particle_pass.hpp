@@ -345,11 +345,7 @@ SCREE_UNROLL
       const long long pass_cycles = clock64() - pass_in;
       const unsigned n = diag::report_substeps[diag::report_slot()], paths = diag::report_paths[diag::report_slot()];
       const unsigned all = __activemask();
-      unsigned sum = n, top = n;
-      for (int o = 16; o > 0; o /= 2) {
-        sum += __shfl_xor_sync(all, sum, o);
-        top = max(top, __shfl_xor_sync(all, top, o));
-      }
+      const unsigned sum = __reduce_add_sync(all, n), top = __reduce_max_sync(all, n);
       const int busy = __popc(__ballot_sync(all, n > 0));
       const int p1 = __popc(__ballot_sync(all, paths & 1u)), p2 = __popc(__ballot_sync(all, paths & 2u)),
                 p4 = __popc(__ballot_sync(all, paths & 4u));
