@@ -69,6 +69,19 @@ SCREE_HD inline Real radial_distribution(const Params& P, Real V) {
   return f * cs + (1 - f) * 2 / (P.Vsd - V);                       // eq. (25)
 }
 
+/// dg0/dV of radial_distribution(), from the derivatives of eqs. (25)-(26):
+///   d/dV (2 - V)/(2 (1 - V)^3) = (5 - 2V)/(2 (1 - V)^4),   d/dV 2/(V_sd - V) = 2/(V_sd - V)^2,
+///   df/dV = 2 (V - V_m)/(2 V_sd V_m - V_m^2 - V_sd^2).
+SCREE_HD inline Real radial_distribution_slope(const Params& P, Real V) {
+  const Real r = 1 / (1 - V), r3 = r * r * r;
+  const Real cs = Real(0.5) * (2 - V) * r3, dcs = Real(0.5) * (5 - 2 * V) * r3 * r;  // eq. (25)
+  if (V < P.Vm) return dcs;                                                          // eq. (26), f = 1
+  const Real rden = 1 / (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd);
+  const Real f = (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * rden, df = 2 * (V - P.Vm) * rden;
+  const Real q = 1 / (P.Vsd - V);
+  return df * cs + f * dcs - df * 2 * q + (1 - f) * 2 * q * q;
+}
+
 /// Coefficients of the constitutive functions at one solid fraction, such that
 ///   p_col = p_hat T,  eta = eta_hat sqrt(T),  gamma = gam_hat sqrt(T),
 ///   Gamma = diss_hat T^{3/2} + div_hat T tr(D)          (dissipation rate per volume)
@@ -286,13 +299,10 @@ SCREE_HD inline Sym3 collisional_stress(const Coefficients& c, Real T, const Sym
 }
 
 /// Adiabatic sound speed of the granular gas at (V, T): c^2 = T [p* + V dp*/dV + 2/3 p*^2]
-/// ((dp/drho)_T + T (dp/dT)_rho^2 / (rho^2 c_v), c_v = 3/2); dp*/dV by central differences.
+/// ((dp/drho)_T + T (dp/dT)_rho^2 / (rho^2 c_v), c_v = 3/2), with p* = 1 + 2 (1 + eps) V g0
+/// (eq. 20): dp*/dV = 2 (1 + eps) (g0 + V dg0/dV), g0 = c.g0 at c.V.
 SCREE_HD inline Real sound_speed(const Params& P, const Coefficients& c, Real T) {
-  const Real dV = Real(1e-6);
-  const Real Va = fmax(c.V - dV, P.Vmin), Vb = fmin(c.V + dV, P.Vcap);
-  const Real pa = 2 * (1 + P.eps) * Va * radial_distribution(P, Va);
-  const Real pb = 2 * (1 + P.eps) * Vb * radial_distribution(P, Vb);
-  const Real dpdV = Vb > Va ? (pb - pa) / (Vb - Va) : Real(0);
+  const Real dpdV = 2 * (1 + P.eps) * (c.g0 + c.V * radial_distribution_slope(P, c.V));
   const Real c2 = fmax(T, Real(0)) * (c.p_star + c.V * fmax(dpdV, Real(0)) + Real(2) / 3 * c.p_star * c.p_star);
   return sqrt(c2);
 }

@@ -77,6 +77,7 @@ struct Params {
   Real Amin;     ///< p_min^(1-n)
   Real Cfac;     ///< K0 p_at^(1-n): K = Cfac F(e) (p + p_min)^n
   Real inv_pat;  ///< 1/p_at
+  Real ln_eref;  ///< ln e_ref: ln(e_c/e) of eqs. (16)-(18) without forming e_c (log_critical_ratio)
   /// How powers are evaluated (the model is the same either way). 0, the default: the
   /// exponents 1/2, 2 and 1/4 by sqrt and products, and the two void-ratio powers of
   /// eqs. (17)-(18) from one logarithm (power() and ratios(); within a few ulps of pow()).
@@ -139,6 +140,7 @@ inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Rea
   P.Amin = std::pow(pmin, 1 - n);
   P.Cfac = K0 * std::pow(pat, 1 - n);
   P.inv_pat = 1 / pat;
+  P.ln_eref = std::log(eref);
   P.exact = 0;
   P.stiff_return = 1;
   return P;
@@ -210,9 +212,24 @@ SCREE_HD inline Real bulk_modulus(const Params& P, Real e, Real p) {
   return P.Cfac * void_function(e) * power(P, fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
 }
 
-/// Critical void ratio, eq. (16).
+/// (p/p_at)^xi of eq. (16), p clipped at 0: pow() on the reference path (P.exact), exp(xi
+/// ln(p/p_at)) on the fast one (a pow() is a logarithm and an exponential in extended
+/// precision, about twice the work; the two differ by an ulp or two).
+SCREE_HD inline Real pressure_power(const Params& P, Real p) {
+  const Real x = fmax(p, Real(0)) * P.inv_pat;
+  return P.exact != 0 ? pow(x, P.xi) : exp(P.xi * log(x));
+}
+
+/// Critical void ratio, eq. (16): e_c = e_ref exp(-lambda (p/p_at)^xi).
 SCREE_HD inline Real critical_void_ratio(const Params& P, Real p) {
-  return P.eref * exp(-P.lambda * pow(fmax(p, Real(0)) * P.inv_pat, P.xi));  // eq. (16)
+  return P.eref * exp(-P.lambda * pressure_power(P, p));  // eq. (16)
+}
+
+/// ln(e_c/e) = ln e_ref - lambda (p/p_at)^xi - ln e (eq. 16), from pxi = (p/p_at)^xi: what
+/// the void-ratio powers of eqs. (17)-(18) need, without the exponential of e_c and the
+/// quotient e_c/e.
+SCREE_HD inline Real log_critical_ratio(const Params& P, Real pxi, Real e) {
+  return P.ln_eref - P.lambda * pxi - log(e);
 }
 
 /// Stress ratio in triaxial compression for a friction angle given by its tangent:
@@ -230,18 +247,19 @@ struct Ratios {
   Real dMp_de;  ///< dM_p/de at fixed p
   Real dMp_dp;  ///< dM_p/dp at fixed e (through e_c(p)) [1/Pa]
 };
-/// tan phi_p / tan phi_c = (e_c/e)^n_p of eq. (17), as ratios() evaluates it: pow() on the
-/// reference path, exp(n_p ln(e_c/e)) on the fast one (whose logarithm ratios() shares with
-/// eq. 18), so that the yield function and the plastic rate see the same M_p.
-SCREE_HD inline Real peak_factor(const Params& P, Real ec, Real e) {
-  return P.exact != 0 ? pow(ec / e, P.np) : exp(P.np * log(ec / e));
+/// tan phi_p / tan phi_c = (e_c/e)^n_p of eq. (17) from pxi = (p/p_at)^xi, as ratios()
+/// evaluates it: pow() on the reference path, exp(n_p ln(e_c/e)) on the fast one (whose
+/// logarithm ratios() shares with eq. 18), so that the yield function and the plastic rate
+/// see the same M_p.
+SCREE_HD inline Real peak_factor(const Params& P, Real pxi, Real e) {
+  return P.exact != 0 ? pow(P.eref * exp(-P.lambda * pxi) / e, P.np) : exp(P.np * log_critical_ratio(P, pxi, e));
 }
 
 /// The peak stress ratio M_p (eq. 17) alone: what the yield function needs. Equal to
 /// ratios(P, e, p).Mp.
 SCREE_HD inline Real peak_ratio(const Params& P, Real e, Real p) {
   e = fmax(e, Real(1e-6));
-  const Real tp = peak_factor(P, critical_void_ratio(P, p), e) * P.tanphic;  // eq. (17)
+  const Real tp = peak_factor(P, pressure_power(P, p), e) * P.tanphic;  // eq. (17)
   return ratio_from_tan(tp);
 }
 
@@ -249,17 +267,17 @@ SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) {
   Ratios r;
   e = fmax(e, Real(1e-6));
   const Real pe = fmax(p, P.pmin);
-  const Real pxi = pow(fmax(p, Real(0)) * P.inv_pat, P.xi);
+  const Real pxi = pressure_power(P, p);
   r.ec = P.eref * exp(-P.lambda * pxi);  // eq. (16), as critical_void_ratio()
   // (e_c/e)^n_p and (e/e_c)^n_d of eqs. (17)-(18), and (p_e/p_at)^(xi-1) of dM_p/dp: on the
   // fast path from one logarithm and from (p/p_at)^xi above, instead of three pow()s.
   Real fp, fd, pxi1;
   if (P.exact != 0) {
-    fp = pow(r.ec / e, P.np);
+    fp = peak_factor(P, pxi, e);
     fd = pow(e / r.ec, P.nd);
     pxi1 = pow(pe * P.inv_pat, P.xi - 1);
   } else {
-    const Real L = log(r.ec / e);
+    const Real L = log_critical_ratio(P, pxi, e);
     fp = exp(P.np * L);  // = peak_factor()
     fd = exp(-P.nd * L);
     pxi1 = p >= P.pmin ? pxi * (P.pat / p) : pow(pe * P.inv_pat, P.xi - 1);
@@ -458,6 +476,13 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
 
 SCREE_HD inline Real void_ratio_at(Real one_plus_e0, Real tr, Real frac) {
   return fmax(one_plus_e0 * exp(frac * tr) - 1, Real(1e-6));
+}
+/// void_ratio_at() at the middle and at the end of the increment from one exponential:
+/// (1 + e0) E - 1 and (1 + e0) E^2 - 1 with E = exp(tr/2) (within an ulp of the two calls).
+SCREE_HD inline void void_ratios_mid_end(Real one_plus_e0, Real tr, Real& e_mid, Real& e_end) {
+  const Real E = exp(Real(0.5) * tr);
+  e_mid = fmax(one_plus_e0 * E - 1, Real(1e-6));
+  e_end = fmax(one_plus_e0 * E * E - 1, Real(1e-6));
 }
 
 /// Material point separated (tension): stress-free; the deviatoric strain of the remaining
@@ -703,7 +728,8 @@ SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, con
   ElasticTrial t;
   t.tr = deps.trace();
   t.ope0 = 1 + v.e;
-  t.e1 = void_ratio_at(t.ope0, t.tr, 1);
+  Real e_mid;
+  void_ratios_mid_end(t.ope0, t.tr, e_mid, t.e1);
   t.sig0 = sig;
   bool projected;
   t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected);
@@ -711,7 +737,7 @@ SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, con
   // An extension whose elastic trial ends at the apex (p <= p_apex, where yield() no longer
   // bounds q) separates like one that would end in tension: otherwise a small stress rebuilt at
   // the apex could be pulled back to p ~ 0 with its deviator kept (q >> p; found by the fuzz test).
-  t.separates = !elastic_predictor(P, t.sig0, void_ratio_at(t.ope0, t.tr, Real(0.5)), deps, t.sig_tr) ||
+  t.separates = !elastic_predictor(P, t.sig0, e_mid, deps, t.sig_tr) ||
                 !(mean_pressure(t.sig_tr) > P.papex);
   t.ftr = t.separates ? Real(0) : yield(P, t.sig_tr, t.e1, v.kappa);
   t.elastic = !t.separates && t.ftr <= kFtol;
@@ -748,8 +774,9 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   if (!(mean_pressure(sig) > P.papex)) {
     // ---- apex: stress-free point (after separation or at a free surface)
     const Real tr = deps.trace();
-    const Real e1 = void_ratio_at(1 + v.e, tr, 1);
-    apex_update(P, sig, v, deps, void_ratio_at(1 + v.e, tr, Real(0.5)), e1);
+    Real e_mid, e1;
+    void_ratios_mid_end(1 + v.e, tr, e_mid, e1);
+    apex_update(P, sig, v, deps, e_mid, e1);
     v.e = e1;
     return;
   }

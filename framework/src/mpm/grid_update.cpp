@@ -43,6 +43,7 @@ struct GridUpdate {
     // a particle's stencil has a tiny mass but an O(1/h) share of its internal force.
     const bool has_mass = m > 0;
     const bool accelerate = m > p.mass_eps;
+    const Real rm = has_mass ? 1 / m : Real(0);  // one division per node, not one per component
     const ConstraintMask mask = p.masks ? p.masks[I] : 0;
     Real x[D] = {};
     if (mask) {
@@ -53,7 +54,7 @@ struct GridUpdate {
     if (p.modes & (kNormalize | kRemap)) {
       Real* const* src = (p.modes & kRemap) ? g.force : g.momentum;
       Real v[D];
-      for (int d = 0; d < D; ++d) v[d] = has_mass ? src[d][I] / m : Real(0);
+      for (int d = 0; d < D; ++d) v[d] = has_mass ? src[d][I] * rm : Real(0);
       if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
@@ -64,7 +65,7 @@ struct GridUpdate {
         const Real vk = g.velocity[d][I];
         Real f = g.force[d][I];
         if (damp && vk != 0) f -= p.damping * fabs(f) * (vk > 0 ? Real(1) : Real(-1));
-        v[d] = accelerate ? vk + dt * f / m : vk;
+        v[d] = accelerate ? vk + dt * f * rm : vk;
       }
       if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];

@@ -180,6 +180,18 @@ TEST(KineticTheory, EffectiveRestitutionAndRadialDistribution) {
   }
 }
 
+// The sound speed's dg0/dV (eqs. 25-26 differentiated by hand) against a central difference
+// of g0 itself, in both branches and up to the cap. Step 1e-6: truncation ~ g0''' dV^2/6 and
+// round-off ~ 1e-16 g0/dV, both under 1e-7 of the slope here (g0 <= 1000, slopes >= 2).
+TEST(KineticTheory, RadialDistributionSlopeIsItsDerivative) {
+  const kt::Params c = table2();
+  const double dV = 1e-6;
+  for (double V : {0.05, 0.2, 0.35, 0.399, 0.401, 0.45, 0.5, 0.55, 0.59, 0.597}) {
+    const double fd = (kt::radial_distribution(c, V + dV) - kt::radial_distribution(c, V - dV)) / (2 * dV);
+    EXPECT_NEAR(kt::radial_distribution_slope(c, V), fd, 1e-6 * std::fabs(fd)) << "V = " << V;
+  }
+}
+
 // The temperature update is unconditionally stable: any time step gives a finite,
 // non-negative T, and a very large step lands on the steady state (production = dissipation).
 TEST(KineticTheory, TemperatureStableForAnyTimeStep) {

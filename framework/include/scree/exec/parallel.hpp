@@ -57,6 +57,15 @@ __global__ void __launch_bounds__(Block, MinBlocks) for_each_warp_kernel_bounded
   const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
   f(i < n ? i : n - 1, i < n);
 }
+/// Blocks of `kernel` (`block` threads each) that the current device holds at once: one wave.
+template <class K>
+int resident_blocks(K kernel, int block) {
+  int per_sm = 0, device = 0, sms = 0;
+  cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, kernel, block, 0);
+  cudaGetDevice(&device);
+  cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device);
+  return std::max(1, per_sm * sms);
+}
 /// Whole warps over the first *count entries of `list` (count read on the device, so the
 /// launch needs no host round trip): f(list[j], j < *count), grid-stride. One thread then
 /// zeroes *reset (see parallel_for_listed_warps).
@@ -156,8 +165,9 @@ void parallel_for_warps_bounded(const Exec& ex, Index n, const F& f) {
 
 /// parallel_for_warps over the items list[0 .. *count) that an earlier kernel collected
 /// (push_index below), with launch bounds as parallel_for_warps_bounded. `count` lives on
-/// the device; the CUDA launch has `max_blocks` blocks (at most ceil(n_max / Block)) and
-/// loops over the list. `reset`, if not null, is set to zero by the kernel: the counter
+/// the device; the CUDA launch has `max_blocks` blocks (0: one wave of the device, as the
+/// occupancy calculator gives it for the first device this runs on; at most ceil(n_max /
+/// Block)) and loops over the list. `reset`, if not null, is set to zero by the kernel: the counter
 /// the next collecting kernel will use (a kernel cannot clear its own counter while other
 /// blocks still read it).
 template <int Block, int MinBlocks, class F>
@@ -166,7 +176,8 @@ void parallel_for_listed_warps(const Exec& ex, const Index* list, const unsigned
   if (n_max <= 0) return;
   if (ex.device == Device::cuda) {
 #if defined(__CUDACC__)
-    const Index blocks = std::min<Index>((n_max + Block - 1) / Block, max_blocks);
+    static const int wave = detail::resident_blocks(detail::for_listed_warp_kernel<Block, MinBlocks, F>, Block);
+    const Index blocks = std::min<Index>((n_max + Block - 1) / Block, max_blocks > 0 ? max_blocks : wave);
     detail::for_listed_warp_kernel<Block, MinBlocks>
         <<<static_cast<unsigned>(blocks), Block, 0, static_cast<cudaStream_t>(ex.stream)>>>(list, count, reset, f);
     check_cuda_launch("parallel_for_listed_warps");

@@ -443,8 +443,10 @@ class MaterialBody final : public Body<D> {
   /// spills (nvcc 13, phaseTransition); the compiler alone takes 146 (14 warps), and the
   /// whole update 254, capped to 168 (12 warps).
   static constexpr int kElasticBlocks2D = 10;
-  /// Blocks of the deferred points' kernel (grid-stride): about a wave on a large GPU.
-  static constexpr int kDeferredBlocks = 1024;
+  /// Blocks of the deferred points' kernel (grid-stride): 0 asks parallel_for_listed_warps
+  /// for one wave of the device (1,024 fixed was 1.3 waves on an H100 at 6 blocks per SM:
+  /// a tail of 0.3 wave; performance log, entry 17).
+  static constexpr int kDeferredBlocks = 0;
 
   Params params_;
   std::string name_;

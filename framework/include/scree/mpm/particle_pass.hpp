@@ -216,11 +216,11 @@ struct ParticlePass {
   Shape shape;
   typename M::Params mp;
 
-  SCREE_HD void operator()(Index p) const { run(p, true); }
+  SCREE_INLINE void operator()(Index p) const { run(p, true); }
   /// Warp-collective form (parallel_for_warps): every lane of a warp calls it.
-  SCREE_HD void operator()(Index p, bool valid) const { run(p, valid); }
+  SCREE_INLINE void operator()(Index p, bool valid) const { run(p, valid); }
 
-  SCREE_HD void run(Index p, bool valid) const {
+  SCREE_INLINE void run(Index p, bool valid) const {
 #if defined(SCREE_REPORT_CYCLES) && defined(__CUDA_ARCH__)
     // Diagnostic builds (CMake option SCREE_REPORT_CYCLES = C): a warp whose pass takes more
     // than C clock cycles prints one line (scree/core/report_cycles.hpp).
@@ -281,9 +281,12 @@ SCREE_UNROLL
             // before the boundary conditions: the correction a constraint makes at a node
             // then reaches the particles too. Against the constrained v^k, a particle next
             // to a no-slip wall would keep a velocity the grid discarded, for ever.
+            // One reciprocal per node, not a division per component (a double division is a
+            // chain of about ten dependent instructions on a GPU).
             const Real m = pp.gather.mass[I];
+            const Real rm = m > 0 ? 1 / m : Real(0);
             Vec<D> v_mapped;
-            for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] / m : vi[d];
+            for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] * rm : vi[d];
             dv += N * (vn - v_mapped);
           }
           if (want_L)  // eq. (7); the velocity chosen per component (a reference to one of
