@@ -710,30 +710,24 @@ SCREE_HD inline StiffOutcome stiff_remainder(const Params& P, Sym3& sig, Vars& v
 }
 
 /// The opening of every stress update (integrate() and integrate_elastic() below): the void
-/// ratios of the increment, the start stress brought back onto a yield surface that moved
-/// since the last step (e, p or kappa changed), and the exact elastic trial. Needs a finite
-/// sig and deps with p > p_apex (the caller handles the rest).
+/// ratios of the increment and the exact elastic trial from the start stress t.sig0.
+/// Needs a finite t.sig0 and deps with p > p_apex (the caller handles the rest).
 struct ElasticTrial {
   Real tr;         ///< tr deps (tension positive)
   Real ope0;       ///< 1 + e at the start
   Real e1;         ///< e at the end of the increment
-  Real f0;         ///< yield function at the (projected) start stress
-  Sym3 sig0;       ///< start stress after the projection
+  Real f0;         ///< yield function at the (projected) start stress (integrate() only)
+  Sym3 sig0;       ///< start stress (integrate(): after the projection)
   Sym3 sig_tr;     ///< elastic trial stress at the end
   Real ftr;        ///< yield function at sig_tr (0 when it separates)
   bool separates;  ///< the trial ends in tension or at the apex: the point separates
   bool elastic;    ///< the whole increment is elastic: sig_tr is the answer
 };
-SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, const Vars& v, const Sym3& deps) {
-  ElasticTrial t;
+SCREE_HD inline void elastic_trial_from_start(const Params& P, const Vars& v, const Sym3& deps, ElasticTrial& t) {
   t.tr = deps.trace();
   t.ope0 = 1 + v.e;
   Real e_mid;
   void_ratios_mid_end(t.ope0, t.tr, e_mid, t.e1);
-  t.sig0 = sig;
-  bool projected;
-  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected);
-  if (projected) t.f0 = 0;
   // An extension whose elastic trial ends at the apex (p <= p_apex, where yield() no longer
   // bounds q) separates like one that would end in tension: otherwise a small stress rebuilt at
   // the apex could be pulled back to p ~ 0 with its deviator kept (q >> p; found by the fuzz test).
@@ -741,17 +735,38 @@ SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, con
                 !(mean_pressure(t.sig_tr) > P.papex);
   t.ftr = t.separates ? Real(0) : yield(P, t.sig_tr, t.e1, v.kappa);
   t.elastic = !t.separates && t.ftr <= kFtol;
+}
+/// integrate()'s opening: the start stress first brought back onto the yield surface when it
+/// lies outside (f0 > kFtol), e.g. an initial or prescribed stress from elsewhere.
+SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, const Vars& v, const Sym3& deps) {
+  ElasticTrial t;
+  t.sig0 = sig;
+  bool projected;
+  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected);
+  if (projected) t.f0 = 0;
+  elastic_trial_from_start(P, v, deps, t);
   return t;
 }
 
 /// The common cheap case of integrate(), alone: when the increment is elastic from a stressed
-/// state, updates sig and v exactly as integrate() would and returns true; otherwise (apex,
+/// state, updates sig and v as integrate() would and returns true; otherwise (apex,
 /// separation, plastic loading, non-finite input) returns false and changes nothing. The GPU
 /// kernels run it first over all points and integrate() only over the others, so that the
 /// common path runs in a fraction of the registers (docs/performance.md, entry 13).
+///
+/// It takes the start stress as admissible (f <= kFtol) and skips integrate()'s start check,
+/// a full yield evaluation, a seventh of the 2D elastic kernel (performance log, entry 19):
+/// every state integrate() leaves is admissible at its own (sig, e, kappa), and the next step
+/// starts from the same values up to the round-off of the co-rotation. The two paths differ
+/// only for a start outside the surface whose trial ends inside; then integrate() starts the
+/// trial from the start scaled back onto the surface, this from the start itself, and both
+/// end admissible. From an integrator's own state that needs a start f within round-off
+/// above kFtol (1e-9): a difference of at most 1e-9 p g in q.
 SCREE_HD inline bool integrate_elastic(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
   if (!finite_sym(sig) || !finite_sym(deps) || !(mean_pressure(sig) > P.papex)) return false;
-  const ElasticTrial t = elastic_trial(P, sig, v, deps);
+  ElasticTrial t;
+  t.sig0 = sig;
+  elastic_trial_from_start(P, v, deps, t);
   if (!t.elastic) return false;
   sig = t.sig_tr;
   v.e = t.e1;

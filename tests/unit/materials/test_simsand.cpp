@@ -289,3 +289,32 @@ TEST(Simsand, InitialStateOnYieldSurface) {
   Simsand::initial_state(P, t);
   for (int i = 0; i < 6; ++i) EXPECT_EQ(t[i], 0.0);
 }
+
+// The GPU kernels' elastic path (simsand::integrate_elastic) skips integrate()'s start check:
+// it takes the start stress as admissible, as every state the integrator leaves is. From a
+// start outside the surface by f0 whose isotropic compression unloads it, integrate() first
+// scales the deviator back onto the surface, q0 -> q0 - f0 p0 g, and the elastic path does
+// not; an isotropic increment leaves the deviator alone, so the two results differ by exactly
+// that in q (g = 1 in triaxial compression), share p and e, and both end admissible.
+TEST(Simsand, ElasticPathFromOutsideDiffersByTheStartProjection) {
+  const simsand::Params f = table1();
+  Simsand::Params P{f, 2650, 0.85};
+  Sym3 sig0 = k0_stress(100e3, 0.5);
+  const Simsand::State st = Simsand::initial_state(P, sig0);
+  simsand::Vars v0{st.e, 0.99 * st.kappa, 0};  // hardening 1% back: the start lies outside
+  const double f0 = simsand::yield(P.m, sig0, v0.e, v0.kappa);
+  ASSERT_GT(f0, 1e-6);
+  const double p0 = pressure(sig0);
+  Sym3 deps = Sym3::zero();
+  for (int i = 0; i < 3; ++i) deps[i] = -2e-4;  // isotropic compression: q/p falls
+  Sym3 s_el = sig0, s_full = sig0;
+  simsand::Vars v_el = v0, v_full = v0;
+  ASSERT_TRUE(simsand::integrate_elastic(P.m, s_el, v_el, deps));
+  simsand::integrate(P.m, s_full, v_full, deps);
+  EXPECT_EQ(v_el.e, v_full.e);
+  EXPECT_EQ(v_el.kappa, v_full.kappa);
+  EXPECT_NEAR(pressure(s_el), pressure(s_full), 1e-12 * p0);
+  EXPECT_NEAR(deviatoric_stress(s_el) - deviatoric_stress(s_full), f0 * p0, 1e-9 * deviatoric_stress(s_el));
+  EXPECT_LE(simsand::yield(P.m, s_el, v_el.e, v_el.kappa), simsand::kFtol);
+  EXPECT_LE(simsand::yield(P.m, s_full, v_full.e, v_full.kappa), simsand::kFtol);
+}
