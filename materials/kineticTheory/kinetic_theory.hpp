@@ -200,12 +200,11 @@ SCREE_HD inline Coefficients coefficients(const Params& P, const Constants& C, R
   const Real e = P.eps;
   c.V = V;
   const Real cs = (2 - V) / (2 * (1 - V) * (1 - V) * (1 - V));  // eq. (25)
-  if (V < P.Vm) {
-    c.g0 = cs;  // eq. (26), f = 1
-  } else {
-    const Real f = (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * C.rf;  // eq. (26)
-    c.g0 = f * cs + (1 - f) * 2 / (P.Vsd - V);                                     // eq. (25)
-  }
+  // eq. (26): f = 1 below V_m (g0 = cs exactly: 1 cs + 0), the blend above. Without a branch,
+  // so that the compiler can share the whole of coefficients() between a stress update and
+  // the wave speed right after it (V < V_sd always: V_cap < V_sd).
+  const Real f = V < P.Vm ? Real(1) : (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * C.rf;
+  c.g0 = f * cs + (1 - f) * 2 / (P.Vsd - V);  // eq. (25)
   c.G = V * c.g0;                                  // eq. (23), ERRATA 1
   c.p_star = 1 + 2 * (1 + e) * c.G;                // 4GF, eq. (20)+(A1)
   c.cstar = C.cstar;                               // (A9)

@@ -119,7 +119,13 @@ struct PhaseTransition {
   /// the update.
   SCREE_HD static kt::Coefficients coefficients(const Params& p, Real e) {
     const Real V = kt::solid_fraction(p.c, e);
+#if defined(__CUDA_ARCH__)
+    // Kernels get their Params from read(), which prepared ck. One path, without the branch on
+    // ck.ready: the compiler then shares the coefficients between the update and the wave speed.
+    return kt::coefficients(p.c, p.ck, V);
+#else
     return p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
+#endif
   }
 
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {

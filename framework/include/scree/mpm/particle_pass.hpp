@@ -205,6 +205,15 @@ inline constexpr bool material_reads_stress() {
   else return true;
 }
 
+/// What a pass's stress update stored (sigma and the current volume V0 det F), handed to the
+/// same pass's scatter of the internal force: the values themselves, so that the scatter
+/// does not load back from global memory what the thread has just written.
+struct FreshStress {
+  Sym3 sigma = Sym3::zero();
+  Real volume = 0;
+  bool valid = false;
+};
+
 /// The particle pass. ElasticFirst: the first kernel of the elastic-first split
 /// (PassParams::split_elastic): a point whose stress update is not elastic is appended to
 /// pp.deferred and left untouched (no state, position or velocity written, nothing
@@ -250,6 +259,7 @@ struct ParticlePass {
 
     // ---------------- gather phases (weights at the current position) ----------------
     Real speed = 0;  // signal speed c + |v| after the stress update
+    FreshStress fresh;  // the stress and volume the update wrote, for the scatter's force
     bool defer = false;  // ElasticFirst: the update is not elastic, left to the second kernel
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
@@ -298,7 +308,7 @@ SCREE_UNROLL
           }
         }
         if constexpr ((May & kStressPhases) != 0)
-          if (flags & kStressPhases) defer = !stress_update<ElasticFirst>(p, L, dt, v, mass, speed);
+          if (flags & kStressPhases) defer = !stress_update<ElasticFirst>(p, L, dt, v, mass, speed, fresh);
 
         if (flags & kGatherVelocity) {
           if (apic) {
@@ -330,7 +340,7 @@ SCREE_UNROLL
       }
 
     // ---------------- scatter phases (weights at the updated position) ----------------
-    if (flags & kAnyScatter) scatter(p, flags, active, x, v, C, mass);
+    if (flags & kAnyScatter) scatter(p, flags, active, x, v, C, mass, fresh);
 
     if (active) {
       for (int d = 0; d < D; ++d) {
@@ -361,7 +371,7 @@ SCREE_UNROLL
   /// P2G: mass, momentum and force into the set S. `active` becomes false when the
   /// stencil leaves the grid.
   SCREE_INLINE void scatter(Index p, unsigned flags, bool& active, const Vec<D>& x, const Vec<D>& v,
-                            const Mat<D>& C, Real mass) const {
+                            const Mat<D>& C, Real mass, const FreshStress& fresh) const {
     const GridGeometry<D>& g = pp.grid;
     const detail::Stencil<D, Shape> st(shape, g, x);
     if (active && !st.inside) {
@@ -371,8 +381,13 @@ SCREE_UNROLL
     Sym3 sig = Sym3::zero();
     Real vol = 0;
     if ((flags & kScatterForce) && active) {
-      sig = detail::load_stress<D>(pa.sigma, p);
-      vol = pa.volume0[p] * det(load_F(p));
+      if (fresh.valid) {  // this pass's stress update: the values it stored, not a re-read
+        sig = fresh.sigma;
+        vol = fresh.volume;
+      } else {
+        sig = detail::load_stress<D>(pa.sigma, p);
+        vol = pa.volume0[p] * det(load_F(p));
+      }
     }
     const bool apic = pp.transfer == Transfer::apic;
     // Lanes with the same first stencil node share every node: they add per warp first.
@@ -431,7 +446,8 @@ SCREE_UNROLL
   /// when the pass needs it (adaptive time step), else 0. ElasticOnly: the material's
   /// update_elastic; when that declines, nothing is written and the result is false.
   template <bool ElasticOnly>
-  SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass, Real& speed) const {
+  SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass, Real& speed,
+                                  FreshStress& fresh) const {
     Mat<D> F = load_F(p);
     F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
     const Real J = det(F);
@@ -452,15 +468,19 @@ SCREE_UNROLL
     } else {
       M::update(mp, s, sigma, inc);
     }
-    for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
-    store_state(s, pa.state, pa.n, p);
-    detail::store_stress<D>(pa.sigma, p, sigma);
+    const Real vol = pa.volume0[p] * J;
+    // The speed before the stores: with no memory access between them, the compiler shares
+    // what the update and wave_speed() both compute (phaseTransition: the collisional
+    // coefficients at the new void ratio).
     speed = 0;
     if (pp.need_speed) {
-      const Real vol = pa.volume0[p] * J;
       const Real rho = vol > 0 ? mass / vol : Real(0);
       speed = M::wave_speed(mp, s, sigma, rho, pp.grid.h) + norm(v);
     }
+    for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
+    store_state(s, pa.state, pa.n, p);
+    detail::store_stress<D>(pa.sigma, p, sigma);
+    fresh = FreshStress{sigma, vol, true};
     return true;
   }
 
