@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 
 #include "../kineticTheory/KineticTheory.hpp"
 #include "../simsand/Simsand.hpp"
@@ -42,6 +43,8 @@ struct PhaseTransition {
     Real rate;   ///< equivalent deviatoric strain rate sqrt(2/3 dev D:dev D) of the last step [1/s]
     Real trD;    ///< volumetric strain rate tr D of the last step (tension positive) [1/s]
   };
+  /// sigma_f's yz and xz components stay zero in plane strain (2D): the kernels skip them.
+  static constexpr unsigned plane_zero_slots = plane_tensor_slots(offsetof(State, sigf) / sizeof(Real));
 
   static ParamSpec spec() {
     ParamSpec s(type_name,

@@ -30,6 +30,10 @@
 //       // elastic P-wave speed, and for viscous models also the explicit-diffusion limit
 //       // dt < rho h^2 / (2 mu_eff) written as a speed, c_visc = 2 mu_eff / (rho h)
 //   static void describe(OutputFields<M>& out);       // output fields (host)
+//   static constexpr unsigned plane_zero_slots = plane_tensor_slots(offsetof(State, x) / sizeof(Real));
+//       // optional: the State's Reals that are zero in 2D (plane strain), here the yz and
+//       // xz components of a Sym3 member x; the 2D kernels neither load nor store them
+//       // (the framework's own 2D stress keeps 4 components for the same reason)
 //
 // Register it in a plugin with `SCREE_PLUGIN(r) { r.add_material<M>(); }`
 // (scree/plugin/plugin_api.hpp); that instantiates the particle kernels for M on both
@@ -40,6 +44,7 @@
 #pragma once
 
 #include <concepts>
+#include <cstddef>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -80,24 +85,41 @@ inline constexpr int state_size() {
   }
 }
 
+/// The bits of the yz and xz components (Voigt 4 and 5) of a Sym3 that starts at Real slot
+/// `first` of a State: for a material's plane_zero_slots.
+inline constexpr unsigned plane_tensor_slots(std::size_t first) {
+  return (1u << (first + 4)) | (1u << (first + 5));
+}
+
+/// M::plane_zero_slots when M declares it, else none.
+template <class M>
+inline constexpr unsigned plane_zero_slots() {
+  if constexpr (requires { M::plane_zero_slots; }) return M::plane_zero_slots;
+  else return 0u;
+}
+
 /// Load/store a State from/to structure-of-arrays storage: component k of particle i
-/// lives at soa[k * stride + i].
-template <class S>
+/// lives at soa[k * stride + i]. The slots set in Skip are neither read (they load as 0)
+/// nor written: the 2D kernels pass the material's plane_zero_slots, so that the
+/// components plane strain keeps at zero cost no memory traffic and no registers.
+template <class S, unsigned Skip = 0u>
 SCREE_INLINE void load_state(S& s, const Real* soa, Index stride, Index i) {
   constexpr int n = state_size<S>();
+  static_assert(n <= 32 || Skip == 0u, "plane_zero_slots covers the first 32 Reals of a State");
   if constexpr (n > 0) {
     Real tmp[n];
-    for (int k = 0; k < n; ++k) tmp[k] = soa[k * stride + i];
+    for (int k = 0; k < n; ++k) tmp[k] = (k < 32 && ((Skip >> k) & 1u)) ? Real(0) : soa[k * stride + i];
     memcpy(&s, tmp, sizeof(S));
   }
 }
-template <class S>
+template <class S, unsigned Skip = 0u>
 SCREE_INLINE void store_state(const S& s, Real* soa, Index stride, Index i) {
   constexpr int n = state_size<S>();
   if constexpr (n > 0) {
     Real tmp[n];
     memcpy(tmp, &s, sizeof(S));
-    for (int k = 0; k < n; ++k) soa[k * stride + i] = tmp[k];
+    for (int k = 0; k < n; ++k)
+      if (!(k < 32 && ((Skip >> k) & 1u))) soa[k * stride + i] = tmp[k];
   }
 }
 

@@ -307,9 +307,10 @@ SCREE_UNROLL
             else Lnew += outer(vn, gradN);
           }
         }
-        if constexpr ((May & kStressPhases) != 0)
-          if (flags & kStressPhases) defer = !stress_update<ElasticFirst>(p, L, dt, v, mass, speed, fresh);
-
+        // The new velocity and position (eqs. 10-11) need the gather alone: made before the
+        // stress update, so that the gather's sums are dead while the update needs registers.
+        // The signal speed takes |v| of the velocity the step started from.
+        const Real v_start = pp.need_speed ? norm(v) : Real(0);
         if (flags & kGatherVelocity) {
           if (apic) {
             v = v_pic;
@@ -322,6 +323,8 @@ SCREE_UNROLL
           }
         }
         if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
+        if constexpr ((May & kStressPhases) != 0)
+          if (flags & kStressPhases) defer = !stress_update<ElasticFirst>(p, L, dt, v_start, mass, speed, fresh);
       }
     }
     if constexpr (ElasticFirst) {
@@ -443,10 +446,11 @@ SCREE_UNROLL
   }
 
   /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c + |v|
+  /// (v_start = |v| at the start of the step)
   /// when the pass needs it (adaptive time step), else 0. ElasticOnly: the material's
   /// update_elastic; when that declines, nothing is written and the result is false.
   template <bool ElasticOnly>
-  SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, const Vec<D>& v, Real mass, Real& speed,
+  SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, Real v_start, Real mass, Real& speed,
                                   FreshStress& fresh) const {
     Mat<D> F = load_F(p);
     F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
@@ -457,12 +461,19 @@ SCREE_UNROLL
     inc.spin.xy *= dt;
     inc.spin.yz *= dt;
     inc.spin.zx *= dt;
+    if constexpr (D == 2) {
+      // Plane strain: the out-of-plane parts are 0 dt = 0 for any finite step. Written as
+      // constants, the compiler holds them in no register through the update.
+      inc.deps[2] = inc.deps[4] = inc.deps[5] = 0;
+      inc.spin.yz = inc.spin.zx = 0;
+    }
     inc.dt = dt;
     inc.J = J;
     Sym3 sigma = Sym3::zero();
     if constexpr (material_reads_stress<M>()) sigma = corotate(detail::load_stress<D>(pa.sigma, p), inc.spin);
     typename M::State s;
-    load_state(s, pa.state, pa.n, p);
+    constexpr unsigned plane = D == 2 ? plane_zero_slots<M>() : 0u;  // zero in plane strain
+    load_state<typename M::State, plane>(s, pa.state, pa.n, p);
     if constexpr (ElasticOnly) {
       if (!M::update_elastic(mp, s, sigma, inc)) return false;
     } else {
@@ -475,10 +486,10 @@ SCREE_UNROLL
     speed = 0;
     if (pp.need_speed) {
       const Real rho = vol > 0 ? mass / vol : Real(0);
-      speed = M::wave_speed(mp, s, sigma, rho, pp.grid.h) + norm(v);
+      speed = M::wave_speed(mp, s, sigma, rho, pp.grid.h) + v_start;
     }
     for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
-    store_state(s, pa.state, pa.n, p);
+    store_state<typename M::State, plane>(s, pa.state, pa.n, p);
     detail::store_stress<D>(pa.sigma, p, sigma);
     fresh = FreshStress{sigma, vol, true};
     return true;
