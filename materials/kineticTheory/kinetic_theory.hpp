@@ -69,6 +69,16 @@ SCREE_HD inline Real radial_distribution(const Params& P, Real V) {
   return f * cs + (1 - f) * 2 / (P.Vsd - V);                       // eq. (25)
 }
 
+/// 1/(2 V_sd V_m - V_m^2 - V_sd^2), the denominator of eq. (26) as a reciprocal (a
+/// parameter-only factor: Constants::rf).
+SCREE_HD inline Real blend_reciprocal(const Params& P) { return 1 / (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd); }
+
+/// The blend f of eq. (26) above V_m from that reciprocal rf (the fast paths'
+/// form; radial_distribution() above is the reference form).
+SCREE_HD inline Real dense_blend(const Params& P, Real V, Real rf) {
+  return (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * rf;
+}
+
 /// dg0/dV of radial_distribution(), from the derivatives of eqs. (25)-(26):
 ///   d/dV (2 - V)/(2 (1 - V)^3) = (5 - 2V)/(2 (1 - V)^4),   d/dV 2/(V_sd - V) = 2/(V_sd - V)^2,
 ///   df/dV = 2 (V - V_m)/(2 V_sd V_m - V_m^2 - V_sd^2).
@@ -76,8 +86,8 @@ SCREE_HD inline Real radial_distribution_slope(const Params& P, Real V) {
   const Real r = 1 / (1 - V), r3 = r * r * r;
   const Real cs = Real(0.5) * (2 - V) * r3, dcs = Real(0.5) * (5 - 2 * V) * r3 * r;  // eq. (25)
   if (V < P.Vm) return dcs;                                                          // eq. (26), f = 1
-  const Real rden = 1 / (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd);
-  const Real f = (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * rden, df = 2 * (V - P.Vm) * rden;
+  const Real rden = blend_reciprocal(P);
+  const Real f = dense_blend(P, V, rden), df = 2 * (V - P.Vm) * rden;
   const Real q = 1 / (P.Vsd - V);
   return df * cs + f * dcs - df * 2 * q + (1 - f) * 2 * q * q;
 }
@@ -189,7 +199,7 @@ inline Constants prepare(const Params& P) {
   C.n_p = (Real(2) / 3 - e) * C.cstar;
   C.b_p = 1 - e;
   C.b_n = Real(5) / 32 * (1 - e2) * (1 + 3 * C.cstar / 64) / dn;
-  C.rf = 1 / (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd);
+  C.rf = blend_reciprocal(P);
   C.ready = 1;
   return C;
 }
@@ -203,7 +213,7 @@ SCREE_HD inline Coefficients coefficients(const Params& P, const Constants& C, R
   // eq. (26): f = 1 below V_m (g0 = cs exactly: 1 cs + 0), the blend above. Without a branch,
   // so that the compiler can share the whole of coefficients() between a stress update and
   // the wave speed right after it (V < V_sd always: V_cap < V_sd).
-  const Real f = V < P.Vm ? Real(1) : (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * C.rf;
+  const Real f = V < P.Vm ? Real(1) : dense_blend(P, V, C.rf);
   c.g0 = f * cs + (1 - f) * 2 / (P.Vsd - V);  // eq. (25)
   c.G = V * c.g0;                                  // eq. (23), ERRATA 1
   c.p_star = 1 + 2 * (1 + e) * c.G;                // 4GF, eq. (20)+(A1)

@@ -98,6 +98,12 @@ inline constexpr unsigned plane_zero_slots() {
   else return 0u;
 }
 
+/// Whether Skip holds slot k (slots past 32 never: plane_zero_slots is 32 bits).
+template <unsigned Skip>
+SCREE_INLINE constexpr bool skips_slot(int k) {
+  return k < 32 && ((Skip >> k) & 1u) != 0;
+}
+
 /// Load/store a State from/to structure-of-arrays storage: component k of particle i
 /// lives at soa[k * stride + i]. The slots set in Skip are neither read (they load as 0)
 /// nor written: the 2D kernels pass the material's plane_zero_slots, so that the
@@ -108,7 +114,7 @@ SCREE_INLINE void load_state(S& s, const Real* soa, Index stride, Index i) {
   static_assert(n <= 32 || Skip == 0u, "plane_zero_slots covers the first 32 Reals of a State");
   if constexpr (n > 0) {
     Real tmp[n];
-    for (int k = 0; k < n; ++k) tmp[k] = (k < 32 && ((Skip >> k) & 1u)) ? Real(0) : soa[k * stride + i];
+    for (int k = 0; k < n; ++k) tmp[k] = skips_slot<Skip>(k) ? Real(0) : soa[k * stride + i];
     memcpy(&s, tmp, sizeof(S));
   }
 }
@@ -119,7 +125,7 @@ SCREE_INLINE void store_state(const S& s, Real* soa, Index stride, Index i) {
     Real tmp[n];
     memcpy(tmp, &s, sizeof(S));
     for (int k = 0; k < n; ++k)
-      if (!(k < 32 && ((Skip >> k) & 1u))) soa[k * stride + i] = tmp[k];
+      if (!skips_slot<Skip>(k)) soa[k * stride + i] = tmp[k];
   }
 }
 

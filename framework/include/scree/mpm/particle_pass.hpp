@@ -445,10 +445,10 @@ SCREE_UNROLL
     return F;
   }
 
-  /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c + |v|
-  /// (v_start = |v| at the start of the step)
-  /// when the pass needs it (adaptive time step), else 0. ElasticOnly: the material's
-  /// update_elastic; when that declines, nothing is written and the result is false.
+  /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c +
+  /// v_start (|v| at the start of the step) when the pass needs it (adaptive time step),
+  /// else 0. ElasticOnly: the material's update_elastic; when that declines, nothing is
+  /// written and the result is false.
   template <bool ElasticOnly>
   SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, Real v_start, Real mass, Real& speed,
                                   FreshStress& fresh) const {
