@@ -303,6 +303,16 @@ SCREE_HD inline Real lode_g(const Params& P, Real S) {
   return power(P, 2 * P.c4 / (1 + P.c4 - (1 - P.c4) * S), Real(0.25));
 }
 
+/// What a yield evaluation and a plastic rate at the same (sigma, e) share: g(theta) and the
+/// ratios of eqs. (16)-(18), the logarithms and exponentials of a rate. integrate() hands them
+/// from its start check and from the drift correction of an accepted substep to the rate that
+/// follows at that state, which then skips them (performance log, entry 21). A projection onto
+/// the surface scales the deviator at constant p and Lode angle, so they hold for its result.
+struct PointRatios {
+  Real g;    ///< lode_g(P, S)
+  Ratios R;  ///< ratios(P, e, p)
+};
+
 /// Stress invariants: p, q, the deviator s and sin(3 theta) (compression-positive convention:
 /// sin 3theta = (3 sqrt3/2) J3(-s)/J2^{3/2}, so +1 in triaxial compression).
 struct Invariants {
@@ -352,6 +362,18 @@ SCREE_HD inline void project_to_surface(const Params& P, Sym3& sig, Real e, Real
   sig = from_p_s(v.p, v.s * (qt / v.q));
 }
 
+/// The yield function at the invariants v (g = g(theta), Mp = M_p) and, when f > kFtol (or
+/// |f| > kFtol with `both_sides`), sig scaled onto the surface as project_to_surface() does.
+SCREE_HD inline Real project_if_beyond(const Params& P, Sym3& sig, const Invariants& v, Real g, Real Mp, Real kappa,
+                                       bool both_sides, bool& projected) {
+  const Real f = yield_value(P, v.q, v.p, g, Mp, kappa);
+  if ((both_sides ? fabs(f) : f) > kFtol && v.q > 0) {
+    sig = from_p_s(v.p, v.s * (hardening(P, Mp, kappa) * g * v.p / v.q));
+    projected = true;
+  }
+  return f;
+}
+
 /// f = yield() followed, when f > kFtol (or |f| > kFtol with `both_sides`), by
 /// project_to_surface(), with the invariants, M_p and g(theta) evaluated once for both: the
 /// same numbers as the two calls. Returns f before the projection; `projected` says whether
@@ -363,12 +385,18 @@ SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real 
   if (!(v.p > P.papex)) return 0;
   const Real g = lode_g(P, v.S);
   const Real Mp = peak_ratio(P, e, v.p);
-  const Real f = yield_value(P, v.q, v.p, g, Mp, kappa);
-  if ((both_sides ? fabs(f) : f) > kFtol && v.q > 0) {
-    sig = from_p_s(v.p, v.s * (hardening(P, Mp, kappa) * g * v.p / v.q));
-    projected = true;
-  }
-  return f;
+  return project_if_beyond(P, sig, v, g, Mp, kappa, both_sides, projected);
+}
+/// yield_and_project() that also returns, in `at`, g(theta) and all the ratios at (sigma, e) for
+/// a plastic rate there (PointRatios; `at` is unset when p <= p_apex: so is the rate).
+SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real kappa, bool both_sides,
+                                       bool& projected, PointRatios& at) {
+  projected = false;
+  const Invariants v = invariants(sig);
+  if (!(v.p > P.papex)) return 0;
+  at.g = lode_g(P, v.S);
+  at.R = ratios(P, e, v.p);  // its M_p is peak_ratio()'s
+  return project_if_beyond(P, sig, v, at.g, at.R.Mp, kappa, both_sides, projected);
 }
 
 /// Elastic response to deps from sig0, integrated exactly for the power law of eq. (13) with
@@ -411,8 +439,9 @@ struct Rate {
   Real deq;
   Real num;  ///< loading indicator n_f : D : deps (before clipping)
 };
+/// `at`: g(theta) and the ratios at (sig, e) already evaluated (PointRatios), or null.
 SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, Real e, const Sym3& deps, Real de,
-                                  Rate& r) {
+                                  Rate& r, const PointRatios* at = nullptr) {
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex) || !finite_real(v.p)) return false;
   const Real p = v.p, q = v.q;
@@ -433,7 +462,7 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
   Real g = 1;
   Sym3 L = Sym3::zero();
   if (P.lode != 0 && q > Real(1e-8) * p) {
-    g = lode_g(P, v.S);
+    g = at ? at->g : lode_g(P, v.S);
     const Real den_g = 1 + P.c4 - (1 - P.c4) * v.S;
     const Real dg = Real(0.25) * g * (1 - P.c4) / den_g;  // dg/dS
     // 1/J2^{3/2}, and 1/J2^{5/2} = (1/J2^{3/2})^2 sqrt(J2)
@@ -449,7 +478,7 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
   }
   const Real rpg = 1 / (p * g);  // 1/(p g), used four times below
   const Real eta = q * rpg;
-  const Ratios R = ratios(P, e, p);  // eqs. (16)-(18)
+  const Ratios R = at ? at->R : ratios(P, e, p);  // eqs. (16)-(18)
   const Real kk = fmax(kappa, Real(0)), rk = 1 / (P.kp + kk);
   const Real h = kk * rk;
   const Real dh = P.kp * rk * rk;
@@ -722,6 +751,7 @@ struct ElasticTrial {
   Real ftr;        ///< yield function at sig_tr (0 when it separates)
   bool separates;  ///< the trial ends in tension or at the apex: the point separates
   bool elastic;    ///< the whole increment is elastic: sig_tr is the answer
+  PointRatios at0;  ///< g(theta) and the ratios at (sig0, e) (integrate() only; p > p_apex)
 };
 SCREE_HD inline void elastic_trial_from_start(const Params& P, const Vars& v, const Sym3& deps, ElasticTrial& t) {
   t.tr = deps.trace();
@@ -742,7 +772,7 @@ SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, con
   ElasticTrial t;
   t.sig0 = sig;
   bool projected;
-  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected);
+  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected, t.at0);
   if (projected) t.f0 = 0;
   elastic_trial_from_start(P, v, deps, t);
   return t;
@@ -819,7 +849,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     alpha = yield_crossing(P, sig, v.kappa, ope0, deps, 0, f0, 1, ftr);
   } else {
     Rate r0;
-    const bool ok0 = plastic_rate(P, sig, v.kappa, v.e, deps, ope0 * expm1(tr), r0);
+    const bool ok0 = plastic_rate(P, sig, v.kappa, v.e, deps, ope0 * expm1(tr), r0, &t.at0);
     if (ok0 && r0.num >= 0) {
       r1u = r0;  // loading from the start: this is the first Euler rate
       have_r1u = true;
@@ -854,6 +884,8 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   bool at_apex = false;  // the path has reached the stress-free apex: the remainder is done there
   bool stiff_tried = false;  // implicit returns tried for the remainder (README step 5), once
   bool apex_searched = false;  // the crossing of the apex searched (diagnostics only)
+  PointRatios at;              // g(theta) and the ratios at (sig, ea) from the last drift correction
+  bool have_at = false;        // ... valid (sig has not changed since)
   int n = 0;
   while (T < 1) {
     ++n;
@@ -881,12 +913,24 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     if (relaxed) dT = fmin(fmax(dT, dT_relaxed), 1 - T);
     if (n > 3 * kMaxSubsteps) dT = 1 - T;
     const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + dT));
-    if (!have_r1u) have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u);
+    if (!have_r1u)
+      have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u, have_at ? &at : nullptr);
     Rate r1, r2;
     Sym3 sn = sig;
     Real kn = v.kappa, R = Real(1e300);
     const bool ok = have_r1u && heun_substep(P, sig, v.kappa, r1u, drem, dT, eb, eb - ea, r1, r2, sn, kn);
-    if (ok && mean_pressure(sn) > P.papex) R = heun_error(P, r1, r2, sn, kn);
+    if (ok) R = heun_error(P, r1, r2, sn, kn);
+    const bool beyond_apex = !ok || !(mean_pressure(sn) > P.papex);
+    if (beyond_apex && R > P.stol && R < Real(1e299) && !relaxed && dT > kMinSubstep && norm(sig) > snear) {
+      // A Heun end state beyond the apex from a substep whose error fails the test does not
+      // say that the path reaches the apex, only that the substep is too coarse (the Euler
+      // rate, extrapolated, overshoots): rejected like any other (README step 4). Searching
+      // its crossing cost 8 rate evaluations for nothing on grains that extend from tens of
+      // Pa to a few (performance log, entry 21).
+      dT = fmax(dT * fmax(Real(0.9) * sqrt(P.stol / R), Real(0.1)), kMinSubstep);
+      continue;
+    }
+    if (beyond_apex) R = Real(1e300);
     if (!(R < Real(1e299))) {
       // p would drop to zero within the substep (Heun or Euler end state at p <= p_apex): the
       // path reaches the stress-free apex. This used to cut dT by 10 (regrowing by 1.1 per
@@ -928,8 +972,8 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
         const bool okx = heun_substep(P, sig, v.kappa, r1u, drem, x, ex, ex - ea, r1, r2, sn, kn);
         const Real px = mean_pressure(sn);
         if (okx && px > P.papex) {
+          const Real Rx = heun_error(P, r1, r2, sn, kn);
           if (norm(sn) <= snear) {  // the crossing, to within what the error control accepts
-            const Real Rx = heun_error(P, r1, r2, sn, kn);
             if (Rx <= P.stol || relaxed) {
               sig = sn;
               v.kappa = kn;
@@ -940,6 +984,13 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
             } else {
               xnext = x * fmax(Real(0.9) * sqrt(P.stol / Rx), Real(0.1));
             }
+            break;
+          }
+          if (Rx > P.stol && !relaxed) {
+            // a substep of this size is too coarse to say where the path meets the apex (its
+            // Euler rate, extrapolated, overshoots): the next size by the error control, as
+            // after any rejection, instead of more of the search (README step 4)
+            xnext = x * fmax(Real(0.9) * sqrt(P.stol / Rx), Real(0.1));
             break;
           }
           xpos = fmax(xpos, x);
@@ -960,7 +1011,8 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     v.epsEq += Real(0.5) * (r1.deq + r2.deq);
     T += dT;
     ea = eb;
-    yield_and_project(P, sig, eb, v.kappa, true, projected);  // drift correction
+    yield_and_project(P, sig, eb, v.kappa, true, projected, at);  // drift correction
+    have_at = mean_pressure(sig) > P.papex;
     if (T >= 1 - Real(1e-12)) break;
     const Real fac = R > 0 ? fmin(Real(0.9) * sqrt(P.stol / R), Real(1.1)) : Real(1.1);
     dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);

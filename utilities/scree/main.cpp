@@ -75,6 +75,9 @@ int main(int argc, char** argv) {
       ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs")
       ("reference-kernels", "run the straightforward particle and grid kernels instead of the fast ones (no "
                             "warp-combined scatter, no particle sorting, dense grid updates): a cross-check")
+      ("stress-split", po::value<std::string>()->default_value("auto"),
+       "fast kernels: the stress pass split into an elastic-only kernel and one for the other points: auto (CUDA: "
+       "timed both ways now and then, the faster kept; CPU: off), on or off")
       ("profile", "time every kernel phase (synchronising after each) and print a table at the end");
   po::variables_map vm;
   try {
@@ -145,6 +148,16 @@ int main(int argc, char** argv) {
   opt.reference_kernels = vm.count("reference-kernels") > 0;
   if (opt.reference_kernels) opt.sparse_grid = false;
   opt.profile = vm.count("profile") > 0;
+  {
+    const std::string split = vm["stress-split"].as<std::string>();
+    if (split == "auto") opt.split_elastic = scree::StressSplit::automatic;
+    else if (split == "on") opt.split_elastic = scree::StressSplit::on;
+    else if (split == "off") opt.split_elastic = scree::StressSplit::off;
+    else {
+      std::cerr << "scree: --stress-split: expected auto, on or off, not '" << split << "'\n";
+      return 2;
+    }
+  }
 
   const fs::path dir = vm["case"].as<std::string>();
   try {
