@@ -255,45 +255,68 @@ SCREE_HD inline Real peak_factor(const Params& P, Real pxi, Real e) {
   return P.exact != 0 ? pow(P.eref * exp(-P.lambda * pxi) / e, P.np) : exp(P.np * log_critical_ratio(P, pxi, e));
 }
 
-/// The peak stress ratio M_p (eq. 17) alone: what the yield function needs. Equal to
-/// ratios(P, e, p).Mp.
-SCREE_HD inline Real peak_ratio(const Params& P, Real e, Real p) {
-  e = fmax(e, Real(1e-6));
-  const Real tp = peak_factor(P, pressure_power(P, p), e) * P.tanphic;  // eq. (17)
-  return ratio_from_tan(tp);
+/// M_p (eq. 17) and the values ratios_at() completes the other ratios from: a yield
+/// evaluation needs M_p alone, a plastic rate all the ratios; a rate at a state a yield
+/// evaluation has just checked starts from its PeakRatio (PointRatios below).
+struct PeakRatio {
+  Real e;      ///< void ratio, floored at 1e-6
+  Real p;      ///< mean stress [Pa]
+  Real pxi;    ///< (p/p_at)^xi (eq. 16)
+  Real L;      ///< ln(e_c/e) (the fast path's; 0 on the reference path)
+  Real tp;     ///< tan phi_p (eq. 17)
+  Real w, d3;  ///< sqrt(1 + tan^2 phi_p) and 3 w - tan phi_p: sin phi_p = tp/w, 3 - sin phi_p = d3/w
+  Real Mp;     ///< M_p = 6 sin phi_p/(3 - sin phi_p)
+};
+SCREE_HD inline PeakRatio peak(const Params& P, Real e, Real p) {
+  PeakRatio k;
+  k.e = fmax(e, Real(1e-6));
+  k.p = p;
+  k.pxi = pressure_power(P, p);
+  Real fp;  // (e_c/e)^n_p, as peak_factor(); on the fast path from the logarithm eq. (18) shares
+  if (P.exact != 0) {
+    k.L = 0;
+    fp = peak_factor(P, k.pxi, k.e);
+  } else {
+    k.L = log_critical_ratio(P, k.pxi, k.e);
+    fp = exp(P.np * k.L);
+  }
+  k.tp = fp * P.tanphic;  // eq. (17)
+  k.w = sqrt(1 + k.tp * k.tp);
+  k.d3 = 3 * k.w - k.tp;
+  k.Mp = 6 * k.tp / k.d3;  // ratio_from_tan(tp)
+  return k;
 }
 
-SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) {
+/// The peak stress ratio M_p (eq. 17) alone: what the yield function needs. Equal to
+/// ratios(P, e, p).Mp.
+SCREE_HD inline Real peak_ratio(const Params& P, Real e, Real p) { return peak(P, e, p).Mp; }
+
+/// All the ratios from peak()'s part of them.
+SCREE_HD inline Ratios ratios_at(const Params& P, const PeakRatio& k) {
   Ratios r;
-  e = fmax(e, Real(1e-6));
-  const Real pe = fmax(p, P.pmin);
-  const Real pxi = pressure_power(P, p);
-  r.ec = P.eref * exp(-P.lambda * pxi);  // eq. (16), as critical_void_ratio()
-  // (e_c/e)^n_p and (e/e_c)^n_d of eqs. (17)-(18), and (p_e/p_at)^(xi-1) of dM_p/dp: on the
-  // fast path from one logarithm and from (p/p_at)^xi above, instead of three pow()s.
-  Real fp, fd, pxi1;
+  const Real e = k.e, p = k.p, pe = fmax(p, P.pmin), tp = k.tp;
+  r.ec = P.eref * exp(-P.lambda * k.pxi);  // eq. (16), as critical_void_ratio()
+  // (e/e_c)^n_d of eq. (18) and (p_e/p_at)^(xi-1) of dM_p/dp: on the fast path from peak()'s
+  // logarithm and (p/p_at)^xi, instead of two more pow()s.
+  Real fd, pxi1;
   if (P.exact != 0) {
-    fp = peak_factor(P, pxi, e);
     fd = pow(e / r.ec, P.nd);
     pxi1 = pow(pe * P.inv_pat, P.xi - 1);
   } else {
-    const Real L = log_critical_ratio(P, pxi, e);
-    fp = exp(P.np * L);  // = peak_factor()
-    fd = exp(-P.nd * L);
-    pxi1 = p >= P.pmin ? pxi * (P.pat / p) : pow(pe * P.inv_pat, P.xi - 1);
+    fd = exp(-P.nd * k.L);
+    pxi1 = p >= P.pmin ? k.pxi * (P.pat / p) : pow(pe * P.inv_pat, P.xi - 1);
   }
-  const Real tp = fp * P.tanphic;  // eq. (17)
-  const Real w = sqrt(1 + tp * tp), d3 = 3 * w - tp;  // sin = tp/w, 3 - sin = d3/w
-  r.Mp = 6 * tp / d3;
+  r.Mp = k.Mp;
   const Real td = fd * P.tanphic;  // eq. (18)
   r.Mpt = ratio_from_tan(td);
   // dM/dtan = 18/(3 - sin)^2 * cos^3 = 18/(d3^2 w);  dtan_p/de = -n_p tan_p/e;
   // dtan_p/dp = n_p tan_p/e_c de_c/dp = -n_p tan_p lambda xi (p/p_at)^(xi-1)/p_at
-  const Real dMdt = 18 / (d3 * d3 * w);
+  const Real dMdt = 18 / (k.d3 * k.d3 * k.w);
   r.dMp_de = dMdt * (-P.np * tp / e);
   r.dMp_dp = dMdt * (-P.np * tp * P.lambda * P.xi * pxi1 * P.inv_pat);
   return r;
 }
+SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) { return ratios_at(P, peak(P, e, p)); }
 
 /// Lode-angle function g(theta) of M (Sheng et al. 2000) from sin(3 theta) in the
 /// compression-positive convention (+1 triaxial compression, -1 triaxial extension).
@@ -303,14 +326,15 @@ SCREE_HD inline Real lode_g(const Params& P, Real S) {
   return power(P, 2 * P.c4 / (1 + P.c4 - (1 - P.c4) * S), Real(0.25));
 }
 
-/// What a yield evaluation and a plastic rate at the same (sigma, e) share: g(theta) and the
-/// ratios of eqs. (16)-(18), the logarithms and exponentials of a rate. integrate() hands them
-/// from its start check and from the drift correction of an accepted substep to the rate that
-/// follows at that state, which then skips them (performance log, entry 21). A projection onto
-/// the surface scales the deviator at constant p and Lode angle, so they hold for its result.
+/// What a yield evaluation and a plastic rate at the same (sigma, e) share: g(theta) and M_p
+/// with its logarithms and exponentials (PeakRatio). integrate() hands them from its start
+/// check and from the drift correction of an accepted substep to the rate that follows at
+/// that state, which then skips them (performance log, entry 21). A projection onto the
+/// surface scales the deviator at constant p and Lode angle, so they hold for its result.
 struct PointRatios {
-  Real g;    ///< lode_g(P, S)
-  Ratios R;  ///< ratios(P, e, p)
+  Real g;       ///< lode_g(P, S)
+  PeakRatio k;  ///< peak(P, e, p)
+  bool valid = false;  ///< set by the yield evaluation that filled it (p > p_apex there)
 };
 
 /// Stress invariants: p, q, the deviator s and sin(3 theta) (compression-positive convention:
@@ -362,41 +386,26 @@ SCREE_HD inline void project_to_surface(const Params& P, Sym3& sig, Real e, Real
   sig = from_p_s(v.p, v.s * (qt / v.q));
 }
 
-/// The yield function at the invariants v (g = g(theta), Mp = M_p) and, when f > kFtol (or
-/// |f| > kFtol with `both_sides`), sig scaled onto the surface as project_to_surface() does.
-SCREE_HD inline Real project_if_beyond(const Params& P, Sym3& sig, const Invariants& v, Real g, Real Mp, Real kappa,
-                                       bool both_sides, bool& projected) {
-  const Real f = yield_value(P, v.q, v.p, g, Mp, kappa);
-  if ((both_sides ? fabs(f) : f) > kFtol && v.q > 0) {
-    sig = from_p_s(v.p, v.s * (hardening(P, Mp, kappa) * g * v.p / v.q));
-    projected = true;
-  }
-  return f;
-}
-
 /// f = yield() followed, when f > kFtol (or |f| > kFtol with `both_sides`), by
 /// project_to_surface(), with the invariants, M_p and g(theta) evaluated once for both: the
 /// same numbers as the two calls. Returns f before the projection; `projected` says whether
-/// sig changed.
+/// sig changed. `at`, if not null, receives g(theta) and M_p's parts for a plastic rate at
+/// (sig, e) (valid only where p > p_apex).
 SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real kappa, bool both_sides,
-                                       bool& projected) {
+                                       bool& projected, PointRatios* at = nullptr) {
   projected = false;
+  if (at) at->valid = false;
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex)) return 0;
   const Real g = lode_g(P, v.S);
-  const Real Mp = peak_ratio(P, e, v.p);
-  return project_if_beyond(P, sig, v, g, Mp, kappa, both_sides, projected);
-}
-/// yield_and_project() that also returns, in `at`, g(theta) and all the ratios at (sigma, e) for
-/// a plastic rate there (PointRatios; `at` is unset when p <= p_apex: so is the rate).
-SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real kappa, bool both_sides,
-                                       bool& projected, PointRatios& at) {
-  projected = false;
-  const Invariants v = invariants(sig);
-  if (!(v.p > P.papex)) return 0;
-  at.g = lode_g(P, v.S);
-  at.R = ratios(P, e, v.p);  // its M_p is peak_ratio()'s
-  return project_if_beyond(P, sig, v, at.g, at.R.Mp, kappa, both_sides, projected);
+  const PeakRatio k = peak(P, e, v.p);
+  if (at) *at = PointRatios{g, k, true};
+  const Real f = yield_value(P, v.q, v.p, g, k.Mp, kappa);
+  if ((both_sides ? fabs(f) : f) > kFtol && v.q > 0) {
+    sig = from_p_s(v.p, v.s * (hardening(P, k.Mp, kappa) * g * v.p / v.q));
+    projected = true;
+  }
+  return f;
 }
 
 /// Elastic response to deps from sig0, integrated exactly for the power law of eq. (13) with
@@ -439,9 +448,10 @@ struct Rate {
   Real deq;
   Real num;  ///< loading indicator n_f : D : deps (before clipping)
 };
-/// `at`: g(theta) and the ratios at (sig, e) already evaluated (PointRatios), or null.
+/// `at`: g(theta) and M_p's parts at (sig, e) already evaluated (PointRatios), or null.
 SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, Real e, const Sym3& deps, Real de,
                                   Rate& r, const PointRatios* at = nullptr) {
+  if (at && !at->valid) at = nullptr;
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex) || !finite_real(v.p)) return false;
   const Real p = v.p, q = v.q;
@@ -478,7 +488,7 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
   }
   const Real rpg = 1 / (p * g);  // 1/(p g), used four times below
   const Real eta = q * rpg;
-  const Ratios R = at ? at->R : ratios(P, e, p);  // eqs. (16)-(18)
+  const Ratios R = at ? ratios_at(P, at->k) : ratios(P, e, p);  // eqs. (16)-(18)
   const Real kk = fmax(kappa, Real(0)), rk = 1 / (P.kp + kk);
   const Real h = kk * rk;
   const Real dh = P.kp * rk * rk;
@@ -604,6 +614,11 @@ SCREE_HD inline bool heun_substep(const Params& P, const Sym3& sig, Real kappa, 
   kn = kappa + Real(0.5) * (r1.dkappa + r2.dkappa);
   return true;
 }
+
+/// Sloan et al. (2001)'s factor for the next substep size after one with local error R,
+/// 0.9 sqrt(STOL/R); the callers bound it: at least 0.1 after a rejection, at most 1.1 after
+/// an acceptance.
+SCREE_HD inline Real substep_factor(const Params& P, Real R) { return Real(0.9) * sqrt(P.stol / R); }
 
 /// Local error estimate of a Heun substep (Sloan et al. 2001): relative to max(|sigma|, s_e).
 SCREE_HD inline Real heun_error(const Params& P, const Rate& r1, const Rate& r2, const Sym3& sn, Real kn) {
@@ -751,7 +766,7 @@ struct ElasticTrial {
   Real ftr;        ///< yield function at sig_tr (0 when it separates)
   bool separates;  ///< the trial ends in tension or at the apex: the point separates
   bool elastic;    ///< the whole increment is elastic: sig_tr is the answer
-  PointRatios at0;  ///< g(theta) and the ratios at (sig0, e) (integrate() only; p > p_apex)
+  PointRatios at0;  ///< g(theta) and M_p's parts at (sig0, e) (integrate() only)
 };
 SCREE_HD inline void elastic_trial_from_start(const Params& P, const Vars& v, const Sym3& deps, ElasticTrial& t) {
   t.tr = deps.trace();
@@ -772,7 +787,7 @@ SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, con
   ElasticTrial t;
   t.sig0 = sig;
   bool projected;
-  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected, t.at0);
+  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected, &t.at0);
   if (projected) t.f0 = 0;
   elastic_trial_from_start(P, v, deps, t);
   return t;
@@ -884,8 +899,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   bool at_apex = false;  // the path has reached the stress-free apex: the remainder is done there
   bool stiff_tried = false;  // implicit returns tried for the remainder (README step 5), once
   bool apex_searched = false;  // the crossing of the apex searched (diagnostics only)
-  PointRatios at;              // g(theta) and the ratios at (sig, ea) from the last drift correction
-  bool have_at = false;        // ... valid (sig has not changed since)
+  PointRatios at;              // g(theta) and M_p's parts at (sig, ea) from the last drift correction
   int n = 0;
   while (T < 1) {
     ++n;
@@ -914,23 +928,20 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     if (n > 3 * kMaxSubsteps) dT = 1 - T;
     const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + dT));
     if (!have_r1u)
-      have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u, have_at ? &at : nullptr);
+      have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u, &at);
     Rate r1, r2;
     Sym3 sn = sig;
     Real kn = v.kappa, R = Real(1e300);
     const bool ok = have_r1u && heun_substep(P, sig, v.kappa, r1u, drem, dT, eb, eb - ea, r1, r2, sn, kn);
     if (ok) R = heun_error(P, r1, r2, sn, kn);
-    const bool beyond_apex = !ok || !(mean_pressure(sn) > P.papex);
-    if (beyond_apex && R > P.stol && R < Real(1e299) && !relaxed && dT > kMinSubstep && norm(sig) > snear) {
-      // A Heun end state beyond the apex from a substep whose error fails the test does not
-      // say that the path reaches the apex, only that the substep is too coarse (the Euler
-      // rate, extrapolated, overshoots): rejected like any other (README step 4). Searching
-      // its crossing cost 8 rate evaluations for nothing on grains that extend from tens of
-      // Pa to a few (performance log, entry 21).
-      dT = fmax(dT * fmax(Real(0.9) * sqrt(P.stol / R), Real(0.1)), kMinSubstep);
-      continue;
-    }
-    if (beyond_apex) R = Real(1e300);
+    const bool reject = R > P.stol && !relaxed && dT > kMinSubstep;
+    // A Heun end state beyond the apex from a substep whose error fails the test does not say
+    // that the path reaches the apex, only that the substep is too coarse (the Euler rate,
+    // extrapolated, overshoots): rejected below like any other (README step 4). Searching its
+    // crossing cost 8 rate evaluations for nothing on grains that extend from tens of Pa to a
+    // few (performance log, entry 21).
+    if ((!ok || !(mean_pressure(sn) > P.papex)) && !(reject && R < Real(1e299) && norm(sig) > snear))
+      R = Real(1e300);
     if (!(R < Real(1e299))) {
       // p would drop to zero within the substep (Heun or Euler end state at p <= p_apex): the
       // path reaches the stress-free apex. This used to cut dT by 10 (regrowing by 1.1 per
@@ -973,24 +984,20 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
         const Real px = mean_pressure(sn);
         if (okx && px > P.papex) {
           const Real Rx = heun_error(P, r1, r2, sn, kn);
-          if (norm(sn) <= snear) {  // the crossing, to within what the error control accepts
-            if (Rx <= P.stol || relaxed) {
-              sig = sn;
-              v.kappa = kn;
-              v.epsEq += Real(0.5) * (r1.deq + r2.deq);
-              T += x;
-              ea = ex;
-              at_apex = true;
-            } else {
-              xnext = x * fmax(Real(0.9) * sqrt(P.stol / Rx), Real(0.1));
-            }
-            break;
-          }
           if (Rx > P.stol && !relaxed) {
             // a substep of this size is too coarse to say where the path meets the apex (its
-            // Euler rate, extrapolated, overshoots): the next size by the error control, as
-            // after any rejection, instead of more of the search (README step 4)
-            xnext = x * fmax(Real(0.9) * sqrt(P.stol / Rx), Real(0.1));
+            // Euler rate, extrapolated, overshoots), at the crossing or short of it: the next
+            // size by the error control, as after any rejection (README step 4)
+            xnext = x * fmax(substep_factor(P, Rx), Real(0.1));
+            break;
+          }
+          if (norm(sn) <= snear) {  // the crossing, to within what the error control accepts
+            sig = sn;
+            v.kappa = kn;
+            v.epsEq += Real(0.5) * (r1.deq + r2.deq);
+            T += x;
+            ea = ex;
+            at_apex = true;
             break;
           }
           xpos = fmax(xpos, x);
@@ -1001,8 +1008,8 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
       dT = fmax(xnext > 0 ? xnext : (xpos > 0 ? xpos : Real(0.1) * dT), Real(1e-3) * kMinSubstep);
       continue;
     }
-    if (R > P.stol && !relaxed && dT > kMinSubstep) {  // reject: smaller substep (Sloan et al. 2001)
-      dT = fmax(dT * fmax(Real(0.9) * sqrt(P.stol / R), Real(0.1)), kMinSubstep);
+    if (reject) {  // smaller substep (Sloan et al. 2001)
+      dT = fmax(dT * fmax(substep_factor(P, R), Real(0.1)), kMinSubstep);
       continue;
     }
     sig = sn;  // accept
@@ -1011,10 +1018,9 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     v.epsEq += Real(0.5) * (r1.deq + r2.deq);
     T += dT;
     ea = eb;
-    yield_and_project(P, sig, eb, v.kappa, true, projected, at);  // drift correction
-    have_at = mean_pressure(sig) > P.papex;
+    yield_and_project(P, sig, eb, v.kappa, true, projected, &at);  // drift correction
     if (T >= 1 - Real(1e-12)) break;
-    const Real fac = R > 0 ? fmin(Real(0.9) * sqrt(P.stol / R), Real(1.1)) : Real(1.1);
+    const Real fac = R > 0 ? fmin(substep_factor(P, R), Real(1.1)) : Real(1.1);
     dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);
   }
 #if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
