@@ -11,12 +11,13 @@
 # past the window. Writes <out.csv> (per kernel name: launches, mean / min / max duration
 # in us, registers, grid) and <out.csv>.raw (ncu's own CSV), and prints the table.
 # Example (the column at rest, steps ~1,000-1,015): gpu-kernel-times.sh cases/columnCollapse 1100 5000 60 k.csv
+# SCREE_ARGS adds options to scree's command line (e.g. SCREE_ARGS="--stress-split on").
 set -euo pipefail
 case_dir=$1 max_steps=$2 skip=$3 count=$4 out=$5
 bin=${SCREE_BUILD_DIR:-build}/bin/scree
 ncu --clock-control none --launch-skip "$skip" --launch-count "$count" --csv --page raw \
   --metrics gpu__time_duration.sum,launch__registers_per_thread,launch__grid_size,launch__block_size \
-  "$bin" --case "$case_dir" --no-output --no-graphs --max-steps "$max_steps" >"$out.raw" 2>"$out.log" || {
+  "$bin" --case "$case_dir" --no-output --no-graphs --max-steps "$max_steps" ${SCREE_ARGS:-} >"$out.raw" 2>"$out.log" || {
   tail -20 "$out.log"
   exit 1
 }

@@ -3,6 +3,7 @@
 //   scree-bench [--device cpu|cuda|both] [--quick] [--cases column,flume,scaling,cpu,updates]
 //               [--kernels fast,reference,uncapped] [--steps N] [--cpu-steps N]
 //               [--max-particles N] [--column-steps N] [--column-late-at STEP] [--flume-steps N]
+//               [--flume-late-at STEP]
 //               [--csv FILE] [--json FILE]
 //
 // For each case, backend and kernel variant it runs the solver without output for a fixed
@@ -18,8 +19,9 @@
 // windows: before the release (the column at rest), right after it and later in the
 // collapse (from step 60,000 by default; plastic flow, points sheared apart at the free
 // surface, whose slowest stress updates set the step time); the wall time of the paper's
-// 100,000 steps is estimated from them. (b) cases/flume at 5 mm, at rest and after the
-// release (at 0.05 s).
+// 100,000 steps is estimated from them. (b) cases/flume at 5 mm, at rest, right after the
+// release (at 0.05 s) and later in the flow (from step 150,000 by default: 0.1 s after the
+// release, where a whole run's step already costs several times the first flowing steps').
 // (c) weak scaling of a granular block resting on a floor from 1e4 to 1e7 particles,
 // for linearElastic and phaseTransition and each shape function. (d) cpu: Scree's CPU
 // backend against a straightforward scalar loop written for the comparison
@@ -427,6 +429,9 @@ int main(int argc, char** argv) {
       "the late collapse, whose step costs several times the first steps after the release")(
       "flume-steps", po::value<long long>()->default_value(2000),
       "flume: steps timed after the release (release at step 50,000)")(
+      "flume-late-at", po::value<long long>()->default_value(150000),
+      "flume: step from which a second flowing window of flume-steps steps is timed (GPU; 0: none): "
+      "the flow down the slope, whose step costs several times the first steps after the release")(
       "cpu-particles", po::value<long long>()->default_value(100000), "size of the CPU comparison block")(
       "threads", po::value<int>()->default_value(omp_get_max_threads()), "CPU threads")(
       "source-dir", po::value<std::string>()->default_value(SCREE_SOURCE_DIR), "the Scree source tree (for cases/)")(
@@ -509,7 +514,8 @@ int main(int argc, char** argv) {
   if (wants("flume"))
     paper.push_back({"flume", quick ? "flume S-1 (20 mm)" : "flume 5 mm (paper)",
                      quick ? src / "cases/flume/variants/S-1" : src / "cases/flume", quick ? 20 : 50000,
-                     quick ? 10 : vm["flume-steps"].as<long long>(), 3000000, 0});
+                     quick ? 10 : vm["flume-steps"].as<long long>(), 3000000,
+                     quick ? 0 : vm["flume-late-at"].as<long long>()});
   for (const Paper& pc : paper) {
     if (!fs::exists(pc.dir)) continue;
     for (auto d : devices)
