@@ -167,7 +167,7 @@ TEST(VolumeLimit, CapsDetFInBothKernelsAndChangesNothingBelowIt) {
              "initialStress { type uniform; stress (-2e4 -2e4 -2e4 0 0 0); } }",
              ""};
   s.gravity = "value (0 0);";
-  constexpr long kSteps = 100;  // the tension wave crosses the block in ~30 steps
+  constexpr long kSteps = 100;  // the release wave crosses the half-width in ~15 steps
   const Snapshot start = run(s, false, 0);
   const Snapshot free = run(s, false, kSteps);
   // the largest volume of any point, over its initial volume (points matched by id)
