@@ -70,6 +70,13 @@ const CoreSpecs& CoreSpecs::get() {
     m->scalar("massTolerance", "-", "nodes lighter than this fraction of the lightest particle are not accelerated")
         .default_value(1e-6)
         .range(0, 1);
+    m->scalar("maxVolumeRatio", "-",
+              "largest volume of a material point as a multiple of its initial one, det F (default: no "
+              "limit); beyond it F is scaled isotropically. For phaseTransition 1000/(1 + e0) stops a point at "
+              "the kinetic theory's smallest solid fraction (1e-3), so that the few points a flow stretches "
+              "thousands of times do not set the time step of the whole run (cases/flume/README.md)")
+        .optional()
+        .range(1, 1e12);
     m->allow_keys({"FoamFile"});
     m->check([](const Dictionary& d, std::vector<InputError>& errors) {
       if (d.get_word_or("transfer", "FLIP") == "APIC" && d.get_word_or("shapeFunction", "linear") == "linear")

@@ -116,6 +116,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   shape_ = shape == "gimp" ? ShapeKind::gimp : (shape == "bspline2" ? ShapeKind::bspline2 : ShapeKind::linear);
   transfer_ = sch.get_word_or("transfer", "FLIP") == "APIC" ? Transfer::apic : Transfer::flip;
   pic_fraction_ = sch.get_scalar_or("picFraction", 0.0);
+  max_volume_ratio_ = sch.get_scalar_or("maxVolumeRatio", std::numeric_limits<double>::infinity());
   // Particles sorted by cell keep a warp's stencils together (its P2G adds combine before
   // the atomics) and the gathers in cache; the fast kernels re-sort every 200 steps unless
   // the case says otherwise (a particle crosses a 1 mm cell in ~100 steps at 1 m/s and
@@ -394,6 +395,7 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.control = ctl_.data();
   pp.gravity = gravity_;
   pp.pic_fraction = pic_fraction_;
+  pp.max_volume_ratio = max_volume_ratio_;
   pp.transfer = transfer_;
   pp.serial = exec_.device == Device::cpu && exec_.threads == 1;
   pp.reference = opt_.reference_kernels;

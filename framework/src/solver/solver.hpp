@@ -21,6 +21,7 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -124,6 +125,7 @@ class Solver {
   ShapeKind shape_ = ShapeKind::linear;
   Transfer transfer_ = Transfer::flip;
   Real pic_fraction_ = 0;
+  Real max_volume_ratio_ = std::numeric_limits<Real>::infinity();  ///< mpmSchemes maxVolumeRatio
   Real damping_ = 0, damping_start_ = 0, damping_end_ = 0;
   Real mass_tolerance_ = 1e-6, mass_eps_ = 0;
   std::int64_t sort_interval_ = 0;

@@ -155,6 +155,43 @@ void expect_collapse_agrees(const std::string& material) {
 TEST(FastKernels, AgreeWithReferencePhaseTransitionCollapse) { expect_collapse_agrees("sand"); }
 TEST(FastKernels, AgreeWithReferenceFrictionalCollapse) { expect_collapse_agrees("sandFrictional"); }
 
+// mpmSchemes maxVolumeRatio: no point's volume exceeds the limit times its initial one, in
+// either kernel, and the two agree; a limit no point reaches changes nothing at all. The
+// block is released from a uniform compression of 20 kPa (tension positive) with no gravity
+// and no walls: it expands elastically (volumetric strain up to about 2 p/K = 5%, K = 0.83
+// MPa), so a limit of 1.01 is reached and one of 10 is not.
+TEST(VolumeLimit, CapsDetFInBothKernelsAndChangesNothingBelowIt) {
+  RunSetup s{"endTime 1; deltaT 2e-4; writeInterval 1;", "dimension 2; lower (0 0); upper (0.6 0.6); cellSize 0.05;",
+             "updateScheme USF;", kElastic,
+             "c { material soil; region { type rectangle; lower (0.2 0.2); upper (0.4 0.4); } "
+             "initialStress { type uniform; stress (-2e4 -2e4 -2e4 0 0 0); } }",
+             ""};
+  s.gravity = "value (0 0);";
+  constexpr long kSteps = 100;  // the release wave crosses the half-width in ~15 steps
+  const Snapshot start = run(s, false, 0);
+  const Snapshot free = run(s, false, kSteps);
+  // the largest volume of any point, over its initial volume (points matched by id)
+  auto largest_ratio = [&](const Snapshot& a) {
+    std::unordered_map<std::int64_t, double> v0;
+    const BodySnapshot& b0 = start.bodies[0];
+    for (Index p = 0; p < b0.n; ++p) v0[b0.id[p]] = field(b0, "volume").values[p];
+    const BodySnapshot& b = a.bodies[0];
+    double r = 0;
+    for (Index p = 0; p < b.n; ++p) r = std::max(r, field(b, "volume").values[p] / v0.at(b.id[p]));
+    return r;
+  };
+  ASSERT_GT(largest_ratio(free), 1.01) << "the block must stretch past the limit for the test to mean anything";
+  RunSetup capped = s;
+  capped.schemes += " maxVolumeRatio 1.01;";
+  const Snapshot fast = run(capped, false, kSteps), ref = run(capped, true, kSteps);
+  EXPECT_LE(largest_ratio(fast), 1.01 * (1 + 1e-12));
+  EXPECT_LE(largest_ratio(ref), 1.01 * (1 + 1e-12));
+  expect_same(ref, fast, 1e-9);
+  RunSetup loose = s;
+  loose.schemes += " maxVolumeRatio 10;";
+  expect_same(free, run(loose, false, kSteps), 0);
+}
+
 }  // namespace
 }  // namespace scree::test
 

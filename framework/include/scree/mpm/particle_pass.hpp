@@ -24,6 +24,8 @@
 // Sign convention: stress tension positive. Units: SI.
 #pragma once
 
+#include <limits>
+
 #include "scree/core/config.hpp"
 #include "scree/core/report_cycles.hpp"
 #include "scree/core/tensor.hpp"
@@ -84,6 +86,8 @@ struct PassParams {
   StepControl* control = nullptr;
   Vec<D> gravity;
   Real pic_fraction = 0;  ///< FLIP/PIC blend: 0 = pure FLIP (the paper's eq. 10), 1 = PIC
+  /// Largest det F (mpmSchemes maxVolumeRatio); infinite: no limit (one comparison per point)
+  Real max_volume_ratio = std::numeric_limits<Real>::infinity();
   Transfer transfer = Transfer::flip;
   bool serial = false;    ///< CPU loop on one thread: plain adds instead of atomics
   bool need_speed = true;  ///< compute the largest signal speed (adaptive time step only)
@@ -454,7 +458,16 @@ SCREE_UNROLL
                                   FreshStress& fresh) const {
     Mat<D> F = load_F(p);
     F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
-    const Real J = det(F);
+    Real J = det(F);
+    if (J > pp.max_volume_ratio) [[unlikely]] {
+      // The point's volume V0 J is capped at V0 max_volume_ratio by an isotropic scaling of
+      // F, (r/J)^(1/D) (the out-of-plane stretch is 1 in plane strain): its density, and so
+      // the signal speeds of the time step, stay bounded; the stress update still sees the
+      // whole strain increment (cases/flume/README.md).
+      const Real r = pp.max_volume_ratio / J;
+      F = F * (D == 2 ? sqrt(r) : cbrt(r));
+      J = pp.max_volume_ratio;
+    }
     StrainIncrement inc;
     inc.deps = sym3_from(L) * dt;
     inc.spin = spin_from(L);
