@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Run a fixed set of CPU cases with one build of Scree and collect every output file, so
+# that two builds can be compared byte for byte (a refactor must not change a bit):
+#
+#   scripts/reference-outputs.sh BIN_DIR OUT_DIR        # e.g. build/bin /tmp/outputs-new
+#   diff -r /tmp/outputs-old /tmp/outputs-new && echo identical
+#
+# Single-threaded CPU runs only: with several threads the order of the atomic additions
+# into grid nodes changes the last bits from run to run. The set: the elastic column (the
+# default case), the column collapse meshes C-1 and C-2 with the phase-transition model and
+# C-2 with the frictional model (cases/columnCollapse/variants), and every element test of
+# cases/elementTests (frictional, collisional and combined models). About 3 minutes on one
+# core.
+set -euo pipefail
+bin=$(cd "$1" && pwd)
+out=$2
+repo=$(cd "$(dirname "$0")/.." && pwd)
+mkdir -p "$out"
+work=$(mktemp -d /tmp/scree-ref-XXXXXX)
+trap 'rm -rf "$work"' EXIT
+
+run_case() {  # name, case root (copied, so the repository stays clean), case inside it
+  local name=$1 root=$2 rel=${3:-.}
+  mkdir -p "$work/$name"
+  cp -r "$root/." "$work/$name/"  # variants #include their parent case's files
+  local dir="$work/$name/$rel"
+  rm -rf "$dir/VTK" "$dir/postProcessing"
+  "$bin/scree" --case "$dir" --device cpu --threads 1 > "$out/$name.log" 2>&1 ||
+    { echo "reference-outputs: $name failed (see $out/$name.log)" >&2; exit 1; }
+  mkdir -p "$out/$name"
+  for d in VTK postProcessing; do
+    if [ -d "$dir/$d" ]; then cp -r "$dir/$d" "$out/$name/"; fi
+  done
+}
+
+run_case elasticColumn "$repo/cases/elasticColumn"
+for v in C-1 C-2 frictional-C-2; do
+  run_case "columnCollapse-$v" "$repo/cases/columnCollapse" "variants/$v"
+done
+
+mkdir -p "$out/elementTests"
+for dir in "$repo"/cases/elementTests/fig*/; do
+  fig=$(basename "$dir")
+  for f in "$dir"e0_* "$dir"steady_*; do
+    [ -f "$f" ] || continue
+    (cd "$dir" && "$bin/scree-element" "$(basename "$f")" -o "$out/elementTests/${fig}_$(basename "$f").csv") \
+      > /dev/null 2>&1 || { echo "reference-outputs: element test $fig/$(basename "$f") failed" >&2; exit 1; }
+  done
+done
+# The logs carry wall times: keep only what the run computed.
+for l in "$out"/*.log; do
+  grep -v -E 'wall|steps/s|elapsed|ETA|threads' "$l" > "$l.tmp" || true
+  mv "$l.tmp" "$l"
+done
+echo "reference-outputs: $(find "$out" -type f | wc -l) files in $out"
