@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "scree/solver/case.hpp"
+
 namespace scree {
 namespace {
 
@@ -27,7 +29,7 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   GeneratedParticles<D> out;
   const Dictionary& region = body.sub("region");
   const std::string type = region.get_word("type");
-  const int n = static_cast<int>(body.get_integer_or("particlesPerCell", 2));
+  const int n = BodySettings::read(body).particles_per_cell;
 
   // Bounding box of the region and the inside test.
   Vec<D> lo, hi;
@@ -152,7 +154,7 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   }
   if (const Entry* e = body.find("initialStress"); e && e->dict().get_word("type") == "geostatic") {
     const Dictionary& s = e->dict();
-    const Real K0 = s.get_scalar_or("K0", 0.5);
+    const Real K0 = ParamReader(*CoreSpecs::get().body->find("initialStress")->sub(), s).scalar("K0");
     const Real gn = norm(gravity);
     if (gn > 0) {
       Vec<D> up = gravity * (-1 / gn);  // unit vector against gravity

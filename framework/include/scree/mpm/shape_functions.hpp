@@ -15,10 +15,9 @@
 #include <cmath>
 
 #include "scree/core/config.hpp"
+#include "scree/mpm/schemes.hpp"
 
 namespace scree {
-
-enum class ShapeKind : int { linear = 0, gimp = 1, bspline2 = 2 };
 
 struct ShapeLinear {
   static constexpr int kStencil = 2;

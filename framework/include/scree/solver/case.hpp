@@ -23,6 +23,7 @@
 #include "scree/io/dictionary.hpp"
 #include "scree/params/spec.hpp"
 #include "scree/plugin/loader.hpp"
+#include "scree/solver/settings.hpp"
 
 namespace scree {
 
@@ -46,11 +47,14 @@ class SCREE_API Case {
   const Dictionary& bodies() const { return bodies_; }
   const Dictionary& boundaries() const { return boundaries_; }
   int dimension() const { return dimension_; }
+  /// The core dictionaries as typed settings, defaults applied (settings.hpp).
+  const CaseSettings& settings() const { return settings_; }
 
  private:
   std::filesystem::path dir_;
   Dictionary control_, schemes_, grid_, gravity_, materials_, bodies_, boundaries_;
   int dimension_ = 2;
+  CaseSettings settings_;
 };
 
 }  // namespace scree
