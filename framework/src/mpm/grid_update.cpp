@@ -13,7 +13,7 @@ struct GridUpdate {
 
   /// The dense update: every node.
   SCREE_HD void operator()(Index I) const {
-    if ((p.modes & kAdvance) && I == 0) advance(p.control, p.parity);
+    if ((p.modes & kAdvance) && I == 0) advance_clock(p.control, p.parity);
     node(I, true, (p.modes & kZeroOther) != 0);
   }
 
@@ -44,7 +44,7 @@ struct GridUpdate {
     const bool has_mass = m > 0;
     const bool accelerate = m > p.mass_eps;
     const Real rm = has_mass ? 1 / m : Real(0);  // one division per node, not one per component
-    const ConstraintMask mask = p.masks ? p.masks[I] : 0;
+    const WallMask mask = p.masks ? p.masks[I] : 0;
     Real x[D] = {};
     if (mask) {
       const Vec<D> xn = p.grid.node_position(I);
@@ -55,7 +55,7 @@ struct GridUpdate {
       Real* const* src = (p.modes & kRemap) ? g.force : g.momentum;
       Real v[D];
       for (int d = 0; d < D; ++d) v[d] = has_mass ? src[d][I] * rm : Real(0);
-      if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
+      if (mask) apply_walls<D>(p.walls, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
     if (p.modes & kIntegrate) {
@@ -67,7 +67,7 @@ struct GridUpdate {
         if (damp && vk != 0) f -= p.damping * fabs(f) * (vk > 0 ? Real(1) : Real(-1));
         v[d] = accelerate ? vk + dt * f * rm : vk;
       }
-      if (mask) apply_constraints<D>(p.constraints, mask, v, x, t);
+      if (mask) apply_walls<D>(p.walls, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }
     if (p.modes & kZeroForce)
@@ -96,24 +96,6 @@ struct GridUpdate {
     act = p.cur_stamps[t] == tile_stamp(k);
     clr = (p.modes & kZeroOther) && p.other_stamps && k > 0 && p.other_stamps[t] == tile_stamp(k - 1);
   }
-
-  /// Time control for the next step (slot 1 - par). One thread runs this; it writes
-  /// slots nobody else reads in this step.
-  SCREE_HD static void advance(StepControl* c, int par) {
-    const Real t = c->t[par], dt = c->dt[par];
-    const Real t1 = t + dt;
-    Real dt1 = c->dt_max;
-    if (c->cfl > 0 && c->max_speed[par] > 0) dt1 = fmin(dt1, c->cfl * c->h / c->max_speed[par]);
-    const Real remaining = c->t_target - t1;
-    // Land exactly on the target; never leave a sliver shorter than 1e-6 dt.
-    if (remaining <= Real(1e-9) * dt1) dt1 = 0;
-    else if (remaining < dt1 * (1 + Real(1e-6))) dt1 = remaining;
-    c->t[1 - par] = t1;
-    c->dt[1 - par] = dt1;
-    c->max_speed[par] = 0;
-    c->step[1 - par] = c->step[par] + 1;
-    if (dt > 0) c->steps_done += 1;
-  }
 };
 
 #if defined(__CUDACC__)
@@ -121,7 +103,7 @@ struct GridUpdate {
 /// striding over the tiles; a tile nobody stamped costs one load.
 template <int D>
 __global__ void __launch_bounds__(Tiles<D>::kNodes) sparse_kernel(Index tiles, GridUpdate<D> u) {
-  if ((u.p.modes & kAdvance) && blockIdx.x == 0 && threadIdx.x == 0) GridUpdate<D>::advance(u.p.control, u.p.parity);
+  if ((u.p.modes & kAdvance) && blockIdx.x == 0 && threadIdx.x == 0) advance_clock(u.p.control, u.p.parity);
   for (Index t = blockIdx.x; t < tiles; t += gridDim.x) {
     bool act, clr;
     u.tile_flags(t, act, clr);
@@ -148,7 +130,7 @@ void grid_update(const Exec& ex, const GridUpdateParams<D>& p) {
 #endif
     return;
   }
-  if (p.modes & kAdvance) GridUpdate<D>::advance(p.control, p.parity);
+  if (p.modes & kAdvance) advance_clock(p.control, p.parity);
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(static) if (tiles * Tiles<D>::kNodes >= kCpuParallelMinItems) \
     num_threads(ex.threads > 0 ? ex.threads : 1)

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "scree/core/config.hpp"
+#include "scree/time/step_control.hpp"
 #include "scree/core/tensor.hpp"
 
 namespace scree {
@@ -74,24 +75,6 @@ struct GridFields {
   Real* velocity[D];      ///< v^k = momentum/mass after boundary conditions [m/s]
                           ///< (MUSL: the velocity re-mapped from updated particle velocities)
   Real* velocity_new[D];  ///< v^{k+1} = v^k + dt f/m after boundary conditions [m/s]
-};
-
-/// Time control kept in device memory, so that no step needs a host round trip.
-/// Two slots alternate with the step's parity: kernels of step k read slot k%2, and the
-/// last kernel of the step writes slot (k+1)%2 (its thread 0, after the rest of the
-/// step has used slot k%2). The device clamps dt so that t lands on t_target; after
-/// that dt is 0 and steps change nothing until the host sets the next target.
-struct StepControl {
-  Real t[2];          ///< time at the start of the step [s]
-  Real dt[2];         ///< the step's time increment [s]
-  Real max_speed[2];  ///< largest particle signal speed c + |v| seen in the step [m/s]
-  Real t_target;      ///< the time to land on (next write or end) [s]
-  Real dt_max;        ///< fixed step, or the largest adaptive step [s]
-  Real cfl;           ///< CFL number (0: fixed step)
-  Real h;             ///< cell size [m]
-  unsigned long long steps_done;  ///< steps that did work
-  unsigned long long lost;        ///< particles whose stencil left the grid (frozen)
-  unsigned long long step[2];     ///< index of the step (every step, also those with dt = 0)
 };
 
 /// Sparse grid updates: the nodes are grouped in tiles of kTileNodes (32 along x, a warp's

@@ -1,0 +1,70 @@
+// TimeControl (see time_control.hpp).
+#include "scree/time/time_control.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+
+namespace scree {
+
+TimeControl::TimeControl(const TimeSettings& s, Real cell_size) : s_(s), h_(cell_size) {}
+
+StepControl TimeControl::initial() const {
+  StepControl c{};
+  c.t[0] = s_.start_time;
+  c.dt[0] = s_.delta_t;
+  c.t_target = s_.end_time;
+  c.dt_max = adaptive() ? s_.max_delta_t : s_.delta_t;
+  c.cfl = adaptive() ? s_.max_co : 0;
+  c.h = h_;
+  return c;
+}
+
+bool TimeControl::start(StepControl& ctl, Real cmax, std::ostream& log) {
+  if (cmax <= 0) return false;
+  const Real stable = h_ / cmax;
+  if (adaptive()) {
+    ctl.dt[0] = std::min<Real>(s_.delta_t, ctl.cfl * stable);
+    return true;
+  }
+  if (s_.delta_t > stable) {
+    log << "warning: system/controlDict: deltaT " << s_.delta_t << " s exceeds the stable time step " << stable
+        << " s (h / c with the largest signal speed c = " << cmax
+        << " m/s at the start); the run may blow up. Use a smaller deltaT or adjustTimeStep yes.\n";
+    warned_ = true;
+  }
+  return false;
+}
+
+bool TimeControl::reached(double t, double target) {
+  return t >= target - 1e-12 * std::max(1.0, std::fabs(target));
+}
+
+std::int64_t TimeControl::steps_to(const StepControl& ctl, int p, double target) const {
+  const Real dt = std::max<Real>(ctl.dt[p], 1e-300);
+  std::int64_t n = static_cast<std::int64_t>(std::ceil((target - ctl.t[p]) / dt - 1e-9));
+  if (adaptive()) n += 1;
+  return std::max<std::int64_t>(n, 1);
+}
+
+bool TimeControl::retarget(StepControl& ctl, int p, double target) const {
+  if (ctl.t_target == target) return false;
+  ctl.t_target = target;
+  Real dt = ctl.dt_max;
+  if (adaptive()) dt = ctl.dt[p] > 0 ? std::min<Real>(dt, ctl.dt[p]) : cfl_step(ctl, ctl.max_speed[1 - p]);
+  ctl.dt[p] = land_on_target(dt, target - ctl.t[p]);
+  return true;
+}
+
+void TimeControl::watch(double wall, double t, std::int64_t step, const SignalSpeed& speed, std::ostream& log) {
+  if (adaptive() || warned_ || wall - watch_wall_ < 5.0) return;
+  watch_wall_ = wall;
+  const Real cmax = speed();
+  if (!(cmax > 0) || s_.delta_t <= h_ / cmax) return;
+  log << "\nwarning: system/controlDict: at t = " << t << " s (step " << step << ") deltaT " << s_.delta_t
+      << " s exceeds the stable time step " << h_ / cmax << " s (h / c, largest signal speed c = " << cmax
+      << " m/s); the run may blow up. Use adjustTimeStep yes (maxCo 0.5) or a smaller deltaT.\n";
+  warned_ = true;
+}
+
+}  // namespace scree
