@@ -28,13 +28,13 @@
 // (scalar_mpm.hpp), particle-steps/s per core. (e) updates: the slow SIMSAND stress
 // updates recorded late in the 1 mm column collapse, replayed on one CPU thread (us per
 // update; replay_updates).
-// Kernel variants: fast (default), reference (RunOptions::reference_kernels: the
+// Kernel variants: fast (default), reference (KernelPolicy::reference_kernels(): the
 // straightforward kernels), uncapped (fast, but the 2D stress kernel without its register
-// cap: RunOptions::stress_blocks_per_sm = 0), split / unsplit (fast, with the stress pass
-// always split in an elastic-only kernel and one for the rest, or never: RunOptions::
-// split_elastic on / off; fast lets the solver time both and choose), elastic-uncapped
+// cap: KernelPolicy::stress_blocks_per_sm = 0), split / unsplit (fast, with the stress pass
+// always split in an elastic-only kernel and one for the rest, or never: KernelPolicy::
+// split on / off; fast lets the solver time both and choose), elastic-uncapped
 // (the split always, its elastic-only kernel without a register cap:
-// RunOptions::elastic_blocks_per_sm = 0).
+// KernelPolicy::elastic_blocks_per_sm = 0).
 #include <omp.h>
 
 #include <boost/program_options.hpp>
@@ -134,13 +134,14 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   o.threads = threads;
   o.output = false;
   o.progress = false;
-  o.reference_kernels = variant == "reference";
-  if (variant == "uncapped") o.stress_blocks_per_sm = 0;
-  if (variant == "split") o.split_elastic = scree::StressSplit::on;
-  if (variant == "unsplit") o.split_elastic = scree::StressSplit::off;
+  scree::KernelPolicy& k = o.kernels;
+  if (variant == "reference") k = scree::KernelPolicy::reference_kernels();
+  if (variant == "uncapped") k.stress_blocks_per_sm = 0;
+  if (variant == "split") k.split = scree::StressSplit::on;
+  if (variant == "unsplit") k.split = scree::StressSplit::off;
   if (variant == "elastic-uncapped") {
-    o.split_elastic = scree::StressSplit::on;
-    o.elastic_blocks_per_sm = 0;
+    k.split = scree::StressSplit::on;
+    k.elastic_blocks_per_sm = 0;
   }
   static std::ostringstream sink;
   o.log = &sink;

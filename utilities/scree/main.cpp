@@ -144,15 +144,14 @@ int main(int argc, char** argv) {
   }
   opt.max_steps = vm["max-steps"].as<long long>();
   opt.output = !vm.count("no-output");
-  opt.use_graphs = !vm.count("no-graphs");
-  opt.reference_kernels = vm.count("reference-kernels") > 0;
-  if (opt.reference_kernels) opt.sparse_grid = false;
+  if (vm.count("reference-kernels")) opt.kernels = scree::KernelPolicy::reference_kernels();
+  opt.kernels.graphs = !vm.count("no-graphs");
   opt.profile = vm.count("profile") > 0;
   {
     const std::string split = vm["stress-split"].as<std::string>();
-    if (split == "auto") opt.split_elastic = scree::StressSplit::automatic;
-    else if (split == "on") opt.split_elastic = scree::StressSplit::on;
-    else if (split == "off") opt.split_elastic = scree::StressSplit::off;
+    if (split == "auto") opt.kernels.split = scree::StressSplit::automatic;
+    else if (split == "on") opt.kernels.split = scree::StressSplit::on;
+    else if (split == "off") opt.kernels.split = scree::StressSplit::off;
     else {
       std::cerr << "scree: --stress-split: expected auto, on or off, not '" << split << "'\n";
       return 2;
@@ -171,7 +170,7 @@ int main(int argc, char** argv) {
     std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in "
               << st.wall_seconds << " s wall (" << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0)
               << " steps/s, " << st.particles << " particles)\n";
-    if (st.split_steps > 0)  // RunOptions::split_elastic: what the tuner chose, for the record
+    if (st.split_steps > 0)  // KernelPolicy::split: what the tuner chose, for the record
       std::cout << "scree: stress pass split (elastic points first) in " << st.split_steps << " of " << st.steps
                 << " steps\n";
     if (st.lost_particles)

@@ -1,6 +1,6 @@
 // The fast kernels against the straightforward ones (issue 6), on whole runs.
 //
-// RunOptions::reference_kernels runs one generic particle kernel with an atomic add per
+// KernelPolicy::reference runs one generic particle kernel with an atomic add per
 // particle and node, visits every grid node, computes the signal speed every step and
 // does not re-sort the particles. The fast kernels (the default) specialise the particle
 // kernel by phase, add over a warp before the atomics (CUDA), update only the grid tiles
@@ -41,8 +41,8 @@ Snapshot run(const RunSetup& s, bool reference, long steps, StressSplit split = 
   tc.write("constant/boundaryConditions", s.boundaries);
   Case cs = Case::read(tc.dir(), runtime());
   RunOptions o = options(1);  // one CPU thread: these runs are small
-  o.reference_kernels = reference;
-  o.split_elastic = split;
+  if (reference) o.kernels = KernelPolicy::reference_kernels();
+  o.kernels.split = split;
   Simulation sim(cs, runtime(), o);
   sim.run_steps(steps);
   return sim.snapshot(/*with_grid=*/true);
@@ -131,7 +131,7 @@ TEST(FastKernels, AgreeWithReference3D) {
 // free surface, substepping. Its integration amplifies round-off where points are sheared
 // apart (test_material_fast_path.cpp), so over 150 steps the fields agree to 1e-6. The fast
 // kernels, with the stress pass split (elastic points first, the others in a second kernel:
-// RunOptions::split_elastic on) and as the solver chooses, against the reference kernel.
+// KernelPolicy::split on) and as the solver chooses, against the reference kernel.
 void expect_collapse_agrees(const std::string& material) {
   const std::string src = SCREE_SOURCE_DIR;
   std::ifstream f(src + "/cases/columnCollapse/constant/materialProperties");

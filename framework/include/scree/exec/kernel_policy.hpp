@@ -1,0 +1,82 @@
+// KernelPolicy: every switch that changes how fast a step runs, never what it computes
+// (within the round-off of the order of additions), in one place. The solver, `scree`'s
+// command line and scree-bench all set them here; docs/performance.md says what each is
+// worth.
+//
+//   reference     the straightforward kernels, for verification and timing: one generic
+//                 particle kernel with an atomic per particle and node, every grid node in
+//                 the grid updates, the signal speed every step, no particle sorting
+//   sparseGrid    fast kernels: grid updates on the tiles particles touched only
+//   graphs        CUDA: replay the steps as captured CUDA graphs
+//   split         fast kernels, materials with update_elastic: the stress pass as an
+//                 elastic-only kernel plus one for the points it defers (automatic: on
+//                 CUDA the solver times both ways now and then and keeps the faster,
+//                 split_tuner.hpp; off on the CPU)
+//   stress cap    CUDA, 2D: the stress kernel's register cap, as blocks of 64 threads per SM
+//   elastic cap   CUDA, 2D: the split's elastic-only kernel's register cap
+//   sortInterval  is a case setting (system/mpmSchemes); the reference kernels never sort
+//
+// A register cap is a compile-time launch bound, so only the values a kernel was compiled
+// for exist: check() rejects any other (an unsupported cap used to run uncapped, silently).
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+
+namespace scree {
+
+enum class StressSplit { automatic, on, off, alternate /* on and off by turns, a chunk each (tests) */ };
+
+struct KernelPolicy {
+  /// Register caps the kernels are compiled for (blocks of 64 threads per SM; 0: the
+  /// compiler's choice). Stress: 6 blocks = 170 registers, 12 warps per SM, measured
+  /// 14-27% faster at rest on an H200 than the compiler's 254 registers. Elastic-only: 10
+  /// blocks = 96 registers, 20 warps per SM (the compiler alone takes 146).
+  static constexpr int kStressCap = 6;
+  static constexpr int kElasticCap = 10;
+  static constexpr std::initializer_list<int> kStressCaps = {0, kStressCap};
+  static constexpr std::initializer_list<int> kElasticCaps = {0, kElasticCap};
+
+  bool reference = false;
+  bool sparse_grid = true;
+  bool graphs = true;
+  StressSplit split = StressSplit::automatic;
+  int stress_blocks_per_sm = kStressCap;
+  int elastic_blocks_per_sm = kElasticCap;
+
+  /// The straightforward kernels (see the top of this file).
+  static KernelPolicy reference_kernels() {
+    KernelPolicy p;
+    p.reference = true;
+    p.sparse_grid = false;
+    return p;
+  }
+  /// Sparse grid updates in effect (never with the reference kernels).
+  bool sparse() const { return sparse_grid && !reference; }
+  /// The particle sort interval in effect for the case's sortInterval.
+  std::int64_t sort_interval(std::int64_t case_interval) const { return reference ? 0 : case_interval; }
+
+  /// Empty if every value is one the kernels support; else what is wrong and what is valid.
+  std::string check() const {
+    auto in = [](int v, std::initializer_list<int> ok) {
+      for (int x : ok)
+        if (x == v) return true;
+      return false;
+    };
+    auto list = [](std::initializer_list<int> ok) {
+      std::string s;
+      for (int x : ok) s += (s.empty() ? "" : ", ") + std::to_string(x);
+      return s;
+    };
+    if (!in(stress_blocks_per_sm, kStressCaps))
+      return "stress kernel register cap " + std::to_string(stress_blocks_per_sm) +
+             " blocks per SM is not compiled; valid: " + list(kStressCaps) + " (0: no cap)";
+    if (!in(elastic_blocks_per_sm, kElasticCaps))
+      return "elastic kernel register cap " + std::to_string(elastic_blocks_per_sm) +
+             " blocks per SM is not compiled; valid: " + list(kElasticCaps) + " (0: no cap)";
+    return {};
+  }
+};
+
+}  // namespace scree
