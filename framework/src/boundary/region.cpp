@@ -1,8 +1,9 @@
-// Regions of grid nodes and the constraint set built from boundary conditions.
+// Regions of grid nodes and the set of walls built from boundary conditions.
 #include <cmath>
 #include <stdexcept>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/plugin/context.hpp"
 
 namespace scree {
 
@@ -14,9 +15,9 @@ void BoundaryCondition::declare_time_window(ParamSpec& spec) {
       .default_value(1e300);
 }
 
-void BoundaryCondition::read_time_window(const ParamReader& r, Constraint& c) {
-  c.t_start = r.scalar("startTime");
-  c.t_end = r.scalar("endTime");
+void BoundaryCondition::read_time_window(const ParamReader& r, Wall& w) {
+  w.t_start = r.scalar("startTime");
+  w.t_end = r.scalar("endTime");
 }
 
 void BoundaryCondition::declare_normal(ParamSpec& spec) {
@@ -25,7 +26,7 @@ void BoundaryCondition::declare_normal(ParamSpec& spec) {
       .optional();
 }
 
-void BoundaryCondition::read_normal(const ParamReader& r, const Region& region, Constraint& c) {
+void BoundaryCondition::read_normal(const ParamReader& r, const Region& region, Wall& w) {
   std::vector<Real> n = region.normal();
   if (r.has("normal")) n = r.scalars("normal");
   Real len = 0;
@@ -34,7 +35,7 @@ void BoundaryCondition::read_normal(const ParamReader& r, const Region& region, 
   if (len == 0)
     throw InputError(r.dict().where(), "'" + r.dict().name() + "': a wall on a " + region.description() +
                                            " needs `normal (..)`, the direction pointing into the material");
-  for (std::size_t d = 0; d < n.size() && d < 3; ++d) c.normal[d] = n[d] / len;
+  for (std::size_t d = 0; d < n.size() && d < 3; ++d) w.normal[d] = n[d] / len;
 }
 
 void Region::declare(ParamSpec& spec) {
@@ -59,13 +60,12 @@ void Region::declare(ParamSpec& spec) {
   });
 }
 
-RegionConstraint::RegionConstraint(const ParamReader& r, const SolverContext& ctx)
-    : region_(Region::read(r, ctx)), name_(ctx.name) {
-  read_time_window(r, constraint_);
+RegionWall::RegionWall(const ParamReader& r, const SolverContext& ctx) : region_(Region::read(r, ctx)), name_(ctx.name) {
+  read_time_window(r, wall_);
 }
 
-void RegionConstraint::constrain(ConstraintSet& set) const {
-  set.add(constraint_, [this](const Real* x) { return region_.contains(x); }, name_);
+void RegionWall::constrain(WallSet& set) const {
+  set.add(wall_, [this](const Real* x) { return region_.contains(x); }, name_);
 }
 
 Region Region::read(const ParamReader& r, const SolverContext& ctx) {
@@ -124,35 +124,59 @@ bool Region::contains(const Real* x) const {
   return false;
 }
 
-ConstraintSet::ConstraintSet(const SolverContext& grid) : grid_(grid) {
-  Index n = 1;
-  for (int d = 0; d < grid.dimension; ++d) n *= grid.grid_nodes[d];
-  masks_.assign(static_cast<std::size_t>(n), 0);
+namespace {
+/// Visit every grid node: f(flat index, position).
+template <class F>
+void for_each_node(const NodeLattice& grid, F&& f) {
+  const Index n = grid.count();
+  Real x[3] = {0, 0, 0};
+  for (Index flat = 0; flat < n; ++flat) {
+    Index r = flat;
+    for (int d = 0; d < grid.dimension; ++d) {
+      const int i = static_cast<int>(r % grid.nodes[d]);
+      r /= grid.nodes[d];
+      x[d] = grid.origin[d] + grid.h * i;
+    }
+    f(flat, x);
+  }
+}
+}  // namespace
+
+NodeLattice NodeLattice::of(const SolverContext& ctx) {
+  NodeLattice g;
+  g.dimension = ctx.dimension;
+  g.h = ctx.cell_size;
+  for (int d = 0; d < ctx.dimension; ++d) {
+    g.origin[d] = ctx.grid_origin[d];
+    g.nodes[d] = ctx.grid_nodes[d];
+  }
+  return g;
 }
 
-int ConstraintSet::add(const Constraint& c, Selector select, const std::string& owner) {
-  if (static_cast<int>(table_.size()) >= kMaxConstraints)
-    throw std::runtime_error("too many boundary constraints (at most " + std::to_string(kMaxConstraints) +
-                             " per case); " + owner + " is one too many");
+std::vector<Index> select_nodes(const NodeLattice& grid, const std::function<bool(const Real*)>& select) {
+  std::vector<Index> nodes;
+  for_each_node(grid, [&](Index flat, const Real* x) {
+    if (select(x)) nodes.push_back(flat);
+  });
+  return nodes;
+}
+
+WallSet::WallSet(const NodeLattice& grid) : grid_(grid) { masks_.assign(static_cast<std::size_t>(grid.count()), 0); }
+
+int WallSet::add(const Wall& w, Selector select, const std::string& owner) {
+  if (static_cast<int>(table_.size()) >= kMaxWalls)
+    throw std::runtime_error("too many walls (at most " + std::to_string(kMaxWalls) + " per case); " + owner +
+                             " is one too many");
   const int index = static_cast<int>(table_.size());
-  table_.push_back(c);
+  table_.push_back(w);
   owners_.push_back(owner);
-  const int D = grid_.dimension;
   Index count = 0;
-  Real x[3] = {0, 0, 0};
-  int idx[3] = {0, 0, 0};
-  for (std::size_t f = 0; f < masks_.size(); ++f) {
-    Index r = static_cast<Index>(f);
-    for (int d = 0; d < D; ++d) {
-      idx[d] = static_cast<int>(r % grid_.grid_nodes[d]);
-      r /= grid_.grid_nodes[d];
-      x[d] = grid_.grid_origin[d] + grid_.cell_size * idx[d];
-    }
+  for_each_node(grid_, [&](Index flat, const Real* x) {
     if (select(x)) {
-      masks_[f] |= ConstraintMask(1) << index;
+      masks_[static_cast<std::size_t>(flat)] |= WallMask(1) << index;
       ++count;
     }
-  }
+  });
   counts_.push_back(count);
   return index;
 }

@@ -214,8 +214,8 @@ SCREE_INLINE Spin3 spin_from(const Mat<3>& l) {
 /// spin increment w = W dt (W = skew part of the velocity gradient):
 ///   a <- Q a Q^T,  Q = (I - w/2)^{-1} (I + w/2)      (Hughes & Winget 1980)
 /// Q is exactly orthogonal for any increment, and to first order this is the Jaumann
-/// rate a <- a + (w a - a w). It replaces the non-objective small-strain measure of
-/// seed 001 eq. (9) (ERRATA 001 item 6).
+/// rate a <- a + (w a - a w). It replaces the small-strain measure 1/2(F + F^T) - I of
+/// Feng et al. 2025, eq. 9, which is not objective under the large rotations of a flow.
 SCREE_INLINE Sym3 corotate(const Sym3& a, const Spin3& w) {
   // Spin matrix W (skew): W = [[0, xy, -zx], [-xy, 0, yz], [zx, -yz, 0]].
   const Real hx = Real(0.5) * w.yz, hy = Real(0.5) * w.zx, hz = Real(0.5) * w.xy;

@@ -1,14 +1,15 @@
-// The particle kernel of the explicit MPM (seed 001, section 2.2, eqs. 5-11), written once
+// The particle kernel of the explicit MPM (Feng et al. 2025, section 2.2, eqs. 5-11), written once
 // for both backends and templated on dimension, shape function and material.
 //
 // One pass over a body's particles does any combination of these phases (flags), so that
-// each update scheme is a short sequence of passes and grid updates (solver/step.cpp):
+// each update scheme is a short sequence of passes and grid updates (Solver::step, solver/solver.cpp):
 //
 //   gather (from grid set G, weights at the particle's current position x_p):
 //     kStressFromNew / kStressFromVelocity: velocity gradient L_p = sum_I v_I (x) grad N_Ip
 //        (eq. 7) from G.velocity_new or G.velocity; F_p <- (I + L_p dt) F_p (eq. 8);
 //        V_p = det(F_p) V0_p; stress update through the material with the strain
-//        increment sym(L_p) dt and the spin skew(L_p) dt (objective, ERRATA 001 item 6)
+//        increment sym(L_p) dt and the spin skew(L_p) dt: objective, where the paper's eq. 9
+//        (the small-strain measure of F) is not under the large rotations of a flow
 //     kGatherVelocity: particle velocity from the grid: FLIP (eq. 10)
 //        v_p <- v_p + sum N (v_I^{k+1} - p_I/m_I), blended with PIC v_p <- sum N v_I^{k+1}
 //        by pic_fraction; or APIC (Jiang et al. 2015): v_p <- sum N v^{k+1}, C_p affine.
@@ -32,6 +33,7 @@
 #include "scree/exec/parallel.hpp"
 #include "scree/material/material.hpp"
 #include "scree/mpm/grid.hpp"
+#include "scree/mpm/schemes.hpp"
 #include "scree/mpm/shape_functions.hpp"
 
 namespace scree {
@@ -52,8 +54,6 @@ inline constexpr unsigned kAllPhases = kAnyGather | kAnyScatter;
 /// The phases of the light kernel: transfers only, no stress update and no force (a
 /// kernel compiled without the material's update needs a fraction of its registers).
 inline constexpr unsigned kTransferPhases = kGatherVelocity | kGatherPosition | kScatterMassMomentum | kScatterMomentum;
-
-enum class Transfer : int { flip = 0, apic = 1 };
 
 /// Number of stored stress components: 2D plane strain keeps xx, yy, zz, xy; 3D all six.
 template <int D>
@@ -87,7 +87,7 @@ struct PassParams {
   Vec<D> gravity;
   Real pic_fraction = 0;  ///< FLIP/PIC blend: 0 = pure FLIP (the paper's eq. 10), 1 = PIC
   /// Largest det F (mpmSchemes maxVolumeRatio); infinite: no limit (one comparison per point)
-  Real max_volume_ratio = std::numeric_limits<Real>::infinity();
+  Real max_volume_ratio = kNoVolumeLimit;
   Transfer transfer = Transfer::flip;
   bool serial = false;    ///< CPU loop on one thread: plain adds instead of atomics
   bool need_speed = true;  ///< compute the largest signal speed (adaptive time step only)

@@ -1,0 +1,42 @@
+// What a run tells its user while it runs: the progress line, and (scree --profile) the
+// time of every kernel phase.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace scree {
+
+/// The progress line: time, step, steps per second, percentage, elapsed time and ETA. On a
+/// terminal it is rewritten in place about 5 times a second; in a log a line every 10 s.
+class Progress {
+ public:
+  Progress(std::ostream& log, bool tty, double start_time, double end_time);
+  void start();  ///< the run's wall clock starts now
+  void report(double t, std::int64_t step, bool final);
+
+ private:
+  std::ostream& log_;
+  bool tty_;
+  double start_time_, end_time_;
+  std::chrono::steady_clock::time_point run_start_, last_report_;
+};
+
+/// Seconds as m:ss or h:mm:ss ("--:--" when unknown).
+std::string format_duration(double seconds);
+
+/// Wall time per named phase of a step (synchronised around each), and the table of it.
+class PhaseProfile {
+ public:
+  void add(const char* name, double seconds);
+  void report(std::ostream& log, std::int64_t steps) const;
+
+ private:
+  std::vector<std::pair<std::string, double>> phases_;
+};
+
+}  // namespace scree

@@ -1,0 +1,255 @@
+// Solver<D>: construction. The grid from system/gridDict, the bodies from constant/bodies
+// (particles generated, each body's kernels made by its material's plugin), the boundary
+// conditions' node constraints, the writers and function objects, and the first time step.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <stdexcept>
+
+#include "scree/solver/particle_generation.hpp"
+#include "solver.hpp"
+
+#if defined(SCREE_HAVE_CUDA)
+#include <cuda_runtime_api.h>
+#endif
+
+namespace scree {
+
+template <int D>
+Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
+    : case_(c),
+      settings_(c.settings()),
+      rt_(rt),
+      opt_(o),
+      log_(o.log ? *o.log : std::cout),
+      time_(c.settings().control.time, c.settings().grid.cell_size),
+      progress_(log_, isatty(STDOUT_FILENO) && (!o.log || o.log == &std::cout), c.settings().control.time.start_time,
+                c.settings().control.time.end_time) {
+  if (const std::string e = policy_.check(); !e.empty()) throw std::invalid_argument("kernel policy: " + e);
+  exec_.device = o.device;
+  exec_.threads = std::max(1, o.threads);
+  setup_streams();
+  for (int d = 0; d < D; ++d) gravity_[d] = settings_.gravity[d];
+  sort_interval_ = policy_.sort_interval(settings_.schemes.sort_interval);
+
+  setup_grid();
+  host_ctl_ = time_.initial();
+  ctl_.resize(1, exec_.device);
+  sync_control_to_device();
+  setup_bodies();
+  setup_split();
+  setup_boundaries();
+  if (opt_.output) setup_output();
+  if (time_.start(host_ctl_, max_signal_speed(), log_)) sync_control_to_device();
+}
+
+template <int D>
+Solver<D>::~Solver() {
+  output_.reset();  // joins the output thread: writers finish before they are destroyed
+  graphs_.reset();
+#if defined(SCREE_HAVE_CUDA)
+  if (stream_) cudaStreamDestroy(static_cast<cudaStream_t>(stream_));
+  if (copy_stream_) cudaStreamDestroy(static_cast<cudaStream_t>(copy_stream_));
+#endif
+}
+
+template <int D>
+void Solver<D>::setup_streams() {
+#if defined(SCREE_HAVE_CUDA)
+  if (exec_.device != Device::cuda) return;
+  auto make = [] {
+    cudaStream_t s;
+    const cudaError_t e = cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking);
+    if (e != cudaSuccess) throw std::runtime_error(std::string("CUDA error in cudaStreamCreate: ") + cudaGetErrorString(e));
+    return s;
+  };
+  stream_ = make();
+  exec_.stream = stream_;
+  copy_stream_ = make();
+  if (policy_.graphs && !opt_.profile) graphs_ = std::make_unique<StepGraphs>(stream_);
+#endif
+}
+
+template <int D>
+void Solver<D>::setup_grid() {
+  const GridSettings& gs = settings_.grid;
+  const Real h = gs.cell_size;
+  grid_.h = h;
+  grid_.ghost = gs.ghost_layers;
+  for (int d = 0; d < D; ++d) {
+    const Real lo = gs.lower[d], hi = gs.upper[d];
+    grid_.lower[d] = lo;
+    grid_.upper[d] = hi;
+    const Real cells = (hi - lo) / h;
+    const int nc = static_cast<int>(std::ceil(cells - 1e-9));
+    if (std::fabs(cells - std::round(cells)) > 1e-6)
+      log_ << "warning: system/gridDict: the domain's extent along axis " << d
+           << " is not a whole number of cells; it is extended to " << nc << " cells\n";
+    grid_.upper[d] = lo + nc * h;
+    grid_.n[d] = nc + 1 + 2 * gs.ghost_layers;
+    grid_.origin[d] = lo - gs.ghost_layers * h;
+    grid_.offset[d] = 0;
+  }
+  // Two sets of nodal fields (grid.hpp), one allocation each.
+  const Index nn = grid_.num_nodes();
+  const int fields = 1 + 4 * D;
+  for (int s = 0; s < 2; ++s) {
+    grid_data_[s].resize(static_cast<std::size_t>(nn) * fields, exec_.device);
+    Real* b = grid_data_[s].data();
+    int k = 0;
+    auto next = [&] { return b + static_cast<std::size_t>(k++) * nn; };
+    tile_stamps_[s].resize(static_cast<std::size_t>(Tiles<D>::total(grid_)), exec_.device);
+    sets_[s].mass = next();
+    for (int d = 0; d < D; ++d) sets_[s].momentum[d] = next();
+    for (int d = 0; d < D; ++d) sets_[s].force[d] = next();
+    for (int d = 0; d < D; ++d) sets_[s].velocity[d] = next();
+    for (int d = 0; d < D; ++d) sets_[s].velocity_new[d] = next();
+  }
+
+  // What plugins learn about the case.
+  ctx_.case_dir = case_.dir();
+  ctx_.dimension = D;
+  ctx_.device = exec_.device;
+  ctx_.cell_size = h;
+  for (int d = 0; d < D; ++d) {
+    ctx_.grid_origin.push_back(grid_.origin[d]);
+    ctx_.domain_lower.push_back(grid_.lower[d]);
+    ctx_.domain_upper.push_back(grid_.upper[d]);
+    ctx_.grid_nodes.push_back(grid_.n[d]);
+    ctx_.gravity.push_back(gravity_[d]);
+  }
+  ctx_.start_time = settings_.control.time.start_time;
+  ctx_.end_time = settings_.control.time.end_time;
+  ctx_.delta_t = settings_.control.time.delta_t;
+}
+
+template <int D>
+void Solver<D>::setup_bodies() {
+  const Registry& reg = rt_.registry();
+  const SchemeSettings& sch = settings_.schemes;
+  std::int64_t next_id = 0;
+  int id = 0;
+  Real min_mass = 1e300;
+  for (const Entry& e : case_.bodies().entries()) {
+    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
+    const Dictionary& b = e.dict();
+    const BodySettings bs = BodySettings::read(b);
+    const Dictionary& mat = case_.materials().sub(bs.material);
+    const Entry& type = mat.at("type");
+    const PluginEntry& pe = reg.get(PluginKind::material, type.as_word(), type.where());
+    const Real density = pe.material.point(mat)->density();
+
+    GeneratedParticles<D> gp = generate_particles<D>(b, grid_, density, gravity_);
+    BodySetup<D> s;
+    s.name = e.key();
+    s.body_id = id++;
+    s.material_name = bs.material;
+    s.exec = exec_;
+    s.shape = sch.shape;
+    s.gimp_half_length = Real(0.5) / bs.particles_per_cell;
+    s.transfer = sch.transfer;
+    s.cell_size = grid_.h;
+    s.x = std::move(gp.x);
+    s.v = std::move(gp.v);
+    s.volume = std::move(gp.volume);
+    s.sigma = std::move(gp.sigma);
+    s.velocity_gradient = gp.velocity_gradient;
+    s.first_id = next_id;
+    next_id += static_cast<std::int64_t>(s.x.size());
+    for (Real v : s.volume) min_mass = std::min(min_mass, v * density);
+    std::unique_ptr<Body<D>> body;
+    if constexpr (D == 2) body = pe.material.body2(mat, s);
+    else body = pe.material.body3(mat, s);
+    ctx_.body_names.push_back(e.key());
+    bodies_.push_back(std::move(body));
+  }
+  mass_eps_ = sch.mass_tolerance * min_mass;
+}
+
+template <int D>
+void Solver<D>::setup_split() {
+  for (auto& b : bodies_) can_split_ = can_split_ || b->can_split_stress();
+  can_split_ = can_split_ && !policy_.reference;
+  const StressSplit s = policy_.split;
+  split_ = can_split_ && (s == StressSplit::on || s == StressSplit::alternate ||
+                          (s == StressSplit::automatic && exec_.device == Device::cuda));
+  if (split_ && s == StressSplit::automatic) tuner_.emplace();
+}
+
+template <int D>
+void Solver<D>::setup_output() {
+  const Registry& reg = rt_.registry();
+  std::vector<std::unique_ptr<Writer>> writers;
+  if (const Entry* w = case_.control().find("writers")) {
+    for (const Entry& e : w->dict().entries()) {
+      if (!e.is_dict() || e.key()[0] == '_') continue;
+      const Entry& type = e.dict().at("type");
+      const PluginEntry& pe = reg.get(PluginKind::writer, type.as_word(), type.where());
+      SolverContext c = ctx_;
+      c.name = e.key();
+      writers.push_back(pe.writer(e.dict(), c));
+    }
+  }
+  std::vector<OutputSchedule::Function> functions;
+  if (const Entry* f = case_.control().find("functions")) {
+    for (const Entry& e : f->dict().entries()) {
+      if (!e.is_dict() || e.key()[0] == '_') continue;
+      const Dictionary& d = e.dict();
+      const Entry& type = d.at("type");
+      const PluginEntry& pe = reg.get(PluginKind::functionObject, type.as_word(), type.where());
+      SolverContext c = ctx_;
+      c.name = e.key();
+      OutputSchedule::Function fn;
+      fn.object = pe.function_object(d, c);
+      const ParamReader r(*pe.spec, d);  // executeControl, executeInterval: declare_execute_control
+      const std::string ec = r.word("executeControl");
+      using Control = OutputSchedule::Function::Control;
+      fn.control = ec == "timeStep" ? Control::timeStep : (ec == "runTime" ? Control::runTime : Control::writeTime);
+      fn.interval = r.scalar("executeInterval");
+      functions.push_back(std::move(fn));
+    }
+  }
+  const ControlSettings& cs = settings_.control;
+  output_ = std::make_unique<OutputSchedule>(std::move(writers), std::move(functions),
+                                             cs.write_control == WriteControl::timeStep, cs.write_interval,
+                                             cs.time.start_time);
+}
+
+template <int D>
+void Solver<D>::setup_boundaries() {
+  WallSet set(NodeLattice::of(ctx_));
+  const Registry& reg = rt_.registry();
+  for (const Entry& e : case_.boundaries().entries()) {
+    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
+    const Dictionary& d = e.dict();
+    const Entry& type = d.at("type");
+    const PluginEntry& pe = reg.get(PluginKind::boundaryCondition, type.as_word(), type.where());
+    SolverContext c = ctx_;
+    c.name = e.key();
+    auto bc = pe.boundary(d, c);
+    const std::size_t before = set.table().size();
+    bc->constrain(set);
+    for (std::size_t i = before; i < set.table().size(); ++i)
+      if (set.count(static_cast<int>(i)) == 0)
+        log_ << "warning: " << d.where().str() << ": boundary condition '" << e.key() << "' selects no grid node\n";
+    if (bc->has_node_law()) node_laws_.push_back(bc.get());
+    boundaries_.push_back(std::move(bc));
+  }
+  has_walls_ = !set.table().empty();
+  if (has_walls_) {
+    walls_.resize(set.table().size(), exec_.device);
+    walls_.copy_from_host(set.table());
+    masks_.resize(set.masks().size(), exec_.device);
+    masks_.copy_from_host(set.masks());
+  }
+}
+
+// The rest of Solver<D> is instantiated in solver.cpp.
+template Solver<2>::Solver(const Case&, PluginRuntime&, const RunOptions&);
+template Solver<3>::Solver(const Case&, PluginRuntime&, const RunOptions&);
+template Solver<2>::~Solver();
+template Solver<3>::~Solver();
+
+}  // namespace scree
