@@ -14,7 +14,7 @@
 #include <random>
 
 #include "LinearElastic.hpp"
-#include "scree/material/material_body.hpp"
+#include "scree/mpm/material_body.hpp"
 #include "scree/mpm/grid_update.hpp"
 #include "scree_test.hpp"
 

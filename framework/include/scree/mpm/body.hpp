@@ -1,6 +1,6 @@
 // A body: one set of particles with one material. The solver sees bodies only through
 // this interface (one virtual call per pass per body); the kernels behind it are
-// instantiated for the body's material inside the material's plugin (material_body.hpp).
+// instantiated for the body's material inside the material's plugin (mpm/material_body.hpp).
 #pragma once
 
 #include <functional>
