@@ -18,7 +18,7 @@
 
 #include "scree/output/snapshot.hpp"
 #include "scree/params/spec.hpp"
-#include "scree/solver/context.hpp"
+#include "scree/plugin/context.hpp"
 
 namespace scree::fo {
 

@@ -27,6 +27,7 @@
 
 #include "PvdSeries.hpp"
 #include "scree/output/writer.hpp"
+#include "scree/plugin/context.hpp"
 
 namespace scree::vtkio {
 

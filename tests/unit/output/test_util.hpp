@@ -23,7 +23,7 @@
 #include "scree/params/spec.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/plugin/registry.hpp"
-#include "scree/solver/context.hpp"
+#include "scree/plugin/context.hpp"
 
 namespace scree_test {
 

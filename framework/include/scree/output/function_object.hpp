@@ -17,9 +17,10 @@
 
 #include "scree/output/snapshot.hpp"
 #include "scree/params/spec.hpp"
-#include "scree/solver/context.hpp"
 
 namespace scree {
+
+struct SolverContext;  // what plugins learn about the case (scree/plugin/context.hpp)
 
 class SCREE_API FunctionObject {
  public:

@@ -22,7 +22,8 @@
 
 #include "scree/boundary/boundary_condition.hpp"
 #include "scree/material/material.hpp"
-#include "scree/material/material_body.hpp"
+#include "scree/mpm/material_body.hpp"
+#include "scree/plugin/context.hpp"
 #include "scree/output/function_object.hpp"
 #include "scree/output/writer.hpp"
 #include "scree/plugin/registry.hpp"
