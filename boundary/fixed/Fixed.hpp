@@ -7,7 +7,7 @@
 
 namespace scree::boundary {
 
-class Fixed final : public RegionConstraint {
+class Fixed final : public RegionWall {
  public:
   static constexpr const char* type_name = "fixed";
   static ParamSpec spec() {
@@ -17,11 +17,11 @@ class Fixed final : public RegionConstraint {
     declare_time_window(s);
     return s;
   }
-  Fixed(const ParamReader& r, const SolverContext& ctx) : RegionConstraint(r, ctx) {
-    constraint_.type = ConstraintType::fixed;
+  Fixed(const ParamReader& r, const SolverContext& ctx) : RegionWall(r, ctx) {
+    wall_.mode = Wall::Mode::stick;  // the nodes move with the wall: v = value
     if (r.has("value")) {
       const auto v = r.scalars("value");
-      for (std::size_t d = 0; d < v.size() && d < 3; ++d) constraint_.value[d] = v[d];
+      for (std::size_t d = 0; d < v.size() && d < 3; ++d) wall_.velocity[d] = v[d];
     }
   }
 };

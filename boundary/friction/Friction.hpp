@@ -8,7 +8,7 @@
 
 namespace scree::boundary {
 
-class Friction final : public RegionConstraint {
+class Friction final : public RegionWall {
  public:
   static constexpr const char* type_name = "friction";
   static ParamSpec spec() {
@@ -20,11 +20,11 @@ class Friction final : public RegionConstraint {
     declare_time_window(s);
     return s;
   }
-  Friction(const ParamReader& r, const SolverContext& ctx) : RegionConstraint(r, ctx) {
-    constraint_.type = ConstraintType::friction;
-    read_normal(r, region_, constraint_);
-    constraint_.mu = r.scalar("coefficient");
-    constraint_.separable = r.boolean("separable") ? 1 : 0;
+  Friction(const ParamReader& r, const SolverContext& ctx) : RegionWall(r, ctx) {
+    wall_.mode = Wall::Mode::contact;
+    read_normal(r, region_, wall_);
+    wall_.mu = r.scalar("coefficient");
+    wall_.separable = r.boolean("separable") ? 1 : 0;
   }
 };
 

@@ -6,10 +6,11 @@
 #pragma once
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/plugin/context.hpp"
 
 namespace scree::boundary {
 
-class RotatingWall final : public RegionConstraint {
+class RotatingWall final : public RegionWall {
  public:
   static constexpr const char* type_name = "rotatingWall";
   static ParamSpec spec() {
@@ -20,16 +21,17 @@ class RotatingWall final : public RegionConstraint {
     declare_time_window(s);
     return s;
   }
-  RotatingWall(const ParamReader& r, const SolverContext& ctx) : RegionConstraint(r, ctx) {
-    constraint_.type = ConstraintType::rotation;
+  RotatingWall(const ParamReader& r, const SolverContext& ctx) : RegionWall(r, ctx) {
+    wall_.mode = Wall::Mode::stick;
+    wall_.rotating = 1;
     const auto w = r.scalars("angularVelocity");
     const auto c = r.scalars("centre");
     if (static_cast<int>(w.size()) != (ctx.dimension == 2 ? 1 : 3))
       throw InputError(r.entry("angularVelocity").where(),
                        "angularVelocity: expected " + std::string(ctx.dimension == 2 ? "(omega_z)" : "(wx wy wz)"));
-    if (ctx.dimension == 2) constraint_.omega[2] = w[0];
-    else for (int d = 0; d < 3; ++d) constraint_.omega[d] = w[d];
-    for (std::size_t d = 0; d < c.size() && d < 3; ++d) constraint_.centre[d] = c[d];
+    if (ctx.dimension == 2) wall_.omega[2] = w[0];
+    else for (int d = 0; d < 3; ++d) wall_.omega[d] = w[d];
+    for (std::size_t d = 0; d < c.size() && d < 3; ++d) wall_.centre[d] = c[d];
   }
 };
 

@@ -9,7 +9,7 @@
 
 namespace scree::boundary {
 
-class Slip final : public RegionConstraint {
+class Slip final : public RegionWall {
  public:
   static constexpr const char* type_name = "slip";
   static ParamSpec spec() {
@@ -20,10 +20,10 @@ class Slip final : public RegionConstraint {
     declare_time_window(s);
     return s;
   }
-  Slip(const ParamReader& r, const SolverContext& ctx) : RegionConstraint(r, ctx) {
-    constraint_.type = ConstraintType::slip;
-    read_normal(r, region_, constraint_);
-    constraint_.separable = r.boolean("separable") ? 1 : 0;
+  Slip(const ParamReader& r, const SolverContext& ctx) : RegionWall(r, ctx) {
+    wall_.mode = Wall::Mode::contact;  // frictionless: mu = 0
+    read_normal(r, region_, wall_);
+    wall_.separable = r.boolean("separable") ? 1 : 0;
   }
 };
 

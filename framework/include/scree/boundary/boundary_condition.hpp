@@ -1,8 +1,19 @@
-// Boundary-condition plugins.
+// Boundary-condition plugins: what a boundary does to the grid nodes it selects.
 //
-// A boundary condition declares its parameters (static spec()) and, once the grid
-// exists, adds node constraints (constraints.hpp) for the nodes it selects; the core
-// applies them inside the grid update on either backend. A region selects nodes:
+// A boundary condition declares its parameters (static spec()) and, once the grid exists,
+// acts on the nodes its region selects in one of two ways, as OpenFOAM's patch types
+// carry their own behaviour:
+//
+//   walls      constrain() adds rigid walls (mpm/wall_law.hpp: stick or Coulomb contact
+//              against a wall of any rigid motion). The grid update applies them fused
+//              into its kernel: no launch, no cost beyond the nodes' own. fixed, slip,
+//              friction and rotatingWall are such walls.
+//   node laws  a plugin with a law of its own overrides apply(): after every grid update
+//              (after the walls) it runs its own kernel on the grid set just updated, on
+//              either backend, inside the CUDA graphs of the steps. NodeLawCondition
+//              (node_law.hpp) does the bookkeeping; shakingTable is the example to copy.
+//
+// A region selects nodes:
 //   face xMin;                                  a face of the domain box (and the ghost
 //                                               nodes beyond it): xMin xMax yMin yMax zMin zMax
 //   box { min (0.2 -1); max (0.2 1); }          nodes inside an axis-aligned box
@@ -11,13 +22,12 @@
 // and startTime/endTime give the window in which it acts (a gate removed at t = 0.2 s
 // has endTime 0.2).
 //
-//   struct MyBC : BoundaryCondition {
-//     static constexpr const char* type_name = "myBC";
+//   struct MyWall : RegionWall {
+//     static constexpr const char* type_name = "myWall";
 //     static ParamSpec spec();
-//     MyBC(const ParamReader& r, const SolverContext& ctx);
-//     void constrain(ConstraintSet& set) const override;
+//     MyWall(const ParamReader& r, const SolverContext& ctx);  // fills wall_
 //   };
-//   SCREE_PLUGIN(r) { r.add_boundary_condition<MyBC>(); }
+//   SCREE_PLUGIN(r) { r.add_boundary_condition<MyWall>(); }
 #pragma once
 
 #include <functional>
@@ -25,11 +35,24 @@
 #include <string>
 #include <vector>
 
-#include "scree/boundary/constraints.hpp"
+#include "scree/exec/parallel.hpp"
+#include "scree/mpm/grid.hpp"
+#include "scree/mpm/wall_law.hpp"
 #include "scree/params/spec.hpp"
-#include "scree/solver/context.hpp"
 
 namespace scree {
+
+struct SolverContext;  // what plugins learn about the case (scree/plugin/context.hpp)
+
+/// The grid's nodes as WallSet and select_nodes visit them.
+struct NodeLattice {
+  int dimension = 2;
+  Real origin[3] = {0, 0, 0};  ///< position of node (0, 0, 0) [m]
+  int nodes[3] = {1, 1, 1};    ///< nodes per axis
+  Real h = 0;                  ///< spacing [m]
+  SCREE_API static NodeLattice of(const SolverContext& ctx);
+  Index count() const { return static_cast<Index>(nodes[0]) * nodes[1] * nodes[2]; }
+};
 
 /// A set of grid nodes chosen by position (host-side; evaluated once at setup).
 class SCREE_API Region {
@@ -54,58 +77,84 @@ class SCREE_API Region {
   std::string description_;
 };
 
-/// Collects constraints and the nodes they act on.
-class SCREE_API ConstraintSet {
+/// The grid nodes (flat indices) whose positions `select` accepts.
+SCREE_API std::vector<Index> select_nodes(const NodeLattice& grid, const std::function<bool(const Real*)>& select);
+
+/// Collects the walls of a case and the nodes they act on.
+class SCREE_API WallSet {
  public:
   using Selector = std::function<bool(const Real* node_position)>;
-  explicit ConstraintSet(const SolverContext& grid);
-  /// Add a constraint on the nodes `select` accepts. Returns its index. Throws when more
-  /// than kMaxConstraints are added (the message names the limit).
-  int add(const Constraint& c, Selector select, const std::string& owner);
-  const std::vector<Constraint>& table() const { return table_; }
+  explicit WallSet(const NodeLattice& grid);
+  /// Add a wall on the nodes `select` accepts. Returns its index. Throws when more than
+  /// kMaxWalls are added (the message names the limit).
+  int add(const Wall& w, Selector select, const std::string& owner);
+  const std::vector<Wall>& table() const { return table_; }
   /// One mask per node (the grid's flat node order).
-  const std::vector<ConstraintMask>& masks() const { return masks_; }
-  /// How many nodes the constraint at `index` selected (boundary conditions that select
-  /// nothing are reported as a warning).
+  const std::vector<WallMask>& masks() const { return masks_; }
+  /// How many nodes the wall at `index` selected (boundary conditions that select nothing
+  /// are reported as a warning).
   Index count(int index) const { return counts_.at(index); }
   const std::vector<std::string>& owners() const { return owners_; }
 
  private:
-  SolverContext grid_;
-  std::vector<Constraint> table_;
-  std::vector<ConstraintMask> masks_;
+  NodeLattice grid_;
+  std::vector<Wall> table_;
+  std::vector<WallMask> masks_;
   std::vector<Index> counts_;
   std::vector<std::string> owners_;
+};
+
+/// What a node law sees after a grid update: the grid set it updated (device pointers),
+/// the clock, and which velocities that update produced.
+template <int D>
+struct GridNodes {
+  GridGeometry<D> grid;
+  GridFields<D> fields;
+  const StepControl* control = nullptr;
+  int parity = 0;             ///< the step's clock slot: its time is control->t[parity]
+  bool velocity = false;      ///< fields.velocity was set (v^k, or MUSL's remapped velocity)
+  bool velocity_new = false;  ///< fields.velocity_new was set (v^{k+1})
 };
 
 class SCREE_API BoundaryCondition {
  public:
   virtual ~BoundaryCondition();
-  /// Add node constraints (called once the grid exists).
-  virtual void constrain(ConstraintSet&) const {}
+  /// Add walls (called once the grid exists).
+  virtual void constrain(WallSet&) const {}
+  /// Whether apply() runs a node law of the plugin's own.
+  virtual bool has_node_law() const { return false; }
+  /// The node law: queue a kernel on `ex` (its stream) over the nodes it acts on.
+  virtual void apply(const Exec& ex, const GridNodes<2>& g) const {
+    (void)ex;
+    (void)g;
+  }
+  virtual void apply(const Exec& ex, const GridNodes<3>& g) const {
+    (void)ex;
+    (void)g;
+  }
 
   // Helpers shared by the wall conditions (fixed, slip, friction).
   /// Declare startTime/endTime (the window in which the condition acts).
   static void declare_time_window(ParamSpec& spec);
-  static void read_time_window(const ParamReader& r, Constraint& c);
+  static void read_time_window(const ParamReader& r, Wall& w);
   /// Declare `normal` (optional: faces and half-spaces have their own).
   static void declare_normal(ParamSpec& spec);
   /// The wall normal pointing into the material: `normal` if given, else the region's;
   /// throws InputError when neither gives one (a box without `normal`).
-  static void read_normal(const ParamReader& r, const Region& region, Constraint& c);
+  static void read_normal(const ParamReader& r, const Region& region, Wall& w);
 };
 
-/// Base of the wall conditions: one constraint on the nodes of one region. Derived
-/// classes fill `constraint_` in their constructor.
-class SCREE_API RegionConstraint : public BoundaryCondition {
+/// Base of the wall conditions: one wall on the nodes of one region. Derived classes fill
+/// `wall_` in their constructor.
+class SCREE_API RegionWall : public BoundaryCondition {
  public:
-  RegionConstraint(const ParamReader& r, const SolverContext& ctx);
-  void constrain(ConstraintSet& set) const override;
+  RegionWall(const ParamReader& r, const SolverContext& ctx);
+  void constrain(WallSet& set) const override;
 
  protected:
   Region region_;
   std::string name_;
-  Constraint constraint_;
+  Wall wall_;
 };
 
 }  // namespace scree

@@ -1,10 +1,10 @@
-// The grid update of the explicit MPM (seed 001, section 2.2, step d), one kernel over
+// The grid update of the explicit MPM (Feng et al. 2025, section 2.2, step d), one kernel over
 // the nodes of one grid set, for both backends:
 //
-//   kNormalize:  v_I^k = p_I / m_I, then the boundary constraints         (eq. 6)
-//   kIntegrate:  a_I = (f_I + f_damp) / m_I, v_I^{k+1} = v_I^k + a_I dt, constraints
+//   kNormalize:  v_I^k = p_I / m_I, then the walls (wall_law.hpp)         (eq. 6)
+//   kIntegrate:  a_I = (f_I + f_damp) / m_I, v_I^{k+1} = v_I^k + a_I dt, walls
 //                (f_damp = -alpha |f_I| sign(v_I^k) per component: local damping)
-//   kRemap:      v_I = f_I / m_I, constraints (MUSL: the velocity of the updated
+//   kRemap:      v_I = f_I / m_I, walls (MUSL: the velocity of the updated
 //                particles, whose momentum was re-mapped into the force array)
 //   kZeroForce:  f_I = 0 after the integration (MUSL re-maps momentum into it)
 //   kZeroOther:  clear mass, momentum and force of the other set (the next step's P2G)
@@ -22,9 +22,9 @@
 
 #include <cstdint>
 
-#include "scree/boundary/constraints.hpp"
 #include "scree/exec/parallel.hpp"
 #include "scree/mpm/grid.hpp"
+#include "scree/mpm/wall_law.hpp"
 
 namespace scree {
 
@@ -45,8 +45,8 @@ struct GridUpdateParams {
   GridFields<D> cur;    ///< the set being updated
   GridFields<D> other;  ///< the set cleared by kZeroOther
   StepControl* control = nullptr;
-  const Constraint* constraints = nullptr;
-  const ConstraintMask* masks = nullptr;
+  const Wall* walls = nullptr;     ///< the case's walls
+  const WallMask* masks = nullptr;  ///< per node: the walls acting on it
   Real mass_eps = 0;
   Real damping = 0;  ///< local damping coefficient alpha
   Real damping_start = 0, damping_end = 0;

@@ -1,12 +1,21 @@
-// Grid-node constraints: what boundary conditions do to nodal velocities.
+// The rigid-wall law that the grid update applies to nodal velocities, fused into its
+// kernel (no launch of its own, no host round trip: a gate opens at its time even inside
+// a CUDA graph).
 //
-// Most boundary conditions act on grid nodes only: fixed (no-slip), slip (roller) and
-// frictional walls on a plane, active over a time window. They are recorded as
-// Constraint entries (at most kMaxConstraints per case) and a bit mask per node saying
-// which entries apply; the grid-update kernel applies them to v^k and v^{k+1} right
-// after it computes them, on the device, with no extra launch and no host round trip
-// (so a gate opens at its time even inside a CUDA graph). Boundary conditions that need
-// their own kernels (e.g. two-phase rainfall) use BoundaryCondition's hooks instead.
+// A wall moves rigidly, v_w(x) = velocity + omega x (x - centre), and acts on the nodes
+// its boundary condition selects, over a time window. Relative to the wall, the node's
+// velocity v_r = v - v_w is
+//   stick:    set to zero (no-slip; a prescribed velocity; a rotating drum)
+//   contact:  stripped of its normal part v_r.n n (always, or only while the node
+//             approaches the wall, v_r.n < 0, when `separable`), and its tangential part
+//             reduced by mu |v_r.n|, not past zero: Coulomb friction against a rigid wall
+//             (Bardenhagen, Brackbill & Sulsky 2000); mu = 0 is a frictionless roller.
+// The boundary plugins fixed, slip, friction and rotatingWall are walls of this one law
+// with their own parameters; a plugin may add a wall of any motion and friction without
+// touching the core. A node law outside this family is a plugin's own kernel
+// (boundary/node_law.hpp).
+//
+// A case has at most kMaxWalls walls; a bit mask per node says which act on it.
 #pragma once
 
 #include <cstdint>
@@ -16,66 +25,75 @@
 
 namespace scree {
 
-inline constexpr int kMaxConstraints = 32;
-using ConstraintMask = std::uint32_t;
+inline constexpr int kMaxWalls = 32;
+using WallMask = std::uint32_t;
 
-enum class ConstraintType : int {
-  fixed = 0,     ///< v = prescribed value (zero: no-slip)
-  slip = 1,      ///< v.n = 0 (roller), or only v.n >= 0 when `separable` (contact)
-  friction = 2,  ///< Coulomb friction on a wall with normal n (pointing into the material)
-  rotation = 3,  ///< v = omega x (x_node - centre): a rigidly rotating wall or drive
-};
-
-struct Constraint {
-  ConstraintType type = ConstraintType::fixed;
-  Real normal[3] = {0, 0, 0};  ///< unit normal pointing into the material (slip, friction)
-  Real value[3] = {0, 0, 0};   ///< prescribed velocity (fixed) [m/s]
-  Real mu = 0;                 ///< friction coefficient (friction)
-  Real omega[3] = {0, 0, 0};   ///< angular velocity (rotation; 2D uses omega[2]) [rad/s]
-  Real centre[3] = {0, 0, 0};  ///< centre of rotation (rotation) [m]
-  Real t_start = -1e300;       ///< active for t_start <= t < t_end [s]
+struct Wall {
+  enum class Mode : int { stick = 0, contact = 1 };
+  Mode mode = Mode::stick;
+  Real normal[3] = {0, 0, 0};    ///< contact: unit normal pointing into the material
+  Real mu = 0;                   ///< contact: Coulomb friction coefficient (0: frictionless)
+  int separable = 0;             ///< contact: the material may leave the wall
+  Real velocity[3] = {0, 0, 0};  ///< translation of the wall [m/s]
+  int rotating = 0;              ///< the wall also rotates with omega about centre
+  Real omega[3] = {0, 0, 0};     ///< angular velocity (2D uses omega[2]) [rad/s]
+  Real centre[3] = {0, 0, 0};    ///< centre of rotation [m]
+  Real t_start = -1e300;         ///< active for t_start <= t < t_end [s]
   Real t_end = 1e300;
-  int separable = 0;           ///< slip/friction: the material may leave the wall
+
+  /// The wall's velocity w (D components) at the node position x.
+  template <int D>
+  SCREE_INLINE void wall_velocity(Real* w, const Real* x) const {
+    if (!rotating) {
+      for (int d = 0; d < D; ++d) w[d] = velocity[d];
+      return;
+    }
+    Real r[3] = {0, 0, 0};
+    for (int d = 0; d < D; ++d) r[d] = x[d] - centre[d];
+    const Real c[3] = {omega[1] * r[2] - omega[2] * r[1], omega[2] * r[0] - omega[0] * r[2],
+                       omega[0] * r[1] - omega[1] * r[0]};
+    for (int d = 0; d < D; ++d) w[d] = velocity[d] == 0 ? c[d] : c[d] + velocity[d];
+  }
 
   /// Apply to the velocity v (D components) of the node at position x, at time t.
   template <int D>
   SCREE_INLINE void apply(Real* v, const Real* x, Real t) const {
     if (t < t_start || t >= t_end) return;
-    if (type == ConstraintType::fixed) {
-      for (int d = 0; d < D; ++d) v[d] = value[d];
+    if (mode == Mode::stick) {
+      wall_velocity<D>(v, x);
       return;
     }
-    if (type == ConstraintType::rotation) {
-      Real r[3] = {0, 0, 0};
-      for (int d = 0; d < D; ++d) r[d] = x[d] - centre[d];
-      const Real w[3] = {omega[0], omega[1], omega[2]};
-      const Real c[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2], w[0] * r[1] - w[1] * r[0]};
-      for (int d = 0; d < D; ++d) v[d] = c[d];
-      return;
+    // Contact with a wall at rest works on v itself; a moving wall on v - v_w.
+    const bool moves = rotating || velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0;
+    Real w[3] = {0, 0, 0};
+    if (moves) {
+      wall_velocity<D>(w, x);
+      for (int d = 0; d < D; ++d) v[d] -= w[d];
     }
     Real vn = 0;
     for (int d = 0; d < D; ++d) vn += v[d] * normal[d];
-    if (separable && vn >= 0) return;  // moving away from the wall: free
-    if (type == ConstraintType::slip) {
-      for (int d = 0; d < D; ++d) v[d] -= vn * normal[d];
-      return;
+    if (!(separable && vn >= 0)) {  // moving away from a separable wall: free
+      if (mu == 0) {
+        for (int d = 0; d < D; ++d) v[d] -= vn * normal[d];
+      } else {
+        Real vt[3], vt2 = 0;
+        for (int d = 0; d < D; ++d) {
+          vt[d] = v[d] - vn * normal[d];
+          vt2 += vt[d] * vt[d];
+        }
+        const Real vtn = sqrt(vt2);
+        const Real scale = vtn > 0 ? fmax(Real(0), vtn - mu * fabs(vn)) / vtn : Real(0);
+        for (int d = 0; d < D; ++d) v[d] = vt[d] * scale;
+      }
     }
-    // Coulomb friction (Bardenhagen et al. 2001 for a rigid wall): remove the normal
-    // approach velocity and reduce the tangential velocity by mu |v_n|, not past zero.
-    Real vt[3], vt2 = 0;
-    for (int d = 0; d < D; ++d) {
-      vt[d] = v[d] - vn * normal[d];
-      vt2 += vt[d] * vt[d];
-    }
-    const Real vtn = sqrt(vt2);
-    const Real scale = vtn > 0 ? fmax(Real(0), vtn - mu * fabs(vn)) / vtn : Real(0);
-    for (int d = 0; d < D; ++d) v[d] = vt[d] * scale;
+    if (moves)
+      for (int d = 0; d < D; ++d) v[d] += w[d];
   }
 };
 
-/// Apply every constraint whose bit is set in `mask`, in index order.
+/// Apply every wall whose bit is set in `mask`, in index order.
 template <int D>
-SCREE_INLINE void apply_constraints(const Constraint* table, ConstraintMask mask, Real* v, const Real* x, Real t) {
+SCREE_INLINE void apply_walls(const Wall* table, WallMask mask, Real* v, const Real* x, Real t) {
   while (mask) {
 #if defined(__CUDA_ARCH__)
     const int b = __ffs(static_cast<int>(mask)) - 1;
