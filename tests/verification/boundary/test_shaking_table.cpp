@@ -3,12 +3,12 @@
 //
 // The table's velocity is V sin(w t) along x, V = w A, w = 2 pi f. The block's lowest
 // natural frequency (a shear beam of height H fixed at its base: f_n = c_s / (4 H), with
-// c_s = sqrt(G / rho)) is about 110 Hz here, 55 times the 2 Hz of the table: the block
+// c_s = sqrt(G / rho)) is about 220 Hz here, 110 times the 2 Hz of the table: the block
 // moves with the table as a rigid body, up to the ringing the start sets off. The table's
-// acceleration jumps from 0 to w V at t = 0, which rings the first mode with a velocity
-// of order V f / f_n (2% of V); the tolerance on the block's mean velocity is 5% of V. Its
-// mean displacement at half a period is the table's, 2 A (the integral of the velocity),
-// within 5%. Without the plugin's law the block would not move at all (checked too).
+// acceleration jumps from 0 to w V at t = 0, which rings the first mode with a velocity of
+// order V f / f_n (1% of V); the tolerance on the block's mean velocity is 5% of V (measured:
+// 0.6%). Its mean displacement follows the table's, A (1 - cos w t), within 5% of its swing
+// 2 A. Without the plugin's law the block would not move at all (checked too).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -70,9 +70,9 @@ TEST(ShakingTable, AStiffBlockMovesWithTheTable) {
     std::printf("t = %.4f s: block vx %.5f m/s, table %.5f m/s; block dx %.6f m, table %.6f m\n", sim.time(), m.vx,
                 table_v, m.dx, kA * (1 - std::cos(w * sim.time())));
     EXPECT_NEAR(m.vx, table_v, 0.05 * V) << "at t = " << t;
+    // The displacement, the integral of the velocity: 2 A at half a period.
+    EXPECT_NEAR(m.dx, kA * (1 - std::cos(w * sim.time())), 0.05 * 2 * kA) << "at t = " << t;
   }
-  sim.advance_to(0.25);
-  EXPECT_NEAR(mean_motion(sim.snapshot()).dx, 2 * kA, 0.05 * 2 * kA) << "half a period: the table is at 2 A";
 }
 
 TEST(ShakingTable, OutsideItsWindowTheLawDoesNothing) {

@@ -23,8 +23,37 @@
 
 namespace scree {
 
+namespace detail {
+/// The law over the listed nodes: node i of the list is grid node nodes[i].
+template <class Law, int D>
+struct NodeLawKernel {
+  const Index* nodes;
+  Law law;
+  GridNodes<D> g;
+  SCREE_HD void operator()(Index i) const {
+    const Index I = nodes[i];
+    if (!(g.fields.mass[I] > 0)) return;  // no material at the node: no velocity
+    const Vec<D> xn = g.grid.node_position(I);
+    Real x[D], v[D];
+    for (int d = 0; d < D; ++d) x[d] = xn[d];
+    const Real t = g.control->t[g.parity];
+    if (g.velocity) {
+      for (int d = 0; d < D; ++d) v[d] = g.fields.velocity[d][I];
+      law.template apply<D>(v, x, t);
+      for (int d = 0; d < D; ++d) g.fields.velocity[d][I] = v[d];
+    }
+    if (g.velocity_new) {
+      for (int d = 0; d < D; ++d) v[d] = g.fields.velocity_new[d][I];
+      law.template apply<D>(v, x, t);
+      for (int d = 0; d < D; ++d) g.fields.velocity_new[d][I] = v[d];
+    }
+  }
+};
+}  // namespace detail
+
 template <class Law>
 class NodeLawCondition : public BoundaryCondition {
+
  public:
   NodeLawCondition(const ParamReader& r, const SolverContext& ctx, const Law& law)
       : region_(Region::read(r, ctx)), law_(law) {
@@ -49,27 +78,7 @@ class NodeLawCondition : public BoundaryCondition {
       nodes_.resize(hosted_.size(), ex.device);
       nodes_.copy_from_host(hosted_);
     }
-    const Index* nodes = nodes_.data();
-    const Law law = law_;
-    const GridNodes<D> G = g;
-    parallel_for(ex, count_, [=] SCREE_HD(Index i) {
-      const Index I = nodes[i];
-      if (!(G.fields.mass[I] > 0)) return;  // no material at the node: no velocity
-      const Vec<D> xn = G.grid.node_position(I);
-      Real x[D], v[D];
-      for (int d = 0; d < D; ++d) x[d] = xn[d];
-      const Real t = G.control->t[G.parity];
-      if (G.velocity) {
-        for (int d = 0; d < D; ++d) v[d] = G.fields.velocity[d][I];
-        law.template apply<D>(v, x, t);
-        for (int d = 0; d < D; ++d) G.fields.velocity[d][I] = v[d];
-      }
-      if (G.velocity_new) {
-        for (int d = 0; d < D; ++d) v[d] = G.fields.velocity_new[d][I];
-        law.template apply<D>(v, x, t);
-        for (int d = 0; d < D; ++d) G.fields.velocity_new[d][I] = v[d];
-      }
-    });
+    parallel_for(ex, count_, detail::NodeLawKernel<Law, D>{nodes_.data(), law_, g});
   }
 
   Region region_;
