@@ -10,52 +10,48 @@ namespace {
 
 ControlSettings read_control(const ParamSpec& spec, const Dictionary& d) {
   const ParamReader r(spec, d);
-  ControlSettings c;
-  TimeSettings& t = c.time;
-  t.start_time = r.scalar("startTime");
-  t.end_time = r.scalar("endTime");
-  t.delta_t = r.scalar("deltaT");
-  t.adjust_time_step = r.boolean("adjustTimeStep");
-  t.max_co = r.scalar("maxCo");
-  t.max_delta_t = r.has("maxDeltaT") ? r.scalar("maxDeltaT") : t.delta_t;
-  c.write_control = r.word("writeControl") == "timeStep" ? WriteControl::timeStep : WriteControl::runTime;
-  c.write_interval = r.scalar("writeInterval");
-  c.progress_interval = r.integer("progressInterval");
-  return c;
+  const double delta_t = r.scalar("deltaT");
+  return ControlSettings{
+      .time = {.start_time = r.scalar("startTime"),
+               .end_time = r.scalar("endTime"),
+               .delta_t = delta_t,
+               .adjust_time_step = r.boolean("adjustTimeStep"),
+               .max_co = r.scalar("maxCo"),
+               .max_delta_t = r.has("maxDeltaT") ? r.scalar("maxDeltaT") : delta_t},
+      .write_control = r.word("writeControl") == "timeStep" ? WriteControl::timeStep : WriteControl::runTime,
+      .write_interval = r.scalar("writeInterval"),
+      .progress_interval = r.integer("progressInterval")};
+}
+
+/// damping { type local; coefficient ...; } (none: no damping)
+DampingSettings read_damping(const ParamSpec& spec, const Dictionary& d) {
+  const ParamReader r(spec, d);
+  if (r.word("type") != "local") return {};
+  return {.coefficient = r.scalar("coefficient"), .start_time = r.scalar("startTime"), .end_time = r.scalar("endTime")};
 }
 
 SchemeSettings read_schemes(const ParamSpec& spec, const Dictionary& d) {
   const ParamReader r(spec, d);
-  SchemeSettings s;
-  const std::string scheme = r.word("updateScheme");
-  s.update_scheme = scheme == "USL" ? UpdateScheme::USL : (scheme == "MUSL" ? UpdateScheme::MUSL : UpdateScheme::USF);
-  const std::string shape = r.word("shapeFunction");
-  s.shape = shape == "gimp" ? ShapeKind::gimp : (shape == "bspline2" ? ShapeKind::bspline2 : ShapeKind::linear);
-  s.transfer = r.word("transfer") == "APIC" ? Transfer::apic : Transfer::flip;
-  s.pic_fraction = r.scalar("picFraction");
-  if (r.has("maxVolumeRatio")) s.max_volume_ratio = r.scalar("maxVolumeRatio");
-  if (r.has("damping")) {
-    const ParamReader dr(*spec.find("damping")->sub(), r.entry("damping").dict());
-    if (dr.word("type") == "local") {
-      s.damping.coefficient = dr.scalar("coefficient");
-      s.damping.start_time = dr.scalar("startTime");
-      s.damping.end_time = dr.scalar("endTime");
-    }
-  }
-  s.sort_interval = r.integer("sortInterval");
-  s.mass_tolerance = r.scalar("massTolerance");
-  return s;
+  const std::string scheme = r.word("updateScheme"), shape = r.word("shapeFunction");
+  return SchemeSettings{
+      .update_scheme = scheme == "USL" ? UpdateScheme::USL : (scheme == "MUSL" ? UpdateScheme::MUSL : UpdateScheme::USF),
+      .shape = shape == "gimp" ? ShapeKind::gimp : (shape == "bspline2" ? ShapeKind::bspline2 : ShapeKind::linear),
+      .transfer = r.word("transfer") == "APIC" ? Transfer::apic : Transfer::flip,
+      .pic_fraction = r.scalar("picFraction"),
+      .max_volume_ratio = r.has("maxVolumeRatio") ? r.scalar("maxVolumeRatio") : kNoVolumeLimit,
+      .damping = r.has("damping") ? read_damping(*spec.find("damping")->sub(), r.entry("damping").dict())
+                                  : DampingSettings{},
+      .sort_interval = r.integer("sortInterval"),
+      .mass_tolerance = r.scalar("massTolerance")};
 }
 
 GridSettings read_grid(const ParamSpec& spec, const Dictionary& d) {
   const ParamReader r(spec, d);
-  GridSettings g;
-  g.dimension = static_cast<int>(r.integer("dimension"));
-  g.lower = r.scalars("lower");
-  g.upper = r.scalars("upper");
-  g.cell_size = r.scalar("cellSize");
-  g.ghost_layers = static_cast<int>(r.integer("ghostLayers"));
-  return g;
+  return GridSettings{.dimension = static_cast<int>(r.integer("dimension")),
+                      .lower = r.scalars("lower"),
+                      .upper = r.scalars("upper"),
+                      .cell_size = r.scalar("cellSize"),
+                      .ghost_layers = static_cast<int>(r.integer("ghostLayers"))};
 }
 
 }  // namespace

@@ -14,6 +14,16 @@ namespace {
 
 const Real kX[3] = {0.3, 0.2, 0.0};
 
+/// A floor (normal +y) in contact mode: frictionless unless mu is given.
+Wall floor_contact(Real mu = 0, int separable = 0) {
+  Wall w;
+  w.mode = Wall::Mode::contact;
+  w.normal[1] = 1;
+  w.mu = mu;
+  w.separable = separable;
+  return w;
+}
+
 TEST(WallLaw, AStuckNodeMovesWithTheWallTranslatingAndRotating) {
   Wall w;  // stick
   w.velocity[0] = 0.5;
@@ -31,9 +41,7 @@ TEST(WallLaw, AStuckNodeMovesWithTheWallTranslatingAndRotating) {
 }
 
 TEST(WallLaw, FrictionlessContactRemovesTheNormalVelocityRelativeToAMovingWall) {
-  Wall w;
-  w.mode = Wall::Mode::contact;
-  w.normal[1] = 1;      // a floor
+  Wall w = floor_contact();
   w.velocity[1] = 0.2;  // rising at 0.2 m/s
   w.velocity[0] = 1.0;  // and sliding: a frictionless wall carries nothing along
   Real v[2] = {0.7, -0.5};
@@ -43,10 +51,7 @@ TEST(WallLaw, FrictionlessContactRemovesTheNormalVelocityRelativeToAMovingWall) 
 }
 
 TEST(WallLaw, SeparableContactLetsTheMaterialLeave) {
-  Wall w;
-  w.mode = Wall::Mode::contact;
-  w.normal[1] = 1;
-  w.separable = 1;
+  const Wall w = floor_contact(0, 1);
   Real up[2] = {0.3, 0.4};
   w.apply<2>(up, kX, 0);
   EXPECT_EQ(up[1], 0.4) << "moving away: free";
@@ -56,10 +61,7 @@ TEST(WallLaw, SeparableContactLetsTheMaterialLeave) {
 }
 
 TEST(WallLaw, CoulombFrictionTakesMuTimesTheNormalSpeedOffTheSlidingSpeed) {
-  Wall w;
-  w.mode = Wall::Mode::contact;
-  w.normal[1] = 1;
-  w.mu = 0.5;
+  Wall w = floor_contact(0.5);
   Real v[2] = {1.0, -0.4};  // sliding at 1 m/s, pressed at 0.4 m/s: slides at 1 - 0.5 * 0.4
   w.apply<2>(v, kX, 0);
   EXPECT_DOUBLE_EQ(v[0], 0.8);
