@@ -183,7 +183,7 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     if (budget > 0) n = std::min(n, budget);
     const std::int64_t every = settings_.control.progress_interval;
     std::int64_t report = every > 0 ? every : static_cast<std::int64_t>(std::max(2.0, chunk_rate_ * 0.5));
-    if (sort_interval_ > 0) report = std::min(report, sort_interval_ - step_ % sort_interval_);
+    if (sort_interval_ > 0) report = std::min(report, sort_interval_ - steps_done() % sort_interval_);
     n = std::min(n, std::max<std::int64_t>(report, 1));
 
     if (time_.retarget(host_ctl_, p, t_event)) sync_control_to_device();
@@ -208,7 +208,11 @@ void Solver<D>::run_chunk(std::int64_t n) {
 
 template <int D>
 void Solver<D>::after_chunk(bool with_output) {
-  if (sort_interval_ > 0 && step_ % sort_interval_ == 0) {
+  // Sorts happen after every sortInterval steps that advanced the clock: the steps that
+  // idle on a target time (dt = 0, their number set by where a chunk of steps ended, which
+  // depends on the wall time) do not count, so that a run reproduces itself bit for bit.
+  if (sort_interval_ > 0 && steps_done() % sort_interval_ == 0 && steps_done() != sorted_at_) {
+    sorted_at_ = steps_done();
     // Queued on the stream; a pending G2P applies to the particles in their new order.
     for (auto& b : bodies_) b->sort_by_cell(grid_);
   }

@@ -90,6 +90,8 @@ class Solver {
   void sync_control_from_device();
   void sync_control_to_device();
   int parity() const { return static_cast<int>(step_ % 2); }
+  /// Steps that advanced the clock (dt > 0), as of the last sync with the device.
+  std::int64_t steps_done() const { return static_cast<std::int64_t>(host_ctl_.steps_done); }
 
   const Case& case_;
   const CaseSettings& settings_;
@@ -106,6 +108,7 @@ class Solver {
   Vec<D> gravity_;
   Real mass_eps_ = 0;  // nodes lighter than this are not accelerated [kg]
   std::int64_t sort_interval_ = 0;
+  std::int64_t sorted_at_ = 0;  // steps_done() at the last sort
 
   // Grid and boundary conditions
   GridGeometry<D> grid_{};
