@@ -19,8 +19,9 @@
 //   1. elastic trial (hypoelastic, bulk modulus K, shear modulus G):
 //        sigma_tr = sigma_n + K tr(deps) I + 2 G dev(deps)
 //        p_tr = -tr(sigma_tr)/3,  s_tr = dev(sigma_tr),  tau_tr = sqrt(s_tr:s_tr / 2)
-//   2. p_tr <= 0: the grains have lost contact; the point is stress free ("disconnected",
-//      Dunatunga & Kamrin section 2.3) and its stress is rebuilt from zero on compaction.
+//   2. p_tr <= 0: the grains have lost contact; the point is stress free and its stress
+//      is rebuilt from zero on compaction (Dunatunga & Kamrin's "disconnected" material,
+//      here decided by the sign of the trial pressure instead of by the density).
 //   3. tau_tr <= mu_s p_tr: elastic, sigma = sigma_tr.
 //   4. otherwise the plastic shear rate gp >= 0 solves
 //        tau = tau_tr - G dt gp = mu(I(gp)) p_tr,  I(gp) = gp d sqrt(rho_s / p_tr),
@@ -33,9 +34,9 @@
 //
 // Time step: the update is implicit in gp, so its stress never responds to a strain
 // increment more stiffly than the elastic trial does (d tau / d tau_tr lies in (0, 1]);
-// the elastic P-wave speed bounds the explicit step, as in Dunatunga & Kamrin (their
-// section 3). A viscous model whose stress is 2 eta D evaluated from the current strain
-// rate (explicit) would add c_visc = 2 eta / (rho h) to wave_speed.
+// the elastic P-wave speed bounds the explicit step, as in Dunatunga & Kamrin. A viscous
+// model whose stress is 2 eta D evaluated from the current strain rate (explicit) would add
+// c_visc = 2 eta / (rho h) to wave_speed.
 //
 // Units SI, stress tension positive (the framework's convention); p is compression
 // positive.
