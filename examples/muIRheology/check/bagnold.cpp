@@ -7,6 +7,8 @@
 //    material gets): steady simple shear at a fixed pressure must give tau = mu(I) p
 //    (Jop, Forterre & Pouliquen 2006, eq. 2) at three shear rates; a tensile state must be
 //    stress free; a small shear strain below mu_s p must be elastic (tau = G gamma).
+//    update_elastic must agree bit for bit with update where it accepts a step (random
+//    states; the GPU relies on it, the CPU never takes that path).
 // 2. Case test: the steady flow of a layer of depth h down a rough plane inclined at
 //    theta, mu_s < tan(theta) < mu_2, has a uniform inertial number and Bagnold's profile
 //    (GDR MiDi 2004, Eur. Phys. J. E 14; Jop et al. 2006):
@@ -27,7 +29,9 @@
 // Exit status: 0 pass, 1 mismatch, 2 usage or input error.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -38,6 +42,7 @@
 
 #include <unistd.h>
 
+#include "../MuIRheology.hpp"
 #include "scree/material/material.hpp"
 #include "scree/solver/simulation.hpp"
 
@@ -122,6 +127,47 @@ bool point_test(const scree::Registry& reg, const scree::Dictionary& md, const M
   return ok;
 }
 
+// ---- 1b. update_elastic against update ------------------------------------------------
+// The GPU runs update_elastic first and update only where it declines, so the two must
+// agree: when update_elastic accepts a step, bit for bit the result of update; when it
+// declines, state and stress untouched. Random stresses near the yield surface, in
+// tension and far inside, and random increments (the CPU never takes this path).
+bool elastic_path_test(const scree::ParamReader& r) {
+  using M = mui_example::MuIRheology;
+  const M::Params p = M::read(r);
+  std::uint64_t seed = 12345;
+  auto rnd = [&seed] {  // uniform in [-1, 1), a fixed sequence (splitmix64)
+    seed += 0x9e3779b97f4a7c15ull;
+    std::uint64_t z = seed;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) / 4503599627370496.0 - 1.0;
+  };
+  int accepted = 0, declined = 0, bad = 0;
+  for (int k = 0; k < 100000; ++k) {
+    const double pr = 100 * rnd() + 20;  // some in tension
+    Sym3 sig{{-pr, -pr, -pr, 0, 0, 0}};
+    for (int i = 0; i < 6; ++i) sig[i] += 0.5 * p.mu_2 * std::fabs(pr) * rnd();
+    Sym3 de;
+    for (int i = 0; i < 6; ++i) de[i] = 1e-3 * rnd() * (k % 3 == 0 ? 0.01 : 1);
+    const scree::StrainIncrement inc{de, scree::Spin3{0, 0, 0}, 1e-4, 1 + de.trace()};
+    M::State s1{1, 2, 3}, s2{1, 2, 3};
+    Sym3 a = sig, b = sig;
+    const bool took = M::update_elastic(p, s1, a, inc);
+    if (took) {
+      M::update(p, s2, b, inc);
+      ++accepted;
+      if (std::memcmp(&a, &b, sizeof a) != 0 || std::memcmp(&s1, &s2, sizeof s1) != 0) ++bad;
+    } else {
+      ++declined;
+      if (std::memcmp(&a, &sig, sizeof a) != 0 || s1.gp != 1 || s1.I != 2 || s1.gamma != 3) ++bad;
+    }
+  }
+  std::printf("update_elastic against update: %d accepted, %d declined, %d mismatches\n\n", accepted, declined,
+              bad);
+  return bad == 0 && accepted > 0 && declined > 0;
+}
+
 // ---- 2. inclined plane -----------------------------------------------------------------
 fs::path perturbed_copy(const fs::path& dir, double factor) {
   const fs::path tmp = fs::temp_directory_path() / ("muI-bagnold-" + std::to_string(::getpid()));
@@ -182,7 +228,10 @@ int main(int argc, char** argv) {
     if (md.get_word("type") != "muI") throw std::runtime_error("the body's material is not of type muI");
     const MuI m = read_params(md);
 
-    if (!point_test(rt.registry(), md, m) && perturb == 0) return 1;
+    const bool point_ok = point_test(rt.registry(), md, m);
+    const scree::PluginEntry& entry = rt.registry().get(scree::PluginKind::material, "muI", md.where());
+    const bool elastic_ok = elastic_path_test(scree::ParamReader(*entry.spec, md));
+    if (!(point_ok && elastic_ok) && perturb == 0) return 1;
 
     // Geometry and the analytic steady state.
     const auto g = cs.gravity().at("value").as_scalar_list();
