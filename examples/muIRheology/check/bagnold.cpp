@@ -17,7 +17,9 @@
 //    z measured from the base. Scree has no periodic boundaries, so the case is a long
 //    layer under gravity tilted by theta on a fixed (no-slip) floor, started with the
 //    analytic u(z) (Simulation::set_velocities); the check compares the velocity profile
-//    in the middle of the layer, away from its two ends, after the case's endTime.
+//    in the middle of the layer, away from its two ends, after the case's endTime: the
+//    points' velocities averaged over cell-high bins (the first cell above the floor
+//    reported only, see below) and the grid's nodal velocities at z = dx, 2 dx, ..., h.
 //    The ends are free: their disturbance moves into the layer at the speed of shallow
 //    surface waves sqrt(g h cos theta) relative to the flow, so the window is
 //        [x0 + (u_s + c_g) T + 2h,  x1 - c_g T - 2h]    (c_g = sqrt(g h cos theta)).
@@ -308,8 +310,38 @@ int main(int argc, char** argv) {
         if (pr.count[k] > 0) e = std::max(e, std::fabs(pr.num[k] - pr.ana[k]) / us);
       return e;
     };
+    // The nodal velocities in the window, at the nodes z = k dx above the floor (k >= 1; the
+    // floor's node is held at 0): the grid solution itself, free of the points' FLIP lag.
+    auto grid_dev = [&](const scree::Snapshot& s, std::vector<double>* out) {
+      const scree::GridSnapshot& gr = s.grid;
+      const scree::FieldData *gm = nullptr, *gv = nullptr;
+      for (const auto& f : gr.fields) {
+        if (f.name == "mass") gm = &f;
+        if (f.name == "velocity") gv = &f;
+      }
+      if (!gm || !gv) throw std::runtime_error("no grid mass or velocity in the snapshot");
+      double e = 0;
+      for (int k = 1; k <= nbins; ++k) {
+        const long iy = std::lround((y0 + k * dx - gr.origin[1]) / gr.h);
+        double sum = 0;
+        int n = 0;
+        for (long ix = 0; ix < gr.n[0]; ++ix) {
+          const double x = gr.origin[0] + ix * gr.h;
+          const long i = ix + static_cast<long>(gr.n[0]) * iy;
+          if (x < xa || x > xb || !(gm->values[i] > 0)) continue;
+          sum += gv->values[3 * i];
+          ++n;
+        }
+        if (n == 0) throw std::runtime_error("no grid node with mass in the window");
+        const double dev = (sum / n - u(k * dx)) / us;
+        if (out) out->push_back(dev);
+        e = std::max(e, std::fabs(dev));
+      }
+      return e;
+    };
     const int samples = 10;
-    std::printf("\n%10s %22s\n", "t [s]", "max |u - u_an| / u_s");  // above the first cell
+    std::printf("\n%10s %16s %16s\n", "t [s]", "points: max", "nodes: max");
+    std::printf("%10s %16s %16s\n", "", "|u - u_an| / u_s", "|u - u_an| / u_s");
     auto print_profile = [&](const Profile& pr) {
       std::printf("\nprofile at t = %g s (window mean per cell-high bin):\n%10s %12s %12s %10s %6s\n", sim.time(),
                   "z [m]", "u [m/s]", "u_an [m/s]", "dev/u_s", "n");
@@ -318,23 +350,33 @@ int main(int argc, char** argv) {
                     pr.count[k]);
     };
     Profile last;
+    double grid_last = 0;
+    std::vector<double> grid_devs;
     for (int k = 1; k <= samples; ++k) {
       sim.advance_to(T * k / samples);
-      last = profile(sim.snapshot());
-      std::printf("%10.4f %22.5f  (%lld steps)\n", sim.time(), max_dev(last), static_cast<long long>(sim.steps()));
+      const scree::Snapshot s = sim.snapshot(true);
+      last = profile(s);
+      grid_devs.clear();
+      grid_last = grid_dev(s, &grid_devs);
+      std::printf("%10.4f %16.5f %16.5f  (%lld steps)\n", sim.time(), max_dev(last), grid_last,
+                  static_cast<long long>(sim.steps()));
       if (verbose && k < samples) print_profile(last);
     }
     print_profile(last);
+    std::printf("\nnodes at t = %g s (window mean):\n%10s %10s\n", sim.time(), "z [m]", "dev/u_s");
+    for (int k = 1; k <= nbins; ++k) std::printf("%10.5f %10.5f\n", k * dx, grid_devs[k - 1]);
     for (int k = 0; k < nbins; ++k)
       if (last.count[k] == 0) throw std::runtime_error("an empty bin in the window");
     const double dev = max_dev(last);
-    // Tolerance 3 % of the surface speed, from the estimates in README.md: the start-up
-    // transient of a layer released stress free (g sin(theta) h / c_s ~ 2.4 % u_s, damped
-    // by the flow), the elastic compression of the layer (p / K: ~0.5 % u_s), and 10 cells
-    // across the depth. A 20 % error in mu_2 gives ~10 % after endTime.
+    // Tolerance 3 % of the surface speed, on the points above the first cell and on the
+    // nodes, from the estimates in README.md: the start-up transient of a layer released
+    // stress free (g sin(theta) h / c_s ~ 2.4 % u_s; it rings as an elastic oscillation of
+    // the layer, 0.3-2.2 % during the run), the elastic compression of the layer (p / K:
+    // ~0.5 % u_s), and 10 cells across the depth. mu_2 20 % off gives ~10 % at endTime.
     const double tol = 0.03;
-    const bool pass = dev <= tol;
-    std::printf("\nmax deviation %.4f u_s, tolerance %.4f u_s: %s\n", dev, tol, pass ? "PASS" : "MISMATCH");
+    const bool pass = dev <= tol && grid_last <= tol;
+    std::printf("\nmax deviation: points %.4f u_s, nodes %.4f u_s; tolerance %.4f u_s: %s\n", dev, grid_last, tol,
+                pass ? "PASS" : "MISMATCH");
     if (perturb > 0) {
       fs::remove_all(run_dir);
       std::printf("perturbed rheology %s, as it must be\n", pass ? "NOT detected" : "detected");
