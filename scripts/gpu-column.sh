@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The column collapse of seed 001 (section 4.1) on a lent GPU machine: the paper's 1 mm
+# The column collapse of Feng et al. 2025 (section 4.1) on a lent GPU machine: the paper's 1 mm
 # runs, the Appendix C mesh study on the GPU and on the CPU cores, and the benchmark, run in
-# the background so that they can outlast one device call (issues 5 and 6).
+# the background so that they can outlast one device call.
 #
 #   scripts/gpu-column.sh start [GPU_RUNS] [-- CPU_RUNS]   set up and launch (returns at once)
 #   scripts/gpu-column.sh status                           progress of every run

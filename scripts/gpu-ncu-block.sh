@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Nsight Compute detail of the fused particle pass on the benchmark's granular block (the
-# issue-6 scaling case: phaseTransition, linear shapes, USL, 4 particles per cell, at rest
-# under gravity), on a lent GPU machine: where the bandwidth-bound regime loses time.
+# scaling case of docs/performance.md: phaseTransition, linear shapes, USL, 4 particles per
+# cell, at rest under gravity), on a lent GPU machine: where the bandwidth-bound regime loses
+# time.
 #
 #   scripts/gpu-ncu-block.sh <particles> <out-dir> [kernel-regex]
 #

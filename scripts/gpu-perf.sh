@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The measurements of docs/performance.md in one device call (issue 6).
+# The measurements of docs/performance.md in one device call.
 #
 #   scripts/gpu-perf.sh [SECTION...]    on the GPU machine, from the repository root
 #

@@ -1,5 +1,7 @@
 #!/usr/bin/python3
-"""Figures of the granular column collapse (seed 001, section 4.1) from a run's own output.
+"""Figures of the granular column collapse from a run's own output: section 4.1 of Feng, Liang,
+Yin & Hu (2025), "Material point method modeling of granular flow considering phase transition
+from solid-like to fluid-like states", Int. J. Numer. Anal. Methods Geomech. 49: 1642-1664.
 
     column_collapse.py CASE [--frictional CASE_F] [-o OUTDIR]
 
@@ -48,7 +50,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-PAPER_RUNOUT = 0.42   # m, seed 001 section 4.1.1 (Bui et al. 2008 experiment)
+PAPER_RUNOUT = 0.42   # m, Feng et al. 2025, section 4.1.1 (Bui et al. 2008 experiment)
 PAPER_HEIGHT = 0.10   # m
 SNAP_TIMES = [0.05, 0.25, 0.5, 1.0]  # s after release (Figs. 11-12)
 TOL = 1e-3  # s: a snapshot counts as "at" a time when it is this close

@@ -1,4 +1,4 @@
-// scree-bench: the performance harness (issue 6; docs/performance.md).
+// scree-bench: the performance harness (docs/performance.md).
 //
 //   scree-bench [--device cpu|cuda|both] [--quick] [--cases column,flume,scaling,cpu,updates]
 //               [--kernels fast,reference,uncapped] [--steps N] [--cpu-steps N]
@@ -305,7 +305,7 @@ typename M::Params case_material_params(const scree::Case& c, const std::string&
 }
 
 /// Scree's CPU backend against the scalar loop on the same block (one thread each, then
-/// Scree on every thread): particle-steps/s, and the ratio that issue 6 keeps within 2.
+/// Scree on every thread): particle-steps/s, and the ratio kept within 2 (docs/performance.md).
 template <class M>
 void cpu_comparison(scree::PluginRuntime& rt, const fs::path& root, const fs::path& src, const std::string& material,
                     long long n, long long steps, int threads, std::vector<Row>& rows) {
@@ -342,7 +342,7 @@ void cpu_comparison(scree::PluginRuntime& rt, const fs::path& root, const fs::pa
                 w[0].name.c_str(), w[0].particles, w[0].ms_per_step, w[0].particle_steps_per_s,
                 w[0].particle_steps_per_s / t);
     if (t == 1)
-      std::printf("  scalar loop / scree (1 thread), %s: %.2f (issue 6 asks for at most 2)\n", material.c_str(),
+      std::printf("  scalar loop / scree (1 thread), %s: %.2f (the target is at most 2)\n", material.c_str(),
                   r.particle_steps_per_s / w[0].particle_steps_per_s);
     if (threads == 1) break;
   }

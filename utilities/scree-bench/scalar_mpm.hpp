@@ -1,5 +1,5 @@
-// A straightforward scalar explicit MPM, written for one comparison (issue 6): how far is
-// Scree's CPU backend (one source with the CUDA kernels, structure of arrays, OpenMP,
+// A straightforward scalar explicit MPM, written for one comparison (docs/performance.md): how
+// far is Scree's CPU backend (one source with the CUDA kernels, structure of arrays, OpenMP,
 // phase flags, plugins) from the loop a person would write by hand for one problem?
 //
 // Plane strain, USL (P2G of mass, momentum and force; grid update; G2P with FLIP and the

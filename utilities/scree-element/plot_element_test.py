@@ -4,7 +4,7 @@
     plot_element_test.py A.csv [B.csv ...] -o figure.png [--preset NAME] [--labels a b ...]
     plot_element_test.py A.csv -o f.png --x shear_strain --y tau [--y sigma_v] [--logx] [--logy]
 
-Presets (the seed-001 figures and common element tests):
+Presets (the figures of Feng et al. 2025 and common element tests):
   fig4      undrained simple shear, frictional: (a) tau vs sigma_v (stress path), (b) tau vs shear strain
   fig5      the same for the collisional model, plus (c) stresses vs shear rate
   fig6      tau and sigma_v vs shear rate: (a) log-log over all rates, (b) linear, 0.1-10 1/s

@@ -1,4 +1,4 @@
-// Case validation (issue 2): every error of a case is reported together, each with
+// Case validation: every error of a case is reported together, each with
 // file:line and what was expected, with a non-zero exit, before anything is written.
 #include <cstdio>
 #include <fstream>

@@ -1,6 +1,6 @@
 // Particle-grid transfers: shape-function identities, and conservation of mass and
 // linear momentum by P2G / grid update / G2P on random particle clouds, for every shape
-// function, both transfers, in 2D and 3D (issue 3). Runs on the CPU backend; compiled as
+// function, both transfers, in 2D and 3D. Runs on the CPU backend; compiled as
 // CUDA (test_transfers_gpu) the same checks run on the GPU.
 //
 // Exact statements checked (up to round-off, relative 1e-12):

@@ -1,4 +1,4 @@
-// The fast kernels against the straightforward ones (issue 6), on whole runs.
+// The fast kernels against the straightforward ones, on whole runs.
 //
 // KernelPolicy::reference runs one generic particle kernel with an atomic add per
 // particle and node, visits every grid node, computes the signal speed every step and

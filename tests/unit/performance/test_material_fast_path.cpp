@@ -1,4 +1,4 @@
-// The fast evaluation of the granular models against the straightforward one (issue 6).
+// The fast evaluation of the granular models against the straightforward one.
 //
 // simsand::Params::exact = 1 evaluates every power with pow(), as the model was first
 // written; the default (0) takes the exponents 1/2, 2 and 1/4 by sqrt and products and

@@ -1,4 +1,4 @@
-// Regression of the granular column collapse at 5 mm cells (issue 5): cases/columnCollapse
+// Regression of the granular column collapse at 5 mm cells: cases/columnCollapse
 // variant C-2 (3,200 particles, 110,000 steps), run to the end on the CPU backend. The
 // deposit's run-out and height must stay within a tolerance of the reference values this
 // code produced when the case was validated (README of the case: C-2 row of the mesh

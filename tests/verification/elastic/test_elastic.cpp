@@ -1,4 +1,4 @@
-// Verification of the MPM core on elastic problems with known answers (issue 3).
+// Verification of the MPM core on elastic problems with known answers.
 // Each runs on the CPU backend in CI and, with --device=cuda, on the GPU.
 #include <cmath>
 #include <array>
@@ -28,8 +28,8 @@ const FieldData& field(const BodySnapshot& b, const char* name) {
 // v(x, 0) = v0 sin(pi x / 2L). Exact: u(x,t) = (v0/w) sin(w t) sin(pi x / 2L),
 // w = (pi / 2L) c, c = sqrt(E / rho) (nu = 0: no lateral coupling). Lateral faces are
 // rollers, so the 2D plane-strain bar is exactly 1D. Period T = 4L/c.
-// Tolerances: the issue's 2% on period and amplitude (the discretisation error of the
-// first mode with 20 cells is ~(kh)^2/24 ~ 3e-4); energy drift < 1%.
+// Tolerances (the acceptance bounds): 2% on period and amplitude (the discretisation error
+// of the first mode with 20 cells is ~(kh)^2/24 ~ 3e-4); energy drift < 1%.
 struct BarResult {
   double period, amplitude, period_exact, amplitude_exact, energy_drift;
 };
@@ -110,7 +110,7 @@ TEST_P(VibratingBar, PeriodAmplitudeAndEnergyMatchTheAnalyticSolution) {
   const BarResult r = vibrating_bar(scheme, shape, transfer);
   EXPECT_NEAR(r.period / r.period_exact, 1.0, 0.02) << "period " << r.period << " vs " << r.period_exact;
   EXPECT_NEAR(r.amplitude / r.amplitude_exact, 1.0, 0.02) << "amplitude " << r.amplitude << " vs " << r.amplitude_exact;
-  // FLIP conserves the bar's energy (< 1%, the issue's bound). APIC (Jiang et al. 2015)
+  // FLIP conserves the bar's energy (< 1%, the acceptance bound). APIC (Jiang et al. 2015)
   // filters the part of the velocity field its affine particle velocity cannot hold at
   // every transfer, so it dissipates slowly: measured 0.6% (GIMP) and 5% (B-spline) over
   // these 2400 steps; bounded here as a regression check.
@@ -136,11 +136,11 @@ INSTANTIATE_TEST_SUITE_P(Schemes, VibratingBar,
 
 // ---------------------------------------------------------------------------------
 // Elastic column settling under gravity between lateral rollers, on a no-slip floor,
-// damped to rest (seed 001, Fig. 9b check). Equilibrium: sigma_yy equals the weight of
-// the material above, -rho0 g (H - y0) in terms of the initial height y0 (exact whatever
-// the compression), and the lateral stress is K0 = nu/(1-nu) times it (laterally
-// confined linear elasticity). Tolerance: 2% of rho g H (the issue's), on averages over
-// the particles of each initial cell row, compared with the exact stress at the row's
+// damped to rest (the check of Feng et al. 2025, Fig. 9b). Equilibrium: sigma_yy equals the
+// weight of the material above, -rho0 g (H - y0) in terms of the initial height y0 (exact
+// whatever the compression), and the lateral stress is K0 = nu/(1-nu) times it (laterally
+// confined linear elasticity). Tolerance: 2% of rho g H (the acceptance bound), on averages
+// over the particles of each initial cell row, compared with the exact stress at the row's
 // centre: linear-shape MPM resolves stress cell by cell, so single particles carry an
 // O(rho g h) scatter that averages out over a cell.
 // `skip_cells` rows next to the floor are not checked (see the B-spline note below).
@@ -219,12 +219,13 @@ TEST(Elastic3D, ColumnGeostaticStress) { column_settles({3, "USF", "linear"}); }
 // Objectivity. (a) A free elastic block in rigid translation stays stress-free to
 // round-off. (b) A pre-stressed block turned rigidly by a quarter turn (every grid node
 // driven by rotatingWall, so the motion is exactly rigid and the velocity gradient
-// exactly skew): a non-objective strain measure (seed 001 eq. 9, ERRATA item 6) would
-// create stress; the objective update must carry the initial stress round unchanged in
-// the rotating frame: sigma_xx = -1000 Pa becomes sigma_yy = -1000 Pa, and zero stress
-// would stay zero. Tolerances: 1e-9 of the 1e6 Pa modulus for (a) (round-off); for (b)
-// the Hughes-Winget rotation's angle error (omega dt)^2/12 per unit angle (~1e-7) on
-// 1000 Pa gives 1e-3 Pa: checked within 0.01 Pa.
+// exactly skew): a non-objective strain measure (such as the small-strain 1/2(F + F^T) - I
+// of Feng et al. 2025, eq. 9, which is why Scree co-rotates the stress with the step's spin
+// and works on strain increments) would create stress; the objective update must carry the
+// initial stress round unchanged in the rotating frame: sigma_xx = -1000 Pa becomes
+// sigma_yy = -1000 Pa, and zero stress would stay zero. Tolerances: 1e-9 of the 1e6 Pa
+// modulus for (a) (round-off); for (b) the Hughes-Winget rotation's angle error
+// (omega dt)^2/12 per unit angle (~1e-7) on 1000 Pa gives 1e-3 Pa: checked within 0.01 Pa.
 Snapshot run_block(const std::string& motion, const std::string& schemes, const std::string& extra_bcs,
                    double end) {
   TempCase tc("rigid");
