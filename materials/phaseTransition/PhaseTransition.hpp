@@ -1,5 +1,5 @@
 // phaseTransition: frictional (SIMSAND-type) + collisional (kinetic theory) stresses in
-// parallel (seed 001 section 3, eq. 1):
+// parallel (Feng, Liang, Yin & Hu 2025, IJNAMG, section 3, eq. 1):
 //
 //   sigma = sigma_f + sigma_col                                                     (eq. 1)
 //
@@ -15,9 +15,11 @@
 #include <cmath>
 #include <cstddef>
 
-#include "../kineticTheory/KineticTheory.hpp"
-#include "../simsand/Simsand.hpp"
 #include "scree/material/material.hpp"
+#include "scree/materials/kinetic_theory.hpp"
+#include "scree/materials/kinetic_theory_spec.hpp"
+#include "scree/materials/simsand_model.hpp"
+#include "scree/materials/simsand_spec.hpp"
 
 namespace scree::materials {
 
@@ -48,17 +50,17 @@ struct PhaseTransition {
 
   static ParamSpec spec() {
     ParamSpec s(type_name,
-                "Phase-transition granular model (seed 001): SIMSAND-type frictional stress + kinetic-theory "
+                "Phase-transition granular model (Feng et al. 2025): SIMSAND-type frictional stress + kinetic-theory "
                 "collisional stress driven by the granular temperature, sigma = sigma_f + sigma_col (eq. 1)");
-    KineticTheory::add_collisional_spec(s);  // includes particleDensity and initialGranularTemperature
-    Simsand::add_frictional_spec(s);
+    kt::add_collisional_spec(s);  // includes particleDensity and initialGranularTemperature
+    simsand::add_frictional_spec(s);
     s.scalar("initialVoidRatio", "-", "e0 (shared by both parts)").positive();
     return s;
   }
   static Params read(const ParamReader& r) {
     Params p{};
-    p.f = Simsand::read_frictional(r);
-    p.c = KineticTheory::read_collisional(r);
+    p.f = simsand::read_frictional(r);
+    p.c = kt::read_collisional(r);
     p.e0 = r.scalar("initialVoidRatio");
     p.T0 = r.scalar("initialGranularTemperature");
     p.ck = kt::prepare(p.c);

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "phaseTransition/PhaseTransition.hpp"
-#include "simsand/simsand_model.hpp"
+#include "scree/materials/simsand_model.hpp"
 
 using namespace scree;
 using namespace scree::materials;

@@ -1,12 +1,12 @@
 // Kinetic theory of dense granular flows: collisional stress and granular temperature.
 //
-// One formula in one place: the kineticTheory material (KineticTheory.hpp) and the
-// phaseTransition material (../phaseTransition/PhaseTransition.hpp) both call these free
-// functions. Every line cites the equation it implements: "eq. N" is the phase-transition
-// paper (Feng, Liang, Yin & Hu 2025, IJNAMG, seed 001), "(A.n)"/"(B.n)" its appendices,
-// "GD99" Garzó & Dufty (1999) Phys. Rev. E 59:5895, "CS13" Chialvo & Sundaresan (2013)
-// Phys. Fluids 25:070603, "ERRATA n" ../../shared/seeds/ERRATA.md (seed 001). README.md in
-// this folder lists every decision.
+// One formula in one place: the kineticTheory and phaseTransition materials both call these
+// free functions (materials/common, shared by the plugins and installed with the SDK). Every
+// line cites the equation it implements: "eq. N" is the phase-transition paper (Feng, Liang,
+// Yin & Hu 2025, IJNAMG), "(A.n)"/"(B.n)" its appendices, "GD99" Garzó & Dufty (1999) Phys.
+// Rev. E 59:5895, "CS13" Chialvo & Sundaresan (2013) Phys. Fluids 25:070603. Where the paper
+// departs from GD99 by a slip, the comment says which form is used and why;
+// materials/kineticTheory/README.md lists every decision.
 //
 // Units: SI. Granular temperature T in m^2/s^2 (the fluctuation kinetic energy per unit mass
 // is 3/2 T). Solid fraction V = 1/(1+e). Stress tension positive; p_col is a pressure
@@ -98,7 +98,7 @@ SCREE_HD inline Real radial_distribution_slope(const Params& P, Real V) {
 struct Coefficients {
   Real V;         ///< solid fraction used [-]
   Real g0;        ///< radial distribution at contact [-]
-  Real G;         ///< G = V g0 (eq. 23, ERRATA 1) [-]
+  Real G;         ///< G = V g0 (eq. 23 with GD99: the paper's "= rho_p/(1+e) g0" is a slip) [-]
   Real p_star;    ///< p* = 1 + 2 (1 + eps) G = 4 G F (eq. 20 with A1) [-]
   Real cstar;     ///< c* (A9) [-]
   Real zeta0;     ///< zeta0* (A7 = B10) [-]
@@ -117,9 +117,9 @@ SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
   const Real e = P.eps, e2 = e * e, e3 = e2 * e;
   c.V = V;
   c.g0 = radial_distribution(P, V);
-  c.G = V * c.g0;                                                        // eq. (23), ERRATA 1
+  c.G = V * c.g0;                                                        // eq. (23), G = V g0 (GD99)
   c.p_star = 1 + 2 * (1 + e) * c.G;                                      // 4GF, eq. (20)+(A1)
-  c.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9), ERRATA 4
+  c.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9), e = eps_r (not the void ratio)
   c.zeta0 = Real(5) / 12 * c.g0 * (1 - e2) * (1 + 3 * c.cstar / 32);    // (A7) = (B10)
   const Real nu_eta = c.g0 * (1 - Real(0.25) * (1 - e) * (1 - e)) * (1 - c.cstar / 64);  // (A8)
   const Real eta_k = (1 - Real(0.4) * (1 + e) * (1 - 3 * e) * c.G) /
@@ -133,7 +133,7 @@ SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
   c.eta_hat = fmax(eta0 * c.eta_star, Real(0));                          // eq. (21)
   c.gam_hat = fmax(eta0 * c.gam_star, Real(0));                          // eq. (22)
   c.p_hat = P.rho_p * V * c.p_star;                                      // eq. (20)
-  // eq. (28) with rho = rho_p V (ERRATA 2; (B8) lacks a factor V):
+  // eq. (28) with rho = rho_p V (GD99; the paper's (B8) lacks a factor V):
   // Gamma0 = 144/(5 sqrt(pi)) rho_p V^2 zeta0* T^{3/2} / d
   //        = 12/sqrt(pi) (1-eps^2)(1+3c*/32) rho_p V^2 g0 T^{3/2} / d.
   c.diss_hat = 144 / (5 * kSqrtPi) * P.rho_p * V * V * c.zeta0 / P.d;
@@ -143,7 +143,7 @@ SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
     //   + 5/32 (1-eps^2)(1+3c*/64) g0 C] tr(D), with (B12) C = N/Dn below. Inserted into
     // eq. (28): Gamma1 = 3/2 rho_p V T [ ... ] tr(D) (the d, sqrt(T) and (1+e_void) V cancel).
     const Real lam = Real(0.375) * ((1 - e) * (5 * e2 + 4 * e - 1) +
-                                    c.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));  // (B14), ERRATA 3
+                                    c.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));  // (B14), GD99's "- 19"
     const Real nu_gam = (1 + e) / 48 * c.g0 *
                         (128 - 96 * e + 15 * e2 - 15 * e3 +
                          c.cstar / 64 * (15 * e3 - 15 * e2 + 498 * e - 434));  // (B13)
@@ -215,7 +215,7 @@ SCREE_HD inline Coefficients coefficients(const Params& P, const Constants& C, R
   // the wave speed right after it (V < V_sd always: V_cap < V_sd).
   const Real f = V < P.Vm ? Real(1) : dense_blend(P, V, C.rf);
   c.g0 = f * cs + (1 - f) * 2 / (P.Vsd - V);  // eq. (25)
-  c.G = V * c.g0;                                  // eq. (23), ERRATA 1
+  c.G = V * c.g0;                                  // eq. (23), G = V g0 (GD99)
   c.p_star = 1 + 2 * (1 + e) * c.G;                // 4GF, eq. (20)+(A1)
   c.cstar = C.cstar;                               // (A9)
   c.zeta0 = C.z0 * c.g0;                           // (A7)
@@ -225,7 +225,7 @@ SCREE_HD inline Coefficients coefficients(const Params& P, const Constants& C, R
   c.eta_hat = fmax(C.eta0 * c.eta_star, Real(0));  // eq. (21)
   c.gam_hat = fmax(C.eta0 * c.gam_star, Real(0));  // eq. (22)
   c.p_hat = P.rho_p * V * c.p_star;                // eq. (20)
-  c.diss_hat = C.diss * V * V * c.zeta0;           // eq. (28), ERRATA 2
+  c.diss_hat = C.diss * V * V * c.zeta0;           // eq. (28), GD99 form
   c.div_hat = 0;
   if (P.zeta1 > 0) {  // (B11)-(B14): br = -(1-e)(p*-1) + 5/32 (1-e^2)(1+3c*/64) g0 N/Dn
     const Real N = C.n_lam * c.G + (c.p_star - 1) * C.n_p;
@@ -280,7 +280,7 @@ SCREE_HD inline Real riccati_sqrt_temperature(Real x0, Real a, Real b, Real k, R
 /// over dt and the solid fraction frozen at c.V.
 SCREE_HD inline Real update_temperature(const Coefficients& c, Real T0, const RateInvariants& r, Real dt) {
   // energy * dT/dt = 2 eta dev2 + gamma tr^2 - p tr - Gamma0 - Gamma1   (eq. 27, sigma_col:D
-  // with sigma_col = -p I + 2 eta dev D + gamma tr(D) I, tension positive, ERRATA 5)
+  // with sigma_col = -p I + 2 eta dev D + gamma tr(D) I, tension positive; the paper is compression positive)
   const Real re = 1 / c.energy;
   const Real a = (2 * c.eta_hat * r.dev2 + c.gam_hat * r.tr * r.tr) * re;  // ~ sqrt(T)
   const Real b = -(c.p_hat + c.div_hat) * r.tr * re;                        // ~ T
@@ -292,7 +292,7 @@ SCREE_HD inline Real update_temperature(const Coefficients& c, Real T0, const Ra
 
 /// eq. (19) in Scree's sign convention (tension positive):
 /// sigma_col = -p_col I + 2 eta dev(D) + gamma tr(D) I. Its work sigma_col : D =
-/// -p tr D + 2 eta |dev D|^2 + gamma tr(D)^2 is non-negative in isochoric shear (ERRATA 5).
+/// -p tr D + 2 eta |dev D|^2 + gamma tr(D)^2 is non-negative in isochoric shear (a production term, GD99).
 SCREE_HD inline Sym3 collisional_stress(const Coefficients& c, Real T, const Sym3& D) {
   const Real x = sqrt(fmax(T, Real(0)));
   const Real p = c.p_hat * T;          // eq. (20)

@@ -1,10 +1,9 @@
 // SIMSAND-type critical-state frictional model: formulas and stress integration.
 //
-// One formula in one place: the simsand material (Simsand.hpp) and the frictional half of
-// phaseTransition (../phaseTransition/PhaseTransition.hpp) both call these free functions.
-// "eq. N" is the phase-transition paper (Feng, Liang, Yin & Hu 2025, IJNAMG, seed 001),
-// "ERRATA n" is ../../shared/seeds/ERRATA.md (seed 001). README.md in this folder lists the
-// parameters and every decision.
+// One formula in one place: the simsand material and the frictional half of phaseTransition
+// both call these free functions (materials/common, shared by the plugins and installed with
+// the SDK). "eq. N" is the phase-transition paper (Feng, Liang, Yin & Hu 2025, IJNAMG);
+// materials/simsand/README.md lists the parameters and every decision.
 //
 // Conventions: sigma is the Cauchy stress, tension positive (Scree). p = -tr(sigma)/3 and
 // q = sqrt(3/2 s:s) are compression positive; the volumetric strain eps_v = tr(eps) is
