@@ -31,10 +31,9 @@ struct PhaseTransition {
 
   struct Params {
     simsand::Params f;  ///< frictional constants
-    kt::Params c;       ///< collisional constants
+    kt::Params c;       ///< collisional constants (with their prepared factors)
     Real e0;            ///< initial void ratio [-]
     Real T0;            ///< initial granular temperature [m^2/s^2]
-    kt::Constants ck{};  ///< c's parameter-only factors (read(); unset: computed every time)
   };
   struct State {
     Sym3 sigf;   ///< frictional stress sigma_f (tension positive) [Pa]
@@ -63,7 +62,6 @@ struct PhaseTransition {
     p.c = kt::read_collisional(r);
     p.e0 = r.scalar("initialVoidRatio");
     p.T0 = r.scalar("initialGranularTemperature");
-    p.ck = kt::prepare(p.c);
     return p;
   }
   static Real density(const Params& p) { return p.c.rho_p / (1 + p.e0); }
@@ -72,7 +70,7 @@ struct PhaseTransition {
   /// isotropic at rest), then made admissible (no tension, on or inside the yield surface).
   static State initial_state(const Params& p, Sym3& sigma) {
     State s{};
-    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, p.e0));
+    const kt::Coefficients c = coefficients(p, p.e0);
     const Sym3 scol = kt::collisional_stress(c, p.T0, Sym3::zero());
     Sym3 sf = sigma - scol;
     const simsand::Vars v = simsand::initial_vars(p.f, sf, p.e0);
@@ -118,19 +116,11 @@ struct PhaseTransition {
     s.trD = ri.tr;
   }
 
-  /// The collisional coefficients (eqs. 20-24) at the void ratio e: from the prepared
-  /// parameter-only factors when read() made them. update() and wave_speed() both call this,
-  /// so that the compiler computes them once when the kernel asks for the speed right after
-  /// the update.
+  /// The collisional coefficients (eqs. 20-28) at the void ratio e. update() and wave_speed()
+  /// both call this, so that the compiler computes them once when the kernel asks for the
+  /// speed right after the update.
   SCREE_HD static kt::Coefficients coefficients(const Params& p, Real e) {
-    const Real V = kt::solid_fraction(p.c, e);
-#if defined(__CUDA_ARCH__)
-    // Kernels get their Params from read(), which prepared ck. One path, without the branch on
-    // ck.ready: the compiler then shares the coefficients between the update and the wave speed.
-    return kt::coefficients(p.c, p.ck, V);
-#else
-    return p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
-#endif
+    return kt::coefficients(p.c, kt::solid_fraction(p.c, e));
   }
 
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {

@@ -1,4 +1,4 @@
-// Shared parameter sets (seed 001 Tables 1-3) and small drivers for the material tests.
+// Shared parameter sets (Feng et al. 2025, Tables 1-3) and small drivers for the material tests.
 // Params are built directly (no dictionaries), so these tests need only the headers.
 #pragma once
 
@@ -32,16 +32,14 @@ inline simsand::Params table3_element_f() {
 /// Collisional constants from (rho_p, d, V_sd, V_m, eps_n, mu_p).
 inline kt::Params collisional(double rho_p, double d, double Vsd, double Vm, double eps_n, double mu_p,
                               bool zeta1 = true, double g0max = 1000) {
-  kt::Params c{};
-  c.rho_p = rho_p;
-  c.d = d;
-  c.Vsd = Vsd;
-  c.Vm = Vm;
-  c.eps = kt::effective_restitution(eps_n, mu_p);
-  c.Vcap = kt::cap_solid_fraction(Vsd, Vm, g0max);
-  c.Vmin = 1e-3;
-  c.zeta1 = zeta1 ? 1 : 0;
-  return c;
+  return kt::make_params(kt::Constants{.rho_p = rho_p,
+                                       .d = d,
+                                       .Vsd = Vsd,
+                                       .Vm = Vm,
+                                       .eps = kt::effective_restitution(eps_n, mu_p),
+                                       .Vcap = kt::cap_solid_fraction(Vsd, Vm, g0max),
+                                       .Vmin = 1e-3,
+                                       .zeta1 = zeta1 ? 1.0 : 0.0});
 }
 /// Table 2 (collisional element tests, Fig. 5).
 inline kt::Params table2() { return collisional(1500, 1e-3, 0.6, 0.4, 0.6, 0.2); }

@@ -1,4 +1,4 @@
-// The fast evaluation of the granular models against the straightforward one (issue 6).
+// The fast evaluation of the granular models (Feng et al. 2025) against the straightforward one.
 //
 // simsand::Params::exact = 1 evaluates every power with pow(), as the model was first
 // written; the default (0) takes the exponents 1/2, 2 and 1/4 by sqrt and products and
@@ -42,16 +42,54 @@ simsand::Params table1_f(bool exact) {  // Table 1: n = 0.6 (no sqrt shortcut fo
   P.exact = exact ? 1 : 0;
   return P;
 }
-kt::Params collapse_c() {
-  kt::Params c{};
-  c.rho_p = 2650;
-  c.d = 1.25e-3;
-  c.Vsd = 1 / 1.62;
-  c.Vm = 0.4;
-  c.eps = kt::effective_restitution(0.6, 0.2);
-  c.Vcap = kt::cap_solid_fraction(c.Vsd, c.Vm, 1000);
-  c.Vmin = 1e-3;
-  c.zeta1 = 1;
+kt::Params collapse_c(double zeta1 = 1) {  // Table 3, column collapse: e_sd = 0.62
+  const double Vsd = 1 / 1.62, Vm = 0.4;
+  return kt::make_params(kt::Constants{.rho_p = 2650,
+                                       .d = 1.25e-3,
+                                       .Vsd = Vsd,
+                                       .Vm = Vm,
+                                       .eps = kt::effective_restitution(0.6, 0.2),
+                                       .Vcap = kt::cap_solid_fraction(Vsd, Vm, 1000),
+                                       .Vmin = 1e-3,
+                                       .zeta1 = zeta1});
+}
+
+/// The collisional coefficients written out term by term as Feng et al. 2025 print them
+/// (eqs. 20-28, (A4)-(A9), (B11)-(B14)), with the corrections from Garzo & Dufty 1999 that
+/// kinetic_theory.hpp documents: G = V g0, gamma* with V G, Gamma0 with V^2, (B14) with -19.
+/// Every quotient is taken where it appears, nothing is prepared: an independent check of
+/// the prepared factors of kt::make_params and of kt::coefficients.
+kt::Coefficients term_by_term(const kt::Constants& P, double V) {
+  kt::Coefficients c{};
+  const double e = P.eps, e2 = e * e, e3 = e2 * e, pi = 3.14159265358979323846, sqrt_pi = std::sqrt(pi);
+  c.V = V;
+  const double cs = (2 - V) / (2 * std::pow(1 - V, 3));  // eq. (25)
+  const double f = V < P.Vm ? 1.0
+                            : 1 - std::pow((V - P.Vm) / (P.Vsd - P.Vm), 2);  // eq. (26), the printed form
+  c.g0 = f * cs + (1 - f) * 2 / (P.Vsd - V);                                  // eq. (25)
+  c.G = V * c.g0;                                                             // eq. (23)
+  c.p_star = 1 + 2 * (1 + e) * c.G;                                           // eq. (20) with (A1)
+  c.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9)
+  c.zeta0 = 5.0 / 12 * c.g0 * (1 - e2) * (1 + 3 * c.cstar / 32);              // (A7)
+  const double nu_eta = c.g0 * (1 - 0.25 * (1 - e) * (1 - e)) * (1 - c.cstar / 64);  // (A8)
+  const double eta_k = (1 - 0.4 * (1 + e) * (1 - 3 * e) * c.G) / (nu_eta - 0.5 * c.zeta0);  // (A6)
+  c.gam_star = 128 / (5 * pi) * V * c.G * (1 + e) * (1 - c.cstar / 32);                 // (A5)
+  c.eta_star = eta_k * (1 + 0.8 * c.G * (1 + e)) + 0.6 * c.gam_star;                      // (A4)
+  const double eta0 = 5 * sqrt_pi / 96 * P.rho_p * P.d;
+  c.eta_hat = eta0 * c.eta_star;                                                          // eq. (21)
+  c.gam_hat = eta0 * c.gam_star;                                                          // eq. (22)
+  c.p_hat = P.rho_p * V * c.p_star;                                                       // eq. (20)
+  c.diss_hat = 144 / (5 * sqrt_pi) * P.rho_p * V * V * c.zeta0 / P.d;                     // eq. (28)
+  if (P.zeta1 > 0) {
+    const double lam = 0.375 * ((1 - e) * (5 * e2 + 4 * e - 1) + c.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));
+    const double nu_gam = (1 + e) / 48 * c.g0 *
+                          (128 - 96 * e + 15 * e2 - 15 * e3 + c.cstar / 64 * (15 * e3 - 15 * e2 + 498 * e - 434));
+    const double N = 4.0 / 15 * lam * c.G + (c.p_star - 1) * (2.0 / 3 - e) * c.cstar;             // (B12)
+    const double Dn = 0.5 * c.zeta0 + nu_gam + 5.0 / 64 * c.cstar * (1 + 3 * c.cstar / 64) * c.g0 * (1 - e2);
+    const double br = -(1 - e) * (c.p_star - 1) + 5.0 / 32 * (1 - e2) * (1 + 3 * c.cstar / 64) * c.g0 * (N / Dn);
+    c.div_hat = 1.5 * P.rho_p * V * br;                                                    // (B11) in eq. (28)
+  }
+  c.energy = 1.5 * P.rho_p * V;  // eq. (27)
   return c;
 }
 
@@ -150,7 +188,6 @@ TEST(MaterialFastPath, SimsandSimpleShearPathAgrees) {
 // from random frictional states with a granular temperature, at dt = 1e-5 s.
 TEST(MaterialFastPath, PhaseTransitionRandomStates) {
   PhaseTransition::Params fast{collapse_f(false), collapse_c(), 0.95, 1e-12};
-  fast.ck = kt::prepare(fast.c);  // as PhaseTransition::read() does
   PhaseTransition::Params exact{collapse_f(true), collapse_c(), 0.95, 1e-12};
   std::mt19937_64 r(7);
   std::uniform_real_distribution<double> U(0, 1);
@@ -181,24 +218,30 @@ TEST(MaterialFastPath, PhaseTransitionRandomStates) {
         << ref_vs_ref.over[l];
 }
 
-// The collisional coefficients from prepared constants (kt::prepare) equal the plain ones
-// to round-off, on both branches of g0 (eq. 26) and with and without zeta1.
-TEST(MaterialFastPath, CollisionalCoefficientsFromPreparedConstants) {
+// kt::coefficients (the prepared factors of kt::make_params) against the functions written
+// out term by term, on both branches of g0 (eq. 26), with and without zeta1: equal to
+// round-off. And one point by hand: at V = 0.3 < V_m, g0 is Carnahan-Starling,
+// g0 = 1.7/(2 0.7^3) = 2.478134..., so p* = 1 + 2 (1 + eps) 0.3 g0.
+TEST(MaterialFastPath, CollisionalCoefficientsAgainstTermByTermForm) {
   for (double zeta1 : {1.0, 0.0}) {
-    kt::Params P = collapse_c();
-    P.zeta1 = zeta1;
-    const kt::Constants C = kt::prepare(P);
+    const kt::Params P = collapse_c(zeta1);
     for (int i = 0; i <= 200; ++i) {
       const double V = P.Vmin + (P.Vcap - P.Vmin) * i / 200.0;
-      const kt::Coefficients a = kt::coefficients(P, C, V), b = kt::coefficients(P, V);
+      const kt::Coefficients a = kt::coefficients(P, V), b = term_by_term(P, V);
       for (auto [x, y, what] : {std::tuple{a.g0, b.g0, "g0"}, {a.p_hat, b.p_hat, "p_hat"}, {a.eta_hat, b.eta_hat, "eta_hat"},
                                 {a.gam_hat, b.gam_hat, "gam_hat"}, {a.diss_hat, b.diss_hat, "diss_hat"},
                                 {a.div_hat, b.div_hat, "div_hat"}, {a.energy, b.energy, "energy"},
-                                {a.p_star, b.p_star, "p_star"}})
+                                {a.p_star, b.p_star, "p_star"}, {a.zeta0, b.zeta0, "zeta0"}})
         EXPECT_NEAR(x, y, 1e-12 * (std::fabs(y) + 1e-300) + (std::string(what) == "div_hat" ? 1e-12 * b.p_hat : 0))
             << what << " at V = " << V << ", zeta1 = " << zeta1;
     }
+    if (zeta1 == 0) EXPECT_EQ(kt::coefficients(P, 0.5).div_hat, 0.0);
   }
+  const kt::Params P = collapse_c();
+  const kt::Coefficients c = kt::coefficients(P, 0.3);
+  EXPECT_NEAR(c.g0, 1.7 / (2 * 0.343), 1e-14);
+  EXPECT_NEAR(c.p_star, 1 + 2 * (1 + P.eps) * 0.3 * 1.7 / (2 * 0.343), 1e-13);
+  EXPECT_NEAR(c.p_hat, 2650 * 0.3 * c.p_star, 1e-10);
 }
 
 // The kernels skip loading and rotating the incoming stress for phaseTransition

@@ -61,7 +61,7 @@ inline void add_collisional_spec(ParamSpec& s) {
   });
 }
 inline Params read_collisional(const ParamReader& r) {
-  Params c{};
+  Constants c{};
   c.rho_p = r.scalar("particleDensity");
   c.d = r.scalar("diameter");
   c.Vsd = r.has("voidRatioSd") ? 1 / (1 + r.scalar("voidRatioSd")) : r.scalar("solidFractionSd");
@@ -70,7 +70,7 @@ inline Params read_collisional(const ParamReader& r) {
   c.Vcap = cap_solid_fraction(c.Vsd, c.Vm, r.scalar("maxRadialDistribution"));
   c.Vmin = 1e-3;
   c.zeta1 = r.boolean("firstOrderCooling") ? 1 : 0;
-  return c;
+  return make_params(c);
 }
 
 }  // namespace scree::materials::kt
