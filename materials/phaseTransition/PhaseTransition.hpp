@@ -84,10 +84,16 @@ struct PhaseTransition {
   }
 
   SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    update_with<simsand::Production>(p, s, sigma, inc);
+  }
+  /// update() with the frictional part evaluated under the policy Pol (simsand_model.hpp:
+  /// the tests compare Production with the reference evaluations).
+  template <class Pol>
+  SCREE_HD static void update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
     Sym3 sf = corotate(s.sigf, inc.spin);
     simsand::Vars v{s.e, s.kappa, s.epsEq};
-    simsand::integrate(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
+    simsand::integrate<Pol>(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
     collisional(p, s, sf, v, sigma, inc);
   }
   /// The same when the frictional increment is elastic; false (nothing changed) otherwise

@@ -1,7 +1,7 @@
 // The fast evaluation of the granular models (Feng et al. 2025) against the straightforward one.
 //
-// simsand::Params::exact = 1 evaluates every power with pow(), as the model was first
-// written; the default (0) takes the exponents 1/2, 2 and 1/4 by sqrt and products and
+// The policy simsand::ExactPowers evaluates every power with pow(), as the model was first
+// written; simsand::Production takes the exponents 1/2, 2 and 1/4 by sqrt and products and
 // the void-ratio powers of eqs. (17)-(18) from one logarithm (simsand_model.hpp). Both
 // compute the same function; they differ by a few ulps per power.
 //
@@ -31,17 +31,14 @@ using namespace scree::materials;
 
 namespace {
 
-simsand::Params collapse_f(bool exact) {  // Table 3, column collapse: n = 0.5
-  auto P = simsand::make_params(120, 0.2, 0.5, 101300, 19.8, 0.977, 0.0596, 0.365, 0.7, 0.0044, 2.4, 2.9, 1.0, 1e-4,
-                                true);
-  P.exact = exact ? 1 : 0;
-  return P;
+simsand::Params collapse_f() {  // Table 3, column collapse: n = 0.5
+  return simsand::make_params(120, 0.2, 0.5, 101300, 19.8, 0.977, 0.0596, 0.365, 0.7, 0.0044, 2.4, 2.9, 1.0, 1e-4,
+                              true);
 }
-simsand::Params table1_f(bool exact) {  // Table 1: n = 0.6 (no sqrt shortcut for K)
-  auto P = simsand::make_params(150, 0.22, 0.6, 101300, 30, 0.937, 0.022, 0.71, 4, 0.001, 1, 1, 1.0, 1e-4, true);
-  P.exact = exact ? 1 : 0;
-  return P;
+simsand::Params table1_f() {  // Table 1: n = 0.6 (no sqrt shortcut for K)
+  return simsand::make_params(150, 0.22, 0.6, 101300, 30, 0.937, 0.022, 0.71, 4, 0.001, 1, 1, 1.0, 1e-4, true);
 }
+using simsand::ExactPowers;
 kt::Params collapse_c(double zeta1 = 1) {  // Table 3, column collapse: e_sd = 0.62
   const double Vsd = 1 / 1.62, Vm = 0.4;
   return kt::make_params(kt::Constants{.rho_p = 2650,
@@ -112,7 +109,7 @@ Sample random_sample(std::mt19937_64& r, const simsand::Params& P) {
   const double eta = 1.6 * U(r);
   s.sig = simsand::from_p_s(p, dev * (eta * p / deviatoric_stress(dev)));
   s.v = simsand::Vars{e, 0.3 * U(r) * U(r), 0.1 * U(r)};
-  if (U(r) < 0.5) s.v = simsand::initial_vars(P, s.sig, e);  // on the surface
+  if (U(r) < 0.5) s.v = simsand::initial_vars<ExactPowers>(P, s.sig, e);  // on the surface (the reference's)
   for (int k = 0; k < 6; ++k) s.deps[k] = U(r) - 0.5;
   if (U(r) < 0.5) s.deps[2] = s.deps[4] = s.deps[5] = 0;
   s.deps = s.deps * std::pow(10.0, -7 + 4.5 * U(r));
@@ -129,23 +126,26 @@ struct Census {
   }
 };
 
-void expect_fast_within_reference_sensitivity(const simsand::Params& fast, const simsand::Params& exact) {
+void expect_fast_within_reference_sensitivity(const simsand::Params& P) {
   std::mt19937_64 r(2026);
   const long n = 20000;
   Census fast_vs_ref, ref_vs_ref;
+  long differ = 0;  // updates whose bits differ: the policies must be two evaluations
   for (long i = 0; i < n; ++i) {
-    const Sample s = random_sample(r, exact);
+    const Sample s = random_sample(r, P);
     Sym3 a = s.sig, b = s.sig, c = s.sig;
     simsand::Vars va = s.v, vb = s.v, vc = s.v;
-    simsand::integrate(fast, a, va, s.deps);
-    simsand::integrate(exact, b, vb, s.deps);
+    simsand::integrate(P, a, va, s.deps);
+    simsand::integrate<ExactPowers>(P, b, vb, s.deps);
     for (int k = 0; k < 6; ++k) c[k] = std::nextafter(c[k], 2 * c[k] - 1);  // one ulp (away from 0.5 c)
-    simsand::integrate(exact, c, vc, s.deps);
+    simsand::integrate<ExactPowers>(P, c, vc, s.deps);
     ASSERT_TRUE(std::isfinite(norm(a)) && std::isfinite(va.e) && std::isfinite(va.kappa)) << "sample " << i;
-    fast_vs_ref.add(std::max(rel_diff(a, b), std::fabs(va.kappa - vb.kappa) / (vb.kappa + exact.kp)));
-    ref_vs_ref.add(std::max(rel_diff(c, b), std::fabs(vc.kappa - vb.kappa) / (vb.kappa + exact.kp)));
+    fast_vs_ref.add(std::max(rel_diff(a, b), std::fabs(va.kappa - vb.kappa) / (vb.kappa + P.kp)));
+    ref_vs_ref.add(std::max(rel_diff(c, b), std::fabs(vc.kappa - vb.kappa) / (vb.kappa + P.kp)));
     EXPECT_NEAR(va.e, vb.e, 1e-12 * vb.e) << "sample " << i;  // e follows the volume only
+    differ += norm(a - b) != 0;
   }
+  EXPECT_GT(differ, n / 100) << "Production and ExactPowers gave the same bits: not two evaluations";
   EXPECT_LT(fast_vs_ref.over[0], n / 50) << "more than 2% of the updates differ by more than 1e-12";
   for (int l = 1; l < 4; ++l)
     EXPECT_LE(fast_vs_ref.over[l], 2 * ref_vs_ref.over[l] + 5)
@@ -156,11 +156,11 @@ void expect_fast_within_reference_sensitivity(const simsand::Params& fast, const
 }  // namespace
 
 TEST(MaterialFastPath, SimsandRandomStatesColumnCollapseParameters) {
-  expect_fast_within_reference_sensitivity(collapse_f(false), collapse_f(true));
+  expect_fast_within_reference_sensitivity(collapse_f());
 }
 
 TEST(MaterialFastPath, SimsandRandomStatesTable1Parameters) {
-  expect_fast_within_reference_sensitivity(table1_f(false), table1_f(true));
+  expect_fast_within_reference_sensitivity(table1_f());
 }
 
 // A smooth loading path (drained simple shear at constant vertical stress is not needed:
@@ -168,15 +168,14 @@ TEST(MaterialFastPath, SimsandRandomStatesTable1Parameters) {
 // is integrated alike by both to 1e-9.
 TEST(MaterialFastPath, SimsandSimpleShearPathAgrees) {
   for (bool table1 : {false, true}) {
-    const simsand::Params fast = table1 ? table1_f(false) : collapse_f(false);
-    const simsand::Params exact = table1 ? table1_f(true) : collapse_f(true);
+    const simsand::Params P = table1 ? table1_f() : collapse_f();
     Sym3 sa{{-5e3, -1e4, -5e3, 0, 0, 0}}, sb = sa;
-    simsand::Vars va = simsand::initial_vars(fast, sa, 0.8), vb = simsand::initial_vars(exact, sb, 0.8);
+    simsand::Vars va = simsand::initial_vars(P, sa, 0.8), vb = simsand::initial_vars<ExactPowers>(P, sb, 0.8);
     Sym3 d = Sym3::zero();
     d[3] = 0.5e-4;
     for (int i = 0; i < 2000; ++i) {
-      simsand::integrate(fast, sa, va, d);
-      simsand::integrate(exact, sb, vb, d);
+      simsand::integrate(P, sa, va, d);
+      simsand::integrate<ExactPowers>(P, sb, vb, d);
     }
     EXPECT_LT(rel_diff(sa, sb), 1e-9) << (table1 ? "table 1" : "table 3");
     EXPECT_NEAR(va.kappa, vb.kappa, 1e-9 * vb.kappa);
@@ -187,14 +186,13 @@ TEST(MaterialFastPath, SimsandSimpleShearPathAgrees) {
 // phaseTransition::update with both evaluations (the collisional part is the same code),
 // from random frictional states with a granular temperature, at dt = 1e-5 s.
 TEST(MaterialFastPath, PhaseTransitionRandomStates) {
-  PhaseTransition::Params fast{collapse_f(false), collapse_c(), 0.95, 1e-12};
-  PhaseTransition::Params exact{collapse_f(true), collapse_c(), 0.95, 1e-12};
+  const PhaseTransition::Params P{collapse_f(), collapse_c(), 0.95, 1e-12};
   std::mt19937_64 r(7);
   std::uniform_real_distribution<double> U(0, 1);
   const long n = 5000;
   Census fast_vs_ref, ref_vs_ref;
   for (long i = 0; i < n; ++i) {
-    const Sample s = random_sample(r, exact.f);
+    const Sample s = random_sample(r, P.f);
     PhaseTransition::State st{};
     st.sigf = s.sig;
     st.e = s.v.e;
@@ -205,9 +203,9 @@ TEST(MaterialFastPath, PhaseTransitionRandomStates) {
     PhaseTransition::State a = st, b = st, c = st;
     for (int k = 0; k < 6; ++k) c.sigf[k] = std::nextafter(c.sigf[k], 2 * c.sigf[k] - 1);
     Sym3 sa = Sym3::zero(), sb = sa, sc = sa;
-    PhaseTransition::update(fast, a, sa, inc);
-    PhaseTransition::update(exact, b, sb, inc);
-    PhaseTransition::update(exact, c, sc, inc);
+    PhaseTransition::update(P, a, sa, inc);
+    PhaseTransition::update_with<ExactPowers>(P, b, sb, inc);
+    PhaseTransition::update_with<ExactPowers>(P, c, sc, inc);
     fast_vs_ref.add(std::max(rel_diff(sa, sb), std::fabs(a.T - b.T) / (b.T + 1e-12)));
     ref_vs_ref.add(std::max(rel_diff(sc, sb), std::fabs(c.T - b.T) / (b.T + 1e-12)));
   }
@@ -248,7 +246,7 @@ TEST(MaterialFastPath, CollisionalCoefficientsAgainstTermByTermForm) {
 // (reads_stress = false): its update must indeed not depend on it.
 TEST(MaterialFastPath, PhaseTransitionIgnoresTheIncomingStress) {
   static_assert(!PhaseTransition::reads_stress);
-  PhaseTransition::Params P{collapse_f(false), collapse_c(), 0.95, 1e-12};
+  PhaseTransition::Params P{collapse_f(), collapse_c(), 0.95, 1e-12};
   Sym3 s0{{-3e3, -6e3, -3e3, 500, 0, 0}};
   PhaseTransition::State a = PhaseTransition::initial_state(P, s0), b = a;
   StrainIncrement inc{Sym3{{1e-5, -2e-5, 0, 3e-5, 0, 0}}, Spin3{2e-5, 0, 0}, 1e-5, 1};
