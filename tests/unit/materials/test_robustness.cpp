@@ -179,8 +179,9 @@ TEST(Robustness, StiffUpdatesMatchConvergedPath) {
      {{0.00017941718781056879, -0.00021403925150100672, 0, 0.00075360854689664192, 0, 0}}},
   };
   // cases/columnCollapse: Table 3 with integrationTolerance 1e-3
-  simsand::Params P = simsand::make_params(120, 0.2, 0.5, 101300, 19.8, 0.977, 0.0596, 0.365, 0.7, 0.0044, 2.4,
-                                           2.9, 1.0, 1e-3, true);
+  simsand::Params P = simsand::make_params({.K0 = 120, .nu = 0.2, .n = 0.5, .pat = 101300, .phic_deg = 19.8,
+                                            .eref = 0.977, .lambda = 0.0596, .xi = 0.365, .Ad = 0.7, .kp = 0.0044,
+                                            .np = 2.4, .nd = 2.9, .pmin = 1.0, .stol = 1e-3, .lode = true});
   simsand::Params R = P;
   R.stol = 1e-8;
   for (const Recorded& r : rec) {
@@ -198,8 +199,9 @@ TEST(Robustness, StiffUpdatesMatchConvergedPath) {
 // along the path) or compression outweighing the plastic contraction. There integrate() gives
 // the modified-Euler answer, bit for bit.
 TEST(Robustness, StiffReturnsLeaveDenseAndCompressedPathsAlone) {
-  simsand::Params P = simsand::make_params(120, 0.2, 0.5, 101300, 19.8, 0.977, 0.0596, 0.365, 0.7, 0.0044, 2.4,
-                                           2.9, 1.0, 1e-3, true);
+  simsand::Params P = simsand::make_params({.K0 = 120, .nu = 0.2, .n = 0.5, .pat = 101300, .phic_deg = 19.8,
+                                            .eref = 0.977, .lambda = 0.0596, .xi = 0.365, .Ad = 0.7, .kp = 0.0044,
+                                            .np = 2.4, .nd = 2.9, .pmin = 1.0, .stol = 1e-3, .lode = true});
   struct Case {
     double p, e, kappa, vol;  // vol: tr deps per unit of |dev deps|
   };

@@ -32,11 +32,14 @@ using namespace scree::materials;
 namespace {
 
 simsand::Params collapse_f() {  // Table 3, column collapse: n = 0.5
-  return simsand::make_params(120, 0.2, 0.5, 101300, 19.8, 0.977, 0.0596, 0.365, 0.7, 0.0044, 2.4, 2.9, 1.0, 1e-4,
-                              true);
+  return simsand::make_params({.K0 = 120, .nu = 0.2, .n = 0.5, .pat = 101300, .phic_deg = 19.8, .eref = 0.977,
+                               .lambda = 0.0596, .xi = 0.365, .Ad = 0.7, .kp = 0.0044, .np = 2.4, .nd = 2.9,
+                               .pmin = 1.0, .stol = 1e-4, .lode = true});
 }
 simsand::Params table1_f() {  // Table 1: n = 0.6 (no sqrt shortcut for K)
-  return simsand::make_params(150, 0.22, 0.6, 101300, 30, 0.937, 0.022, 0.71, 4, 0.001, 1, 1, 1.0, 1e-4, true);
+  return simsand::make_params({.K0 = 150, .nu = 0.22, .n = 0.6, .pat = 101300, .phic_deg = 30, .eref = 0.937,
+                               .lambda = 0.022, .xi = 0.71, .Ad = 4, .kp = 0.001, .np = 1, .nd = 1, .pmin = 1.0,
+                               .stol = 1e-4, .lode = true});
 }
 using simsand::ExactPowers;
 kt::Params collapse_c(double zeta1 = 1) {  // Table 3, column collapse: e_sd = 0.62

@@ -117,39 +117,60 @@ inline constexpr int kStiffAfter = 64;
 inline constexpr Real kStiffRemaining = 32;
 inline constexpr int kReturnSubsteps = 8;
 
-/// Host: fill the derived constants. phi_c in degrees.
-inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Real eref, Real lambda, Real xi,
-                          Real Ad, Real kp, Real np, Real nd, Real pmin, Real stol, bool lode) {
+/// The constants of the model by name, as the dictionary gives them (phi_c in degrees);
+/// make_params() derives Params from them. With C++20 designated initializers:
+///   simsand::make_params({.K0 = 120, .nu = 0.2, .n = 0.5, .phic_deg = 19.8, .eref = 0.977, ...})
+/// Members left out take the dictionary's defaults where it has one.
+struct Constants {
+  Real K0;               ///< dimensionless reference bulk modulus K_0 (eq. 13)
+  Real nu;               ///< Poisson's ratio
+  Real n;                ///< elastic exponent n (eq. 13), in [0, 1)
+  Real pat = 101300;     ///< atmospheric pressure p_at [Pa] (eqs. 13, 16)
+  Real phic_deg;         ///< critical-state friction angle phi_c [deg]
+  Real eref;             ///< e_ref (eq. 16)
+  Real lambda;           ///< lambda (eq. 16)
+  Real xi;               ///< xi (eq. 16)
+  Real Ad;               ///< A_d (eq. 15)
+  Real kp;               ///< k_p (eq. 14)
+  Real np;               ///< n_p (eq. 17)
+  Real nd;               ///< n_d (eq. 18)
+  Real pmin = 1;         ///< stiffness regularisation pressure p_min [Pa]
+  Real stol = 1e-4;      ///< relative local error tolerance of the substepping
+  bool lode = true;      ///< Lode-angle dependent M (Sheng et al. 2000), or M_c everywhere
+};
+
+/// Host: Params, with the derived constants, from the named constants.
+inline Params make_params(const Constants& k) {
   Params P{};
-  P.K0 = K0;
-  P.nu = nu;
-  P.n = n;
-  P.pat = pat;
-  const Real phi = phic_deg * Real(3.14159265358979323846) / 180;
+  P.K0 = k.K0;
+  P.nu = k.nu;
+  P.n = k.n;
+  P.pat = k.pat;
+  const Real phi = k.phic_deg * Real(3.14159265358979323846) / 180;
   const Real s = std::sin(phi);
   P.tanphic = std::tan(phi);
   P.Mc = 6 * s / (3 - s);
-  P.eref = eref;
-  P.lambda = lambda;
-  P.xi = xi;
-  P.Ad = Ad;
-  P.kp = kp;
-  P.np = np;
-  P.nd = nd;
-  P.pmin = pmin;
-  P.papex = 1e-6 * pmin;
-  P.serr = std::fmax(1e-3 * pat, pmin);
-  P.stol = stol;
-  P.rG = 3 * (1 - 2 * nu) / (2 * (1 + nu));
+  P.eref = k.eref;
+  P.lambda = k.lambda;
+  P.xi = k.xi;
+  P.Ad = k.Ad;
+  P.kp = k.kp;
+  P.np = k.np;
+  P.nd = k.nd;
+  P.pmin = k.pmin;
+  P.papex = 1e-6 * k.pmin;
+  P.serr = std::fmax(1e-3 * k.pat, k.pmin);
+  P.stol = k.stol;
+  P.rG = 3 * (1 - 2 * k.nu) / (2 * (1 + k.nu));
   const Real c = (3 - s) / (3 + s);
-  P.lode = lode ? 1 : 0;
-  P.c4 = lode ? c * c * c * c : 1;
-  P.m = 1 - n;
-  P.inv_m = 1 / (1 - n);
-  P.Amin = std::pow(pmin, 1 - n);
-  P.Cfac = K0 * std::pow(pat, 1 - n);
-  P.inv_pat = 1 / pat;
-  P.ln_eref = std::log(eref);
+  P.lode = k.lode ? 1 : 0;
+  P.c4 = k.lode ? c * c * c * c : 1;
+  P.m = 1 - k.n;
+  P.inv_m = 1 / (1 - k.n);
+  P.Amin = std::pow(k.pmin, 1 - k.n);
+  P.Cfac = k.K0 * std::pow(k.pat, 1 - k.n);
+  P.inv_pat = 1 / k.pat;
+  P.ln_eref = std::log(k.eref);
   return P;
 }
 
@@ -190,12 +211,12 @@ SCREE_HD inline Sym3 dev_part(const Sym3& a) {
   return Sym3{{a[0] - m, a[1] - m, a[2] - m, a[3], a[4], a[5]}};
 }
 
-/// x^y for the exponents of the model: pow() on the reference path (Pol::exact_powers); on the fast
-/// path the exponents the paper's parameters give, 1/2 (n = 0.5), 2 (1/(1 - n)) and 1/4
-/// (Lode function), by sqrt and a product: a few cycles instead of a pow() (which is a
+/// x^y for the exponents of the model: pow() on the reference path (Pol::exact_powers); on
+/// the fast path the exponents the paper's parameters give, 1/2 (n = 0.5), 2 (1/(1 - n)) and
+/// 1/4 (Lode function), by sqrt and a product: a few cycles instead of a pow() (which is a
 /// logarithm and an exponential in extended precision), and within an ulp of it.
 template <class Pol = Production>
-SCREE_HD inline Real power(const Params& P, Real x, Real y) {
+SCREE_HD inline Real power(const Params& /*P*/, Real x, Real y) {
   if (!Pol::exact_powers) {
     if (y == Real(0.5)) return sqrt(x);
     if (y == Real(2)) return x * x;
@@ -221,8 +242,8 @@ SCREE_HD inline Real bulk_modulus(const Params& P, Real e, Real p) {
   return P.Cfac * void_function(e) * power<Pol>(P, fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
 }
 
-/// (p/p_at)^xi of eq. (16), p clipped at 0: pow() on the reference path (Pol::exact_powers), exp(xi
-/// ln(p/p_at)) on the fast one (a pow() is a logarithm and an exponential in extended
+/// (p/p_at)^xi of eq. (16), p clipped at 0: pow() on the reference path (Pol::exact_powers),
+/// exp(xi ln(p/p_at)) on the fast one (a pow() is a logarithm and an exponential in extended
 /// precision, about twice the work; the two differ by an ulp or two).
 template <class Pol = Production>
 SCREE_HD inline Real pressure_power(const Params& P, Real p) {

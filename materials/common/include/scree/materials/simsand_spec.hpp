@@ -43,14 +43,21 @@ inline void add_frictional_spec(ParamSpec& s) {
       .default_value(1e-4);
 }
 inline Params read_frictional(const ParamReader& r) {
-  return make_params(r.scalar("referenceBulkModulus"), r.scalar("poissonRatio"),
-                              r.scalar("elasticExponent"), r.scalar("atmosphericPressure"),
-                              r.scalar("criticalFrictionAngle"), r.scalar("referenceCriticalVoidRatio"),
-                              r.scalar("criticalStateLambda"), r.scalar("criticalStateXi"),
-                              r.scalar("dilatancyConstant"), r.scalar("plasticModulusConstant"),
-                              r.scalar("peakStrengthExponent"), r.scalar("phaseTransformationExponent"),
-                              r.scalar("minPressure"), r.scalar("integrationTolerance"),
-                              r.word("lodeDependence") == "sheng");
+  return make_params(Constants{.K0 = r.scalar("referenceBulkModulus"),
+                               .nu = r.scalar("poissonRatio"),
+                               .n = r.scalar("elasticExponent"),
+                               .pat = r.scalar("atmosphericPressure"),
+                               .phic_deg = r.scalar("criticalFrictionAngle"),
+                               .eref = r.scalar("referenceCriticalVoidRatio"),
+                               .lambda = r.scalar("criticalStateLambda"),
+                               .xi = r.scalar("criticalStateXi"),
+                               .Ad = r.scalar("dilatancyConstant"),
+                               .kp = r.scalar("plasticModulusConstant"),
+                               .np = r.scalar("peakStrengthExponent"),
+                               .nd = r.scalar("phaseTransformationExponent"),
+                               .pmin = r.scalar("minPressure"),
+                               .stol = r.scalar("integrationTolerance"),
+                               .lode = r.word("lodeDependence") == "sheng"});
 }
 
 }  // namespace scree::materials::simsand
