@@ -14,8 +14,8 @@ unit=${1:-$src/scripts/ptx/phase_transition_2d_kernels.cu}
 kernel=${2:-Lb1E}   # the mangled name's "true" of ElasticFirst: the elastic-only kernel
 top=${3:-40}
 out=$(mktemp -d)
-flags=(-DSCREE_HAVE_CUDA=1 -I"$src/framework/include" -O3 -DNDEBUG -arch=sm_90 --extended-lambda
-       --expt-relaxed-constexpr -std=c++20 -x cu)
+flags=(-DSCREE_HAVE_CUDA=1 -I"$src/framework/include" -I"$src/materials/common/include" -O3 -DNDEBUG
+       -arch=sm_90 --extended-lambda --expt-relaxed-constexpr -std=c++20 -x cu)
 nvcc "${flags[@]}" -Xptxas -v -cubin "$unit" -o "$out/k.cubin" 2>&1 |
   grep -E "Compiling entry|registers|stack frame" | sed 's/ptxas info *: *//'
 nvcc "${flags[@]}" -lineinfo -ptx "$unit" -o "$out/k.ptx"

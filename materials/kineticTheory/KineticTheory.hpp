@@ -1,5 +1,5 @@
 // kineticTheory: purely collisional granular material (kinetic theory of dense granular
-// gases, Garzó & Dufty 1999; seed 001 section 3.3, eqs. 19-28, Appendices A-B).
+// gases, Garzó & Dufty 1999; Feng et al. 2025 section 3.3, eqs. 19-28, Appendices A-B).
 //
 //   sigma = sigma_col = -p_col(e, T) I + 2 eta(e, T) dev(D) + gamma(e, T) tr(D) I   (eq. 19)
 //   3/2 rho_p V dT/dt = sigma_col : D - Gamma(e, T, tr D)                        (eq. 27)
@@ -16,7 +16,8 @@
 #include <cmath>
 #include <string>
 
-#include "kinetic_theory.hpp"
+#include "scree/materials/kinetic_theory.hpp"
+#include "scree/materials/kinetic_theory_spec.hpp"
 #include "scree/material/material.hpp"
 
 namespace scree::materials {
@@ -36,79 +37,17 @@ struct KineticTheory {
     Real trD;   ///< volumetric strain rate of the last step tr D [1/s] (tension positive)
   };
 
-  // ---- parameters shared with phaseTransition (one spec, one reader) ----
-  static void add_collisional_spec(ParamSpec& s) {
-    s.scalar("particleDensity", "kg/m^3", "grain density rho_p (Table 2-3); bulk density is rho_p/(1+e0)")
-        .positive();
-    s.scalar("diameter", "m", "grain diameter d (eqs. 21, 22, 28)").positive();
-    s.scalar("voidRatioSd", "-",
-             "e_sd: void ratio of the densest disordered packing, V_sd = 1/(1+e_sd) (eq. 25; Table 3). "
-             "Give this or solidFractionSd")
-        .positive()
-        .optional();
-    s.scalar("solidFractionSd", "-", "V_sd: solid fraction of the densest disordered packing (eq. 25; Table 2)")
-        .range(0.0, 1.0)
-        .open_min()
-        .open_max()
-        .optional();
-    s.scalar("solidFractionM", "-", "V_m: solid fraction where the dense branch of g0 starts (eq. 26)")
-        .range(0.0, 1.0)
-        .open_min()
-        .open_max()
-        .default_value(0.4);
-    s.scalar("restitutionCoefficient", "-", "normal restitution coefficient eps_n (eq. 24)")
-        .range(0.0, 1.0)
-        .open_max();
-    s.scalar("particleFriction", "-", "inter-particle friction coefficient mu_p (eq. 24), typically 0..0.5")
-        .range(0.0, 2.0)
-        .default_value(0.0);
-    s.scalar("maxRadialDistribution", "-",
-             "cap of g0 (eq. 25) as V -> V_sd: V is limited to V_sd - 2/g0max")
-        .min(10.0)
-        .default_value(1000.0);
-    s.boolean("firstOrderCooling", "include the divergence term zeta1* of the dissipation (B11-B14)")
-        .default_value("true");
-    s.scalar("initialGranularTemperature", "m^2/s^2",
-             "T0 (Table 3 gives 1e-15 'x 10^3 m^2/s^2'; only needs to be negligibly small, ERRATA 7)")
-        .non_negative()
-        .default_value(1e-12);
-    s.check([](const Dictionary& d, std::vector<InputError>& errors) {
-      const bool a = d.has("voidRatioSd"), b = d.has("solidFractionSd");
-      if (a == b)
-        errors.emplace_back(d.where(), std::string("'") + d.name() +
-                                           "': give exactly one of voidRatioSd (e_sd) and solidFractionSd (V_sd)");
-      const double vm = d.has("solidFractionM") ? d.get_scalar("solidFractionM") : 0.4;
-      const double vsd = a ? 1.0 / (1.0 + d.get_scalar("voidRatioSd")) : (b ? d.get_scalar("solidFractionSd") : 1.0);
-      if ((a || b) && !(vsd > vm))
-        errors.emplace_back(d.where(), std::string("'") + d.name() + "': V_sd = " + std::to_string(vsd) +
-                                           " must exceed solidFractionM V_m = " + std::to_string(vm) +
-                                           " (eq. 26)");
-    });
-  }
-  static kt::Params read_collisional(const ParamReader& r) {
-    kt::Params c{};
-    c.rho_p = r.scalar("particleDensity");
-    c.d = r.scalar("diameter");
-    c.Vsd = r.has("voidRatioSd") ? 1 / (1 + r.scalar("voidRatioSd")) : r.scalar("solidFractionSd");
-    c.Vm = r.scalar("solidFractionM");
-    c.eps = kt::effective_restitution(r.scalar("restitutionCoefficient"), r.scalar("particleFriction"));
-    c.Vcap = kt::cap_solid_fraction(c.Vsd, c.Vm, r.scalar("maxRadialDistribution"));
-    c.Vmin = 1e-3;
-    c.zeta1 = r.boolean("firstOrderCooling") ? 1 : 0;
-    return c;
-  }
-
   static ParamSpec spec() {
     ParamSpec s(type_name,
                 "Purely collisional granular material: kinetic theory (Garzo-Dufty 1999) with the granular "
-                "temperature from the fluctuation-energy balance (seed 001 eqs. 19-28)");
-    add_collisional_spec(s);
+                "temperature from the fluctuation-energy balance (Feng et al. 2025 eqs. 19-28)");
+    kt::add_collisional_spec(s);
     s.scalar("initialVoidRatio", "-", "e0").positive();
     return s;
   }
   static Params read(const ParamReader& r) {
     Params p{};
-    p.c = read_collisional(r);
+    p.c = kt::read_collisional(r);
     p.e0 = r.scalar("initialVoidRatio");
     p.T0 = r.scalar("initialGranularTemperature");
     return p;

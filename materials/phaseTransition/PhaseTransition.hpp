@@ -1,5 +1,5 @@
 // phaseTransition: frictional (SIMSAND-type) + collisional (kinetic theory) stresses in
-// parallel (seed 001 section 3, eq. 1):
+// parallel (Feng, Liang, Yin & Hu 2025, IJNAMG, section 3, eq. 1):
 //
 //   sigma = sigma_f + sigma_col                                                     (eq. 1)
 //
@@ -15,9 +15,11 @@
 #include <cmath>
 #include <cstddef>
 
-#include "../kineticTheory/KineticTheory.hpp"
-#include "../simsand/Simsand.hpp"
 #include "scree/material/material.hpp"
+#include "scree/materials/kinetic_theory.hpp"
+#include "scree/materials/kinetic_theory_spec.hpp"
+#include "scree/materials/simsand_model.hpp"
+#include "scree/materials/simsand_spec.hpp"
 
 namespace scree::materials {
 
@@ -29,10 +31,9 @@ struct PhaseTransition {
 
   struct Params {
     simsand::Params f;  ///< frictional constants
-    kt::Params c;       ///< collisional constants
+    kt::Params c;       ///< collisional constants (with their prepared factors)
     Real e0;            ///< initial void ratio [-]
     Real T0;            ///< initial granular temperature [m^2/s^2]
-    kt::Constants ck{};  ///< c's parameter-only factors (read(); unset: computed every time)
   };
   struct State {
     Sym3 sigf;   ///< frictional stress sigma_f (tension positive) [Pa]
@@ -48,20 +49,19 @@ struct PhaseTransition {
 
   static ParamSpec spec() {
     ParamSpec s(type_name,
-                "Phase-transition granular model (seed 001): SIMSAND-type frictional stress + kinetic-theory "
+                "Phase-transition granular model (Feng et al. 2025): SIMSAND-type frictional stress + kinetic-theory "
                 "collisional stress driven by the granular temperature, sigma = sigma_f + sigma_col (eq. 1)");
-    KineticTheory::add_collisional_spec(s);  // includes particleDensity and initialGranularTemperature
-    Simsand::add_frictional_spec(s);
+    kt::add_collisional_spec(s);  // includes particleDensity and initialGranularTemperature
+    simsand::add_frictional_spec(s);
     s.scalar("initialVoidRatio", "-", "e0 (shared by both parts)").positive();
     return s;
   }
   static Params read(const ParamReader& r) {
     Params p{};
-    p.f = Simsand::read_frictional(r);
-    p.c = KineticTheory::read_collisional(r);
+    p.f = simsand::read_frictional(r);
+    p.c = kt::read_collisional(r);
     p.e0 = r.scalar("initialVoidRatio");
     p.T0 = r.scalar("initialGranularTemperature");
-    p.ck = kt::prepare(p.c);
     return p;
   }
   static Real density(const Params& p) { return p.c.rho_p / (1 + p.e0); }
@@ -70,7 +70,7 @@ struct PhaseTransition {
   /// isotropic at rest), then made admissible (no tension, on or inside the yield surface).
   static State initial_state(const Params& p, Sym3& sigma) {
     State s{};
-    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, p.e0));
+    const kt::Coefficients c = coefficients(p, p.e0);
     const Sym3 scol = kt::collisional_stress(c, p.T0, Sym3::zero());
     Sym3 sf = sigma - scol;
     const simsand::Vars v = simsand::initial_vars(p.f, sf, p.e0);
@@ -84,10 +84,16 @@ struct PhaseTransition {
   }
 
   SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    update_with<simsand::Production>(p, s, sigma, inc);
+  }
+  /// update() with the frictional part evaluated under the policy Pol (simsand_model.hpp:
+  /// the tests compare Production with the reference evaluations).
+  template <class Pol>
+  SCREE_HD static void update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
     Sym3 sf = corotate(s.sigf, inc.spin);
     simsand::Vars v{s.e, s.kappa, s.epsEq};
-    simsand::integrate(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
+    simsand::integrate<Pol>(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
     collisional(p, s, sf, v, sigma, inc);
   }
   /// The same when the frictional increment is elastic; false (nothing changed) otherwise
@@ -116,19 +122,11 @@ struct PhaseTransition {
     s.trD = ri.tr;
   }
 
-  /// The collisional coefficients (eqs. 20-24) at the void ratio e: from the prepared
-  /// parameter-only factors when read() made them. update() and wave_speed() both call this,
-  /// so that the compiler computes them once when the kernel asks for the speed right after
-  /// the update.
+  /// The collisional coefficients (eqs. 20-28) at the void ratio e. update() and wave_speed()
+  /// both call this, so that the compiler computes them once when the kernel asks for the
+  /// speed right after the update.
   SCREE_HD static kt::Coefficients coefficients(const Params& p, Real e) {
-    const Real V = kt::solid_fraction(p.c, e);
-#if defined(__CUDA_ARCH__)
-    // Kernels get their Params from read(), which prepared ck. One path, without the branch on
-    // ck.ready: the compiler then shares the coefficients between the update and the wave speed.
-    return kt::coefficients(p.c, p.ck, V);
-#else
-    return p.ck.ready != 0 ? kt::coefficients(p.c, p.ck, V) : kt::coefficients(p.c, V);
-#endif
+    return kt::coefficients(p.c, kt::solid_fraction(p.c, e));
   }
 
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {

@@ -1,11 +1,12 @@
-// simsand: SIMSAND-type critical-state frictional model (seed 001 section 3.2, eqs. 12-18).
+// simsand: SIMSAND-type critical-state frictional model (Feng et al. 2025 section 3.2, eqs. 12-18).
 //
 // Nonlinear elasticity K(e, p) (eq. 13), a Mohr-Coulomb-type yield surface with hyperbolic
-// hardening towards the void-ratio dependent peak ratio M_p (eq. 14, ERRATA 8), stress-
-// dilatancy (eq. 15), a curved critical-state line (eq. 16) and the interlocking laws for the
-// peak and phase-transformation friction angles (eqs. 17-18), 3D with a Lode-angle
-// dependent M. The formulas and the stress integration live in simsand_model.hpp (shared
-// with phaseTransition); README.md lists the parameters and every decision.
+// hardening towards the void-ratio dependent peak ratio M_p (eq. 14; M_p tends to M_c as
+// e -> e_c), stress-dilatancy (eq. 15), a curved critical-state line (eq. 16) and the
+// interlocking laws for the peak and phase-transformation friction angles (eqs. 17-18), 3D
+// with a Lode-angle dependent M. The formulas and the stress integration live in
+// materials/common (scree/materials/simsand_model.hpp, shared with phaseTransition);
+// README.md lists the parameters and every decision.
 //
 // This is the purely frictional model that the paper compares with (section 4.1.3).
 #pragma once
@@ -14,7 +15,8 @@
 #include <string>
 
 #include "scree/material/material.hpp"
-#include "simsand_model.hpp"
+#include "scree/materials/simsand_model.hpp"
+#include "scree/materials/simsand_spec.hpp"
 
 namespace scree::materials {
 
@@ -33,61 +35,18 @@ struct Simsand {
     Real rate;   ///< equivalent deviatoric strain rate of the last step [1/s]
   };
 
-  // ---- parameters shared with phaseTransition (one spec, one reader) ----
-  static void add_frictional_spec(ParamSpec& s) {
-    s.scalar("referenceBulkModulus", "-", "K_0: dimensionless reference bulk modulus (eq. 13)").positive();
-    s.scalar("poissonRatio", "-", "nu: Poisson's ratio; G = 3(1-2nu)/(2(1+nu)) K").range(0.0, 0.5).open_max();
-    s.scalar("elasticExponent", "-", "n: pressure exponent of the stiffness (eq. 13)").range(0.0, 0.95);
-    s.scalar("atmosphericPressure", "Pa", "p_at: reference pressure of eqs. (13) and (16)")
-        .positive()
-        .default_value(101300.0);
-    s.scalar("criticalFrictionAngle", "deg", "phi_c: critical-state friction angle (M_c = 6 sin/(3 - sin))")
-        .range(0.0, 60.0)
-        .open_min();
-    s.scalar("referenceCriticalVoidRatio", "-", "e_ref: critical void ratio at p = 0 (eq. 16)").positive();
-    s.scalar("criticalStateLambda", "-", "lambda: slope parameter of the critical-state line (eq. 16)")
-        .non_negative();
-    s.scalar("criticalStateXi", "-", "xi: nonlinearity of the critical-state line (eq. 16)").positive();
-    s.scalar("dilatancyConstant", "-", "A_d: stress-dilatancy constant (eq. 15)").non_negative();
-    s.scalar("plasticModulusConstant", "-", "k_p: hardening constant of eq. (14)").positive();
-    s.scalar("peakStrengthExponent", "-", "n_p: interlocking exponent of the peak friction angle (eq. 17)")
-        .non_negative();
-    s.scalar("phaseTransformationExponent", "-",
-             "n_d: interlocking exponent of the phase-transformation angle (eq. 18)")
-        .non_negative();
-    s.word("lodeDependence", "M(theta): 'sheng' (Mohr-Coulomb vertices, smooth) or 'none' (M_c everywhere)")
-        .choices({"sheng", "none"})
-        .default_value("sheng");
-    s.scalar("minPressure", "Pa", "p_min: stiffness regularisation, K uses p + p_min (free surfaces)")
-        .positive()
-        .default_value(1.0);
-    s.scalar("integrationTolerance", "-", "relative local error tolerance of the substepping")
-        .range(1e-10, 1e-1)
-        .default_value(1e-4);
-  }
-  static simsand::Params read_frictional(const ParamReader& r) {
-    return simsand::make_params(r.scalar("referenceBulkModulus"), r.scalar("poissonRatio"),
-                                r.scalar("elasticExponent"), r.scalar("atmosphericPressure"),
-                                r.scalar("criticalFrictionAngle"), r.scalar("referenceCriticalVoidRatio"),
-                                r.scalar("criticalStateLambda"), r.scalar("criticalStateXi"),
-                                r.scalar("dilatancyConstant"), r.scalar("plasticModulusConstant"),
-                                r.scalar("peakStrengthExponent"), r.scalar("phaseTransformationExponent"),
-                                r.scalar("minPressure"), r.scalar("integrationTolerance"),
-                                r.word("lodeDependence") == "sheng");
-  }
-
   static ParamSpec spec() {
     ParamSpec s(type_name,
-                "SIMSAND-type critical-state frictional model (seed 001 eqs. 12-18): nonlinear elasticity, "
+                "SIMSAND-type critical-state frictional model (Feng et al. 2025 eqs. 12-18): nonlinear elasticity, "
                 "hyperbolic hardening, stress-dilatancy, interlocking, Lode-angle dependence");
     s.scalar("particleDensity", "kg/m^3", "grain density rho_p; bulk density is rho_p/(1+e0)").positive();
-    add_frictional_spec(s);
+    simsand::add_frictional_spec(s);
     s.scalar("initialVoidRatio", "-", "e0").positive();
     return s;
   }
   static Params read(const ParamReader& r) {
     Params p{};
-    p.m = read_frictional(r);
+    p.m = simsand::read_frictional(r);
     p.rho_p = r.scalar("particleDensity");
     p.e0 = r.scalar("initialVoidRatio");
     return p;

@@ -14,7 +14,7 @@ wave_speed (materials/phaseTransition/PhaseTransition.hpp):
 
 rho = mass/volume of the particle, solid fraction V = rho / rho_p, e = 1/V - 1; eta is
 the snapshot's shearViscosity, gamma = eta gamma*/eta* (the kinetic-theory coefficients of
-materials/kineticTheory/kinetic_theory.hpp at V, clamped as there), T the snapshot's
+materials/common/include/scree/materials/kinetic_theory.hpp at V, clamped as there), T the snapshot's
 granularTemperature, p the snapshot's pressure less the collisional one. Parameters are
 read from the case's phaseTransition material (constant/materialProperties). The snapshots
 are single precision and a step sees the state of that step only, so the result is an

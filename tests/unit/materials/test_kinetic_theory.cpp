@@ -1,4 +1,4 @@
-// Kinetic theory (seed 001 eqs. 19-28, Appendices A-B): checks against results derived in
+// Kinetic theory (Feng et al. 2025 eqs. 19-28, Appendices A-B): checks against results derived in
 // the test from Garzo & Dufty (1999) in their own variables (number density n, mass m,
 // temperature in energy units m T, the cooling rate zeta = zeta0* n m T/eta0), not from the
 // model's code path.
@@ -220,8 +220,8 @@ TEST(KineticTheory, TemperatureStableForAnyTimeStep) {
   }
 }
 
-// Eq. (27), ERRATA 5: the collisional work sigma_col : D is a non-negative production in
-// isochoric shear, and compression heats the gas.
+// Eq. (27), tension positive (the paper is compression positive): the collisional work
+// sigma_col : D is a non-negative production in isochoric shear, and compression heats the gas.
 TEST(KineticTheory, CollisionalWorkSign) {
   const kt::Params c = table2();
   const kt::Coefficients k = kt::coefficients(c, 0.55);

@@ -34,6 +34,35 @@
 //       // optional: the State's Reals that are zero in 2D (plane strain), here the yz and
 //       // xz components of a Sym3 member x; the 2D kernels neither load nor store them
 //       // (the framework's own 2D stress keeps 4 components for the same reason)
+//   static constexpr bool reads_stress = false;       // optional (default true): update()
+//       // builds sigma from the state and never reads the stress it is given; the kernels
+//       // then skip loading and co-rotating it
+//
+// The concept Material<M> below states the required part; Registry::add_material<M>()
+// checks it with one message per missing piece.
+//
+// Rules for the device code (update, update_elastic, wave_speed and everything they call,
+// which runs inside CUDA kernels as well as on the CPU):
+//   * SCREE_HD on every function they call (free functions of the model included); only
+//     <cmath> functions (sqrt, exp, pow, fmax, ...), no std:: containers, strings or
+//     algorithms, no virtual calls, no function pointers or std::function;
+//   * no allocation (new, malloc), no exceptions (throw/try), no recursion, no static or
+//     global mutable state, no I/O (printf only in diagnostic builds);
+//   * always return a defined state: finite values for any input a kernel may hand over
+//     (a zero or NaN strain increment, dt = 0, a stress-free point);
+//   * rotation: sigma arrives co-rotated (Hughes-Winget) with inc.spin, but tensor-valued
+//     State members do not: rotate them with corotate(x, inc.spin) inside update();
+//   * wave_speed() must include every limit of the explicit step: the viscous one
+//     c_visc = 2 mu_eff/(rho h) of a rate-dependent model as well as the elastic one.
+// Host parts (spec, read, density, initial_state, describe) may use anything; read()
+// should derive in advance every parameter-only factor the device code needs (kernels
+// get Params only from read()).
+//
+// Output field names: the tools (scree-element, utilities/plot, utilities/render) look for
+// the conventional names, so a material should use them for these quantities:
+//   voidRatio, granularTemperature, plasticStrain (equivalent plastic strain),
+//   deviatoricStrainRate, frictionalStress (tensor), shearViscosity, collisionalPressure,
+//   collisionalDeviatoricStress, collisionalFraction.
 //
 // Register it in a plugin with `SCREE_PLUGIN(r) { r.add_material<M>(); }`
 // (scree/plugin/plugin_api.hpp); that instantiates the particle kernels for M on both
@@ -49,6 +78,7 @@
 #include <functional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "scree/core/config.hpp"
@@ -196,6 +226,95 @@ class OutputFields {
   }
   std::vector<OutputField> fields_;
 };
+
+/// The material contract (the top of this file), piece by piece: each concept names one
+/// requirement, so that check_material<M>() can say which one M misses. What a concept
+/// cannot see is checked by the compiler where the kernels are instantiated: that update()
+/// and wave_speed() are SCREE_HD and follow the device-code rules.
+namespace material_contract {
+
+template <class M>
+concept has_type_name = requires {
+  { M::type_name } -> std::convertible_to<const char*>;
+};
+template <class M>
+concept has_params = requires { typename M::Params; } && std::is_trivially_copyable_v<typename M::Params>;
+/// Whether S{r_0, ..., r_{n-1}} compiles for n Reals that are not constants: every member
+/// takes Reals without narrowing (an int, float or bool member does not), brace elision
+/// filling Sym3 members.
+template <class S, std::size_t... I>
+constexpr bool from_reals(std::index_sequence<I...>) {
+  return requires { S{(static_cast<void>(I), std::declval<Real>())...}; };
+}
+/// State: empty, or trivially copyable, standard layout and made of Reals only (Real and Sym3
+/// members: a whole number of Reals, aligned as a Real, each member initialisable from Reals).
+template <class S>
+constexpr bool state_layout_ok() {
+  if constexpr (!std::is_trivially_copyable_v<S> || !std::is_standard_layout_v<S>) return false;
+  else if constexpr (std::is_empty_v<S>) return true;
+  else if constexpr (sizeof(S) % sizeof(Real) != 0 || alignof(S) != alignof(Real)) return false;
+  else return from_reals<S>(std::make_index_sequence<sizeof(S) / sizeof(Real)>{});
+}
+template <class M>
+concept has_state = requires { typename M::State; } && state_layout_ok<typename M::State>();
+template <class M>
+concept has_spec = requires {
+  { M::spec() } -> std::same_as<ParamSpec>;
+};
+template <class M>
+concept has_read = requires(const ParamReader& r) {
+  { M::read(r) } -> std::same_as<typename M::Params>;
+};
+template <class M>
+concept has_density = requires(const typename M::Params& p) {
+  { M::density(p) } -> std::convertible_to<Real>;
+};
+template <class M>
+concept has_initial_state = requires(const typename M::Params& p, Sym3& sigma) {
+  { M::initial_state(p, sigma) } -> std::same_as<typename M::State>;
+};
+template <class M>
+concept has_update =
+    requires(const typename M::Params& p, typename M::State& s, Sym3& sigma, const StrainIncrement& inc) {
+      { M::update(p, s, sigma, inc) } -> std::same_as<void>;
+    };
+template <class M>
+concept has_wave_speed = requires(const typename M::Params& p, const typename M::State& s, const Sym3& sigma, Real x) {
+  { M::wave_speed(p, s, sigma, x, x) } -> std::convertible_to<Real>;
+};
+template <class M>
+concept has_describe = requires(OutputFields<M>& out) { M::describe(out); };
+
+}  // namespace material_contract
+
+/// A material: everything the top of this file requires of M (the optional parts aside).
+template <class M>
+concept Material = material_contract::has_type_name<M> && material_contract::has_params<M> &&
+                   material_contract::has_state<M> && material_contract::has_spec<M> &&
+                   material_contract::has_read<M> && material_contract::has_density<M> &&
+                   material_contract::has_initial_state<M> && material_contract::has_update<M> &&
+                   material_contract::has_wave_speed<M> && material_contract::has_describe<M>;
+
+/// Material<M>, with one readable compile-time message per missing piece (the compiler
+/// names M in the instantiation context). Registry::add_material<M>() calls it.
+template <class M>
+constexpr bool check_material() {
+  using namespace material_contract;
+  static_assert(has_type_name<M>, "material M needs `static constexpr const char* type_name = \"name\";`");
+  static_assert(has_params<M>, "material M needs a trivially copyable `struct Params`");
+  static_assert(has_state<M>,
+                "material M needs `struct State`, empty or trivially copyable with only Real / Sym3 members");
+  static_assert(has_spec<M>, "material M needs `static ParamSpec spec()`");
+  static_assert(has_read<M>, "material M needs `static Params read(const ParamReader&)`");
+  static_assert(has_density<M>, "material M needs `static Real density(const Params&)`");
+  static_assert(has_initial_state<M>, "material M needs `static State initial_state(const Params&, Sym3& sigma)`");
+  static_assert(has_update<M>, "material M needs `SCREE_HD static void update(const Params&, State&, Sym3& sigma, "
+                               "const StrainIncrement&)`");
+  static_assert(has_wave_speed<M>, "material M needs `SCREE_HD static Real wave_speed(const Params&, const State&, "
+                                   "const Sym3& sigma, Real density, Real cell_size)`");
+  static_assert(has_describe<M>, "material M needs `static void describe(OutputFields<M>&)`");
+  return Material<M>;
+}
 
 /// A material at one point, type-erased, for host-side drivers (the element-test
 /// driver, tests). Made by the registry from any registered material.

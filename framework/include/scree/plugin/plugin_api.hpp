@@ -52,30 +52,35 @@ inline void declare_execute_control(ParamSpec& spec) {
 
 template <class M>
 void Registry::add_material() {
-  PluginEntry e;
-  e.kind = PluginKind::material;
-  e.name = M::type_name;
-  auto spec = std::make_shared<ParamSpec>(M::spec());
-  spec->allow_keys({"type"});
-  e.spec = spec;
-  {
-    OutputFields<M> out;
-    M::describe(out);
-    for (const auto& f : out.fields()) e.output_fields.push_back(f.name);
+  // The contract of material.hpp, one message per missing piece; the registration below is
+  // compiled only for a material that meets it (no cascade of errors from the kernels).
+  static_assert(check_material<M>(), "M does not meet the material contract (scree/material/material.hpp)");
+  if constexpr (Material<M>) {
+    PluginEntry e;
+    e.kind = PluginKind::material;
+    e.name = M::type_name;
+    auto spec = std::make_shared<ParamSpec>(M::spec());
+    spec->allow_keys({"type"});
+    e.spec = spec;
+    {
+      OutputFields<M> out;
+      M::describe(out);
+      for (const auto& f : out.fields()) e.output_fields.push_back(f.name);
+    }
+    e.material.point = [spec](const Dictionary& d) -> std::unique_ptr<PointMaterial> {
+      ParamReader r(*spec, d);
+      return std::make_unique<PointMaterialOf<M>>(M::read(r));
+    };
+    e.material.body2 = [spec](const Dictionary& d, const BodySetup<2>& setup) -> std::unique_ptr<Body<2>> {
+      ParamReader r(*spec, d);
+      return make_material_body<2, M>(M::read(r), setup);
+    };
+    e.material.body3 = [spec](const Dictionary& d, const BodySetup<3>& setup) -> std::unique_ptr<Body<3>> {
+      ParamReader r(*spec, d);
+      return make_material_body<3, M>(M::read(r), setup);
+    };
+    add(std::move(e));
   }
-  e.material.point = [spec](const Dictionary& d) -> std::unique_ptr<PointMaterial> {
-    ParamReader r(*spec, d);
-    return std::make_unique<PointMaterialOf<M>>(M::read(r));
-  };
-  e.material.body2 = [spec](const Dictionary& d, const BodySetup<2>& setup) -> std::unique_ptr<Body<2>> {
-    ParamReader r(*spec, d);
-    return make_material_body<2, M>(M::read(r), setup);
-  };
-  e.material.body3 = [spec](const Dictionary& d, const BodySetup<3>& setup) -> std::unique_ptr<Body<3>> {
-    ParamReader r(*spec, d);
-    return make_material_body<3, M>(M::read(r), setup);
-  };
-  add(std::move(e));
 }
 
 template <class BC>

@@ -1,12 +1,12 @@
 // Kinetic theory of dense granular flows: collisional stress and granular temperature.
 //
-// One formula in one place: the kineticTheory material (KineticTheory.hpp) and the
-// phaseTransition material (../phaseTransition/PhaseTransition.hpp) both call these free
-// functions. Every line cites the equation it implements: "eq. N" is the phase-transition
-// paper (Feng, Liang, Yin & Hu 2025, IJNAMG, seed 001), "(A.n)"/"(B.n)" its appendices,
-// "GD99" Garzó & Dufty (1999) Phys. Rev. E 59:5895, "CS13" Chialvo & Sundaresan (2013)
-// Phys. Fluids 25:070603, "ERRATA n" ../../shared/seeds/ERRATA.md (seed 001). README.md in
-// this folder lists every decision.
+// One formula in one place: the kineticTheory and phaseTransition materials both call these
+// free functions (materials/common, shared by the plugins and installed with the SDK). Every
+// line cites the equation it implements: "eq. N" is the phase-transition paper (Feng, Liang,
+// Yin & Hu 2025, IJNAMG), "(A.n)"/"(B.n)" its appendices, "GD99" Garzó & Dufty (1999) Phys.
+// Rev. E 59:5895, "CS13" Chialvo & Sundaresan (2013) Phys. Fluids 25:070603. Where the paper
+// departs from GD99 by a slip, the comment says which form is used and why;
+// materials/kineticTheory/README.md lists every decision.
 //
 // Units: SI. Granular temperature T in m^2/s^2 (the fluctuation kinetic energy per unit mass
 // is 3/2 T). Solid fraction V = 1/(1+e). Stress tension positive; p_col is a pressure
@@ -25,8 +25,9 @@ namespace scree::materials::kt {
 inline constexpr Real kPi = 3.14159265358979323846;
 inline constexpr Real kSqrtPi = 1.77245385090551602730;
 
-/// Parameters of the collisional part (host-prepared, trivially copyable).
-struct Params {
+/// The constants of the collisional part, by name; make_params() derives Params from them:
+///   kt::make_params(kt::Constants{.rho_p = 2650, .d = 1.25e-3, .Vsd = ..., ...})
+struct Constants {
   Real rho_p;    ///< particle (grain) density rho_p [kg/m^3]
   Real d;        ///< particle diameter d [m]
   Real Vsd;      ///< solid fraction of the densest disordered packing V_sd = 1/(1+e_sd) [-]
@@ -35,6 +36,35 @@ struct Params {
   Real Vcap;     ///< largest solid fraction used in the theory (g0 cap, see cap_solid_fraction)
   Real Vmin;     ///< smallest solid fraction used (very loose states; avoids 1/V)
   Real zeta1;    ///< 1: include the first-order cooling rate zeta1* (B11-B14), 0: omit it
+};
+
+/// The factors of the coefficients that depend on the constants only, computed once by
+/// make_params(): with them coefficients() needs three divisions instead of nine (a GPU
+/// waits about ten dependent instructions on each). The functions of Appendices A-B
+/// regrouped: every g0 in (B12)'s numerator and denominator cancels, so Gamma1 needs no
+/// division at all.
+struct Prepared {
+  Real cstar;   ///< c* (A9)
+  Real z0;      ///< zeta0*/g0 (A7)
+  Real nueta;   ///< nu_eta/g0 (A8)
+  Real ek;      ///< 0.4 (1+e)(1-3e) of (A6)
+  Real ek_den;  ///< (nu_eta - zeta0/2)/g0 of (A6)
+  Real gam;     ///< gamma*/(V G) (A5)
+  Real eta_g;   ///< 0.8 (1+e) of (A4)
+  Real eta0;    ///< 5 sqrt(pi)/96 rho_p d
+  Real diss;    ///< 144/(5 sqrt(pi)) rho_p/d
+  Real n_lam;   ///< 4/15 lambda of (B12)
+  Real n_p;     ///< (2/3 - e) c* of (B12)
+  Real b_p;     ///< (1 - e) of (B11)
+  Real b_n;     ///< 5/32 (1-e^2)(1+3c*/64) / (Dn/g0) of (B11)-(B13)
+  Real rf;      ///< 1/(2 V_sd V_m - V_m^2 - V_sd^2) of eq. (26)
+};
+
+/// Parameters of the collisional part: the constants and their prepared factors (trivially
+/// copyable, copied to the GPU once). Made by make_params() below, or from a dictionary by
+/// read_collisional() (kinetic_theory_spec.hpp).
+struct Params : Constants {
+  Prepared k;  ///< parameter-only factors of the coefficients
 };
 
 /// eq. (24) (CS13): effective restitution coefficient accounting for tangential friction,
@@ -59,24 +89,25 @@ SCREE_HD inline Real solid_fraction(const Params& P, Real e) {
   return fmin(fmax(V, P.Vmin), P.Vcap);
 }
 
+/// 1/(2 V_sd V_m - V_m^2 - V_sd^2), the denominator of eq. (26) as a reciprocal (a
+/// parameter-only factor: Prepared::rf).
+inline Real blend_reciprocal(const Constants& P) { return 1 / (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd); }
+
+/// The blend f of eq. (26) above V_m, f = 1 - ((V - V_m)/(V_sd - V_m))^2, by the prepared
+/// reciprocal of its denominator.
+SCREE_HD inline Real dense_blend(const Params& P, Real V) {
+  return (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * P.k.rf;
+}
+
 /// Radial distribution function at contact g0(V), eqs. (25)-(26) (CS13 form):
 /// Carnahan-Starling below V_m, blended with the dense 2/(V_sd - V) branch above.
 SCREE_HD inline Real radial_distribution(const Params& P, Real V) {
   const Real cs = (2 - V) / (2 * (1 - V) * (1 - V) * (1 - V));  // eq. (25), first term
-  if (V < P.Vm) return cs;                                        // eq. (26), f = 1
-  const Real f = (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) /
-                 (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd);  // eq. (26)
-  return f * cs + (1 - f) * 2 / (P.Vsd - V);                       // eq. (25)
-}
-
-/// 1/(2 V_sd V_m - V_m^2 - V_sd^2), the denominator of eq. (26) as a reciprocal (a
-/// parameter-only factor: Constants::rf).
-SCREE_HD inline Real blend_reciprocal(const Params& P) { return 1 / (2 * P.Vsd * P.Vm - P.Vm * P.Vm - P.Vsd * P.Vsd); }
-
-/// The blend f of eq. (26) above V_m from that reciprocal rf (the fast paths'
-/// form; radial_distribution() above is the reference form).
-SCREE_HD inline Real dense_blend(const Params& P, Real V, Real rf) {
-  return (V * V - 2 * P.Vm * V + P.Vsd * (2 * P.Vm - P.Vsd)) * rf;
+  // eq. (26): f = 1 below V_m (g0 = cs exactly: 1 cs + 0), the blend above. Without a branch,
+  // so that the compiler can share the whole of coefficients() between a stress update and
+  // the wave speed right after it (V < V_sd always: V_cap < V_sd).
+  const Real f = V < P.Vm ? Real(1) : dense_blend(P, V);
+  return f * cs + (1 - f) * 2 / (P.Vsd - V);  // eq. (25)
 }
 
 /// dg0/dV of radial_distribution(), from the derivatives of eqs. (25)-(26):
@@ -86,8 +117,7 @@ SCREE_HD inline Real radial_distribution_slope(const Params& P, Real V) {
   const Real r = 1 / (1 - V), r3 = r * r * r;
   const Real cs = Real(0.5) * (2 - V) * r3, dcs = Real(0.5) * (5 - 2 * V) * r3 * r;  // eq. (25)
   if (V < P.Vm) return dcs;                                                          // eq. (26), f = 1
-  const Real rden = blend_reciprocal(P);
-  const Real f = dense_blend(P, V, rden), df = 2 * (V - P.Vm) * rden;
+  const Real f = dense_blend(P, V), df = 2 * (V - P.Vm) * P.k.rf;
   const Real q = 1 / (P.Vsd - V);
   return df * cs + f * dcs - df * 2 * q + (1 - f) * 2 * q * q;
 }
@@ -98,7 +128,7 @@ SCREE_HD inline Real radial_distribution_slope(const Params& P, Real V) {
 struct Coefficients {
   Real V;         ///< solid fraction used [-]
   Real g0;        ///< radial distribution at contact [-]
-  Real G;         ///< G = V g0 (eq. 23, ERRATA 1) [-]
+  Real G;         ///< G = V g0 (eq. 23 with GD99: the paper's "= rho_p/(1+e) g0" is a slip) [-]
   Real p_star;    ///< p* = 1 + 2 (1 + eps) G = 4 G F (eq. 20 with A1) [-]
   Real cstar;     ///< c* (A9) [-]
   Real zeta0;     ///< zeta0* (A7 = B10) [-]
@@ -112,110 +142,58 @@ struct Coefficients {
   Real energy;    ///< 3/2 rho_p V: fluctuation energy per volume per unit T [kg/m^3] (eq. 27)
 };
 
-SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
-  Coefficients c;
+/// The parameter-only factors (Prepared) of the constants.
+inline Prepared prepare(const Constants& P) {
+  Prepared C{};
   const Real e = P.eps, e2 = e * e, e3 = e2 * e;
-  c.V = V;
-  c.g0 = radial_distribution(P, V);
-  c.G = V * c.g0;                                                        // eq. (23), ERRATA 1
-  c.p_star = 1 + 2 * (1 + e) * c.G;                                      // 4GF, eq. (20)+(A1)
-  c.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9), ERRATA 4
-  c.zeta0 = Real(5) / 12 * c.g0 * (1 - e2) * (1 + 3 * c.cstar / 32);    // (A7) = (B10)
-  const Real nu_eta = c.g0 * (1 - Real(0.25) * (1 - e) * (1 - e)) * (1 - c.cstar / 64);  // (A8)
-  const Real eta_k = (1 - Real(0.4) * (1 + e) * (1 - 3 * e) * c.G) /
-                     (nu_eta - Real(0.5) * c.zeta0);                     // (A6)
+  C.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9), e = eps_r (not the void ratio)
+  C.z0 = Real(5) / 12 * (1 - e2) * (1 + 3 * C.cstar / 32);                     // (A7) = (B10), over g0
+  C.nueta = (1 - Real(0.25) * (1 - e) * (1 - e)) * (1 - C.cstar / 64);         // (A8), over g0
+  C.ek = Real(0.4) * (1 + e) * (1 - 3 * e);                                    // (A6) numerator
+  C.ek_den = C.nueta - Real(0.5) * C.z0;                                       // (A6) denominator, over g0
   // (A5): GD99 has phi^2 chi = V G; the paper's "G" drops one factor V (README, item KT-3).
-  c.gam_star = Real(128) / (5 * kPi) * V * c.G * (1 + e) * (1 - c.cstar / 32);
-  c.eta_star = eta_k * (1 + Real(0.8) * c.G * (1 + e)) + Real(0.6) * c.gam_star;  // (A4)
+  C.gam = Real(128) / (5 * kPi) * (1 + e) * (1 - C.cstar / 32);
+  C.eta_g = Real(0.8) * (1 + e);  // (A4)
   // eqs. (21)-(22) with (A2)-(A3) and rho = rho_p V: the G, (1+e) and V factors cancel to
   // eta = eta0 eta*, eta0 = 5 sqrt(pi)/96 rho_p d sqrt(T) (GD99's dilute viscosity).
-  const Real eta0 = 5 * kSqrtPi / 96 * P.rho_p * P.d;
-  c.eta_hat = fmax(eta0 * c.eta_star, Real(0));                          // eq. (21)
-  c.gam_hat = fmax(eta0 * c.gam_star, Real(0));                          // eq. (22)
-  c.p_hat = P.rho_p * V * c.p_star;                                      // eq. (20)
-  // eq. (28) with rho = rho_p V (ERRATA 2; (B8) lacks a factor V):
-  // Gamma0 = 144/(5 sqrt(pi)) rho_p V^2 zeta0* T^{3/2} / d
-  //        = 12/sqrt(pi) (1-eps^2)(1+3c*/32) rho_p V^2 g0 T^{3/2} / d.
-  c.diss_hat = 144 / (5 * kSqrtPi) * P.rho_p * V * V * c.zeta0 / P.d;
-  c.div_hat = 0;
-  if (P.zeta1 > 0) {
-    // (B11)-(B14): zeta1* = (5/96) d (1+e_void) sqrt(pi/T) [-(1-eps)(p*-1)
-    //   + 5/32 (1-eps^2)(1+3c*/64) g0 C] tr(D), with (B12) C = N/Dn below. Inserted into
-    // eq. (28): Gamma1 = 3/2 rho_p V T [ ... ] tr(D) (the d, sqrt(T) and (1+e_void) V cancel).
-    const Real lam = Real(0.375) * ((1 - e) * (5 * e2 + 4 * e - 1) +
-                                    c.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));  // (B14), ERRATA 3
-    const Real nu_gam = (1 + e) / 48 * c.g0 *
-                        (128 - 96 * e + 15 * e2 - 15 * e3 +
-                         c.cstar / 64 * (15 * e3 - 15 * e2 + 498 * e - 434));  // (B13)
-    const Real N = Real(4) / 15 * lam * c.G + (c.p_star - 1) * (Real(2) / 3 - e) * c.cstar;  // (B12) num.
-    const Real Dn = Real(0.5) * c.zeta0 + nu_gam +
-                    Real(5) / 64 * c.cstar * (1 + 3 * c.cstar / 64) * c.g0 * (1 - e2);     // (B12) den.
-    const Real br = -(1 - e) * (c.p_star - 1) +
-                    Real(5) / 32 * (1 - e2) * (1 + 3 * c.cstar / 64) * c.g0 * (N / Dn);  // (B11)
-    c.div_hat = Real(1.5) * P.rho_p * V * br;
-  }
-  c.energy = Real(1.5) * P.rho_p * V;  // eq. (27): 3/2 rho_p/(1+e) dT/dt
-  return c;
-}
-
-/// The factors of coefficients() that depend on the parameters only, computed once: with
-/// them coefficients(P, C, V) needs three divisions instead of nine (a GPU waits about ten
-/// dependent instructions on each). The same functions, regrouped: every g0 in (B12)'s
-/// numerator and denominator cancels, so Gamma1 needs no division at all. Results differ
-/// from coefficients(P, V) by round-off (tests/unit/performance).
-struct Constants {
-  Real ready;   ///< 1 once prepare() filled the rest
-  Real cstar;   ///< c* (A9)
-  Real z0;      ///< zeta0*/g0 (A7)
-  Real nueta;   ///< nu_eta/g0 (A8)
-  Real ek;      ///< 0.4 (1+e)(1-3e) of (A6)
-  Real ek_den;  ///< (nu_eta - zeta0/2)/g0 of (A6)
-  Real gam;     ///< gamma*/(V G) (A5)
-  Real eta_g;   ///< 0.8 (1+e) of (A4)
-  Real eta0;    ///< 5 sqrt(pi)/96 rho_p d
-  Real diss;    ///< 144/(5 sqrt(pi)) rho_p/d
-  Real n_lam;   ///< 4/15 lambda of (B12)
-  Real n_p;     ///< (2/3 - e) c* of (B12)
-  Real b_p;     ///< (1 - e) of (B11)
-  Real b_n;     ///< 5/32 (1-e^2)(1+3c*/64) / (Dn/g0) of (B11)-(B13)
-  Real rf;      ///< 1/(2 V_sd V_m - V_m^2 - V_sd^2) of eq. (26)
-};
-inline Constants prepare(const Params& P) {
-  Constants C{};
-  const Real e = P.eps, e2 = e * e, e3 = e2 * e;
-  C.cstar = 32 * (1 - e) * (1 - 2 * e2) / (81 - 17 * e + 30 * e2 * (1 - e));  // (A9)
-  C.z0 = Real(5) / 12 * (1 - e2) * (1 + 3 * C.cstar / 32);                     // (A7)
-  C.nueta = (1 - Real(0.25) * (1 - e) * (1 - e)) * (1 - C.cstar / 64);         // (A8)
-  C.ek = Real(0.4) * (1 + e) * (1 - 3 * e);
-  C.ek_den = C.nueta - Real(0.5) * C.z0;
-  C.gam = Real(128) / (5 * kPi) * (1 + e) * (1 - C.cstar / 32);
-  C.eta_g = Real(0.8) * (1 + e);
   C.eta0 = 5 * kSqrtPi / 96 * P.rho_p * P.d;
+  // eq. (28) with rho = rho_p V (GD99; the paper's (B8) lacks a factor V):
+  // Gamma0 = 144/(5 sqrt(pi)) rho_p V^2 zeta0* T^{3/2} / d.
   C.diss = 144 / (5 * kSqrtPi) * P.rho_p / P.d;
-  const Real lam = Real(0.375) * ((1 - e) * (5 * e2 + 4 * e - 1) + C.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));
-  const Real nugam = (1 + e) / 48 * (128 - 96 * e + 15 * e2 - 15 * e3 + C.cstar / 64 * (15 * e3 - 15 * e2 + 498 * e - 434));
-  const Real dn = Real(0.5) * C.z0 + nugam + Real(5) / 64 * C.cstar * (1 + 3 * C.cstar / 64) * (1 - e2);
-  C.n_lam = Real(4) / 15 * lam;
-  C.n_p = (Real(2) / 3 - e) * C.cstar;
-  C.b_p = 1 - e;
-  C.b_n = Real(5) / 32 * (1 - e2) * (1 + 3 * C.cstar / 64) / dn;
-  C.rf = blend_reciprocal(P);
-  C.ready = 1;
+  // (B11)-(B14): zeta1* = (5/96) d (1+e_void) sqrt(pi/T) [-(1-eps)(p*-1)
+  //   + 5/32 (1-eps^2)(1+3c*/64) g0 N/Dn] tr(D). Inserted into eq. (28):
+  // Gamma1 = 3/2 rho_p V T [ ... ] tr(D) (the d, sqrt(T) and (1+e_void) V cancel), and g0
+  // cancels between g0 and Dn (B12)-(B13).
+  const Real lam = Real(0.375) * ((1 - e) * (5 * e2 + 4 * e - 1) +
+                                  C.cstar / 12 * (159 * e + 3 * e2 - 19 - 15 * e3));  // (B14), GD99's "- 19"
+  const Real nugam = (1 + e) / 48 *
+                     (128 - 96 * e + 15 * e2 - 15 * e3 + C.cstar / 64 * (15 * e3 - 15 * e2 + 498 * e - 434));  // (B13)/g0
+  const Real dn = Real(0.5) * C.z0 + nugam + Real(5) / 64 * C.cstar * (1 + 3 * C.cstar / 64) * (1 - e2);  // (B12) den./g0
+  C.n_lam = Real(4) / 15 * lam;          // (B12) numerator
+  C.n_p = (Real(2) / 3 - e) * C.cstar;   // (B12) numerator
+  C.b_p = 1 - e;                         // (B11)
+  C.b_n = Real(5) / 32 * (1 - e2) * (1 + 3 * C.cstar / 64) / dn;  // (B11)
+  C.rf = blend_reciprocal(P);            // eq. (26)
   return C;
 }
 
-/// coefficients(P, V) from the prepared constants (see Constants).
-SCREE_HD inline Coefficients coefficients(const Params& P, const Constants& C, Real V) {
+/// Params from the named constants: the constants and their prepared factors.
+inline Params make_params(const Constants& c) {
+  Params P{};
+  static_cast<Constants&>(P) = c;
+  P.k = prepare(c);
+  return P;
+}
+
+/// The coefficients at the solid fraction V (eqs. 20-28 with Appendices A-B), from the
+/// prepared factors P.k.
+SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
+  const Prepared& C = P.k;
   Coefficients c;
   const Real e = P.eps;
   c.V = V;
-  const Real cs = (2 - V) / (2 * (1 - V) * (1 - V) * (1 - V));  // eq. (25)
-  // eq. (26): f = 1 below V_m (g0 = cs exactly: 1 cs + 0), the blend above. Without a branch,
-  // so that the compiler can share the whole of coefficients() between a stress update and
-  // the wave speed right after it (V < V_sd always: V_cap < V_sd).
-  const Real f = V < P.Vm ? Real(1) : dense_blend(P, V, C.rf);
-  c.g0 = f * cs + (1 - f) * 2 / (P.Vsd - V);  // eq. (25)
-  c.G = V * c.g0;                                  // eq. (23), ERRATA 1
+  c.g0 = radial_distribution(P, V);                // eqs. (25)-(26)
+  c.G = V * c.g0;                                  // eq. (23), G = V g0 (GD99)
   c.p_star = 1 + 2 * (1 + e) * c.G;                // 4GF, eq. (20)+(A1)
   c.cstar = C.cstar;                               // (A9)
   c.zeta0 = C.z0 * c.g0;                           // (A7)
@@ -225,13 +203,13 @@ SCREE_HD inline Coefficients coefficients(const Params& P, const Constants& C, R
   c.eta_hat = fmax(C.eta0 * c.eta_star, Real(0));  // eq. (21)
   c.gam_hat = fmax(C.eta0 * c.gam_star, Real(0));  // eq. (22)
   c.p_hat = P.rho_p * V * c.p_star;                // eq. (20)
-  c.diss_hat = C.diss * V * V * c.zeta0;           // eq. (28), ERRATA 2
+  c.diss_hat = C.diss * V * V * c.zeta0;           // eq. (28), GD99 form
   c.div_hat = 0;
   if (P.zeta1 > 0) {  // (B11)-(B14): br = -(1-e)(p*-1) + 5/32 (1-e^2)(1+3c*/64) g0 N/Dn
     const Real N = C.n_lam * c.G + (c.p_star - 1) * C.n_p;
     c.div_hat = Real(1.5) * P.rho_p * V * (-C.b_p * (c.p_star - 1) + C.b_n * N);
   }
-  c.energy = Real(1.5) * P.rho_p * V;  // eq. (27)
+  c.energy = Real(1.5) * P.rho_p * V;  // eq. (27): 3/2 rho_p/(1+e) dT/dt
   return c;
 }
 
@@ -280,7 +258,7 @@ SCREE_HD inline Real riccati_sqrt_temperature(Real x0, Real a, Real b, Real k, R
 /// over dt and the solid fraction frozen at c.V.
 SCREE_HD inline Real update_temperature(const Coefficients& c, Real T0, const RateInvariants& r, Real dt) {
   // energy * dT/dt = 2 eta dev2 + gamma tr^2 - p tr - Gamma0 - Gamma1   (eq. 27, sigma_col:D
-  // with sigma_col = -p I + 2 eta dev D + gamma tr(D) I, tension positive, ERRATA 5)
+  // with sigma_col = -p I + 2 eta dev D + gamma tr(D) I, tension positive; the paper is compression positive)
   const Real re = 1 / c.energy;
   const Real a = (2 * c.eta_hat * r.dev2 + c.gam_hat * r.tr * r.tr) * re;  // ~ sqrt(T)
   const Real b = -(c.p_hat + c.div_hat) * r.tr * re;                        // ~ T
@@ -292,7 +270,7 @@ SCREE_HD inline Real update_temperature(const Coefficients& c, Real T0, const Ra
 
 /// eq. (19) in Scree's sign convention (tension positive):
 /// sigma_col = -p_col I + 2 eta dev(D) + gamma tr(D) I. Its work sigma_col : D =
-/// -p tr D + 2 eta |dev D|^2 + gamma tr(D)^2 is non-negative in isochoric shear (ERRATA 5).
+/// -p tr D + 2 eta |dev D|^2 + gamma tr(D)^2 is non-negative in isochoric shear (a production term, GD99).
 SCREE_HD inline Sym3 collisional_stress(const Coefficients& c, Real T, const Sym3& D) {
   const Real x = sqrt(fmax(T, Real(0)));
   const Real p = c.p_hat * T;          // eq. (20)

@@ -1,10 +1,9 @@
 // SIMSAND-type critical-state frictional model: formulas and stress integration.
 //
-// One formula in one place: the simsand material (Simsand.hpp) and the frictional half of
-// phaseTransition (../phaseTransition/PhaseTransition.hpp) both call these free functions.
-// "eq. N" is the phase-transition paper (Feng, Liang, Yin & Hu 2025, IJNAMG, seed 001),
-// "ERRATA n" is ../../shared/seeds/ERRATA.md (seed 001). README.md in this folder lists the
-// parameters and every decision.
+// One formula in one place: the simsand material and the frictional half of phaseTransition
+// both call these free functions (materials/common, shared by the plugins and installed with
+// the SDK). "eq. N" is the phase-transition paper (Feng, Liang, Yin & Hu 2025, IJNAMG);
+// materials/simsand/README.md lists the parameters and every decision.
 //
 // Conventions: sigma is the Cauchy stress, tension positive (Scree). p = -tr(sigma)/3 and
 // q = sqrt(3/2 s:s) are compression positive; the volumetric strain eps_v = tr(eps) is
@@ -78,15 +77,6 @@ struct Params {
   Real Cfac;     ///< K0 p_at^(1-n): K = Cfac F(e) (p + p_min)^n
   Real inv_pat;  ///< 1/p_at
   Real ln_eref;  ///< ln e_ref: ln(e_c/e) of eqs. (16)-(18) without forming e_c (log_critical_ratio)
-  /// How powers are evaluated (the model is the same either way). 0, the default: the
-  /// exponents 1/2, 2 and 1/4 by sqrt and products, and the two void-ratio powers of
-  /// eqs. (17)-(18) from one logarithm (power() and ratios(); within a few ulps of pow()).
-  /// 1: pow() for every power, the straightforward evaluation the fast one is tested
-  /// against (tests/unit/performance).
-  Real exact;
-  /// 1, the default: stiff remainders of an update by implicit returns (integrate(), README step
-  /// 5); 0: modified-Euler substeps throughout (the reference the returns are tested against).
-  Real stiff_return;
 };
 
 /// Internal variables integrated together with the stress.
@@ -95,6 +85,25 @@ struct Vars {
   Real kappa;  ///< deviatoric plastic strain eps_d^p (hardening variable, eq. 14)
   Real epsEq;  ///< equivalent plastic strain integral of sqrt(2/3 deps^p : deps^p)
 };
+
+/// How the model is evaluated, fixed at compile time: the plugins' kernels carry neither a
+/// field nor a branch for it. Every function below that depends on it is a template on this
+/// policy, defaulting to Production; the tests instantiate the references.
+///   exact_powers: false, production: the exponents 1/2, 2 and 1/4 by sqrt and products, and
+///     the two void-ratio powers of eqs. (17)-(18) from one logarithm (power() and ratios();
+///     within a few ulps of pow()); true: pow() for every power, the straightforward
+///     evaluation the fast one is tested against (tests/unit/performance).
+///   stiff_returns: true, production: stiff remainders of an update by implicit returns
+///     (integrate(), README step 5); false: modified-Euler substeps throughout (Sloan et al.
+///     2001), the reference the returns are tested against (tests/unit/materials).
+template <bool ExactPowersV, bool StiffReturnsV>
+struct Evaluation {
+  static constexpr bool exact_powers = ExactPowersV;
+  static constexpr bool stiff_returns = StiffReturnsV;
+};
+using Production = Evaluation<false, true>;       ///< what the plugins run
+using ExactPowers = Evaluation<true, true>;       ///< reference for the fast powers (tests)
+using EulerThroughout = Evaluation<false, false>;  ///< reference for the stiff returns (tests)
 
 inline constexpr Real kFtol = 1e-9;        ///< yield-function tolerance (f is a stress ratio)
 inline constexpr int kMaxSubsteps = 1000;  ///< substeps with error control per update (then relaxed)
@@ -108,41 +117,60 @@ inline constexpr int kStiffAfter = 64;
 inline constexpr Real kStiffRemaining = 32;
 inline constexpr int kReturnSubsteps = 8;
 
-/// Host: fill the derived constants. phi_c in degrees.
-inline Params make_params(Real K0, Real nu, Real n, Real pat, Real phic_deg, Real eref, Real lambda, Real xi,
-                          Real Ad, Real kp, Real np, Real nd, Real pmin, Real stol, bool lode) {
+/// The constants of the model by name, as the dictionary gives them (phi_c in degrees);
+/// make_params() derives Params from them. With C++20 designated initializers:
+///   simsand::make_params({.K0 = 120, .nu = 0.2, .n = 0.5, .phic_deg = 19.8, .eref = 0.977, ...})
+/// Members left out take the dictionary's defaults where it has one.
+struct Constants {
+  Real K0;               ///< dimensionless reference bulk modulus K_0 (eq. 13)
+  Real nu;               ///< Poisson's ratio
+  Real n;                ///< elastic exponent n (eq. 13), in [0, 1)
+  Real pat = 101300;     ///< atmospheric pressure p_at [Pa] (eqs. 13, 16)
+  Real phic_deg;         ///< critical-state friction angle phi_c [deg]
+  Real eref;             ///< e_ref (eq. 16)
+  Real lambda;           ///< lambda (eq. 16)
+  Real xi;               ///< xi (eq. 16)
+  Real Ad;               ///< A_d (eq. 15)
+  Real kp;               ///< k_p (eq. 14)
+  Real np;               ///< n_p (eq. 17)
+  Real nd;               ///< n_d (eq. 18)
+  Real pmin = 1;         ///< stiffness regularisation pressure p_min [Pa]
+  Real stol = 1e-4;      ///< relative local error tolerance of the substepping
+  bool lode = true;      ///< Lode-angle dependent M (Sheng et al. 2000), or M_c everywhere
+};
+
+/// Host: Params, with the derived constants, from the named constants.
+inline Params make_params(const Constants& k) {
   Params P{};
-  P.K0 = K0;
-  P.nu = nu;
-  P.n = n;
-  P.pat = pat;
-  const Real phi = phic_deg * Real(3.14159265358979323846) / 180;
+  P.K0 = k.K0;
+  P.nu = k.nu;
+  P.n = k.n;
+  P.pat = k.pat;
+  const Real phi = k.phic_deg * Real(3.14159265358979323846) / 180;
   const Real s = std::sin(phi);
   P.tanphic = std::tan(phi);
   P.Mc = 6 * s / (3 - s);
-  P.eref = eref;
-  P.lambda = lambda;
-  P.xi = xi;
-  P.Ad = Ad;
-  P.kp = kp;
-  P.np = np;
-  P.nd = nd;
-  P.pmin = pmin;
-  P.papex = 1e-6 * pmin;
-  P.serr = std::fmax(1e-3 * pat, pmin);
-  P.stol = stol;
-  P.rG = 3 * (1 - 2 * nu) / (2 * (1 + nu));
+  P.eref = k.eref;
+  P.lambda = k.lambda;
+  P.xi = k.xi;
+  P.Ad = k.Ad;
+  P.kp = k.kp;
+  P.np = k.np;
+  P.nd = k.nd;
+  P.pmin = k.pmin;
+  P.papex = 1e-6 * k.pmin;
+  P.serr = std::fmax(1e-3 * k.pat, k.pmin);
+  P.stol = k.stol;
+  P.rG = 3 * (1 - 2 * k.nu) / (2 * (1 + k.nu));
   const Real c = (3 - s) / (3 + s);
-  P.lode = lode ? 1 : 0;
-  P.c4 = lode ? c * c * c * c : 1;
-  P.m = 1 - n;
-  P.inv_m = 1 / (1 - n);
-  P.Amin = std::pow(pmin, 1 - n);
-  P.Cfac = K0 * std::pow(pat, 1 - n);
-  P.inv_pat = 1 / pat;
-  P.ln_eref = std::log(eref);
-  P.exact = 0;
-  P.stiff_return = 1;
+  P.lode = k.lode ? 1 : 0;
+  P.c4 = k.lode ? c * c * c * c : 1;
+  P.m = 1 - k.n;
+  P.inv_m = 1 / (1 - k.n);
+  P.Amin = std::pow(k.pmin, 1 - k.n);
+  P.Cfac = k.K0 * std::pow(k.pat, 1 - k.n);
+  P.inv_pat = 1 / k.pat;
+  P.ln_eref = std::log(k.eref);
   return P;
 }
 
@@ -183,12 +211,13 @@ SCREE_HD inline Sym3 dev_part(const Sym3& a) {
   return Sym3{{a[0] - m, a[1] - m, a[2] - m, a[3], a[4], a[5]}};
 }
 
-/// x^y for the exponents of the model: pow() on the reference path (P.exact); on the fast
-/// path the exponents the paper's parameters give, 1/2 (n = 0.5), 2 (1/(1 - n)) and 1/4
-/// (Lode function), by sqrt and a product: a few cycles instead of a pow() (which is a
+/// x^y for the exponents of the model: pow() on the reference path (Pol::exact_powers); on
+/// the fast path the exponents the paper's parameters give, 1/2 (n = 0.5), 2 (1/(1 - n)) and
+/// 1/4 (Lode function), by sqrt and a product: a few cycles instead of a pow() (which is a
 /// logarithm and an exponential in extended precision), and within an ulp of it.
-SCREE_HD inline Real power(const Params& P, Real x, Real y) {
-  if (P.exact == 0) {
+template <class Pol = Production>
+SCREE_HD inline Real power(const Params& /*P*/, Real x, Real y) {
+  if (!Pol::exact_powers) {
     if (y == Real(0.5)) return sqrt(x);
     if (y == Real(2)) return x * x;
     if (y == Real(0.25)) return sqrt(sqrt(x));
@@ -208,21 +237,24 @@ SCREE_HD inline Real void_function(Real e) {
 
 /// Tangent bulk modulus, eq. (13) with p regularised by p_min: K(0) > 0 so that a
 /// stress-free point regains stiffness in compression.
+template <class Pol = Production>
 SCREE_HD inline Real bulk_modulus(const Params& P, Real e, Real p) {
-  return P.Cfac * void_function(e) * power(P, fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
+  return P.Cfac * void_function(e) * power<Pol>(P, fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
 }
 
-/// (p/p_at)^xi of eq. (16), p clipped at 0: pow() on the reference path (P.exact), exp(xi
-/// ln(p/p_at)) on the fast one (a pow() is a logarithm and an exponential in extended
+/// (p/p_at)^xi of eq. (16), p clipped at 0: pow() on the reference path (Pol::exact_powers),
+/// exp(xi ln(p/p_at)) on the fast one (a pow() is a logarithm and an exponential in extended
 /// precision, about twice the work; the two differ by an ulp or two).
+template <class Pol = Production>
 SCREE_HD inline Real pressure_power(const Params& P, Real p) {
   const Real x = fmax(p, Real(0)) * P.inv_pat;
-  return P.exact != 0 ? pow(x, P.xi) : exp(P.xi * log(x));
+  return Pol::exact_powers ? pow(x, P.xi) : exp(P.xi * log(x));
 }
 
 /// Critical void ratio, eq. (16): e_c = e_ref exp(-lambda (p/p_at)^xi).
+template <class Pol = Production>
 SCREE_HD inline Real critical_void_ratio(const Params& P, Real p) {
-  return P.eref * exp(-P.lambda * pressure_power(P, p));  // eq. (16)
+  return P.eref * exp(-P.lambda * pressure_power<Pol>(P, p));  // eq. (16)
 }
 
 /// ln(e_c/e) = ln e_ref - lambda (p/p_at)^xi - ln e (eq. 16), from pxi = (p/p_at)^xi: what
@@ -251,8 +283,9 @@ struct Ratios {
 /// evaluates it: pow() on the reference path, exp(n_p ln(e_c/e)) on the fast one (whose
 /// logarithm ratios() shares with eq. 18), so that the yield function and the plastic rate
 /// see the same M_p.
+template <class Pol = Production>
 SCREE_HD inline Real peak_factor(const Params& P, Real pxi, Real e) {
-  return P.exact != 0 ? pow(P.eref * exp(-P.lambda * pxi) / e, P.np) : exp(P.np * log_critical_ratio(P, pxi, e));
+  return Pol::exact_powers ? pow(P.eref * exp(-P.lambda * pxi) / e, P.np) : exp(P.np * log_critical_ratio(P, pxi, e));
 }
 
 /// M_p (eq. 17) and the values ratios_at() completes the other ratios from: a yield
@@ -267,15 +300,16 @@ struct PeakRatio {
   Real w, d3;  ///< sqrt(1 + tan^2 phi_p) and 3 w - tan phi_p: sin phi_p = tp/w, 3 - sin phi_p = d3/w
   Real Mp;     ///< M_p = 6 sin phi_p/(3 - sin phi_p)
 };
+template <class Pol = Production>
 SCREE_HD inline PeakRatio peak(const Params& P, Real e, Real p) {
   PeakRatio k;
   k.e = fmax(e, Real(1e-6));
   k.p = p;
-  k.pxi = pressure_power(P, p);
+  k.pxi = pressure_power<Pol>(P, p);
   Real fp;  // (e_c/e)^n_p, as peak_factor(); on the fast path from the logarithm eq. (18) shares
-  if (P.exact != 0) {
+  if (Pol::exact_powers) {
     k.L = 0;
-    fp = peak_factor(P, k.pxi, k.e);
+    fp = peak_factor<Pol>(P, k.pxi, k.e);
   } else {
     k.L = log_critical_ratio(P, k.pxi, k.e);
     fp = exp(P.np * k.L);
@@ -289,9 +323,11 @@ SCREE_HD inline PeakRatio peak(const Params& P, Real e, Real p) {
 
 /// The peak stress ratio M_p (eq. 17) alone: what the yield function needs. Equal to
 /// ratios(P, e, p).Mp.
-SCREE_HD inline Real peak_ratio(const Params& P, Real e, Real p) { return peak(P, e, p).Mp; }
+template <class Pol = Production>
+SCREE_HD inline Real peak_ratio(const Params& P, Real e, Real p) { return peak<Pol>(P, e, p).Mp; }
 
 /// All the ratios from peak()'s part of them.
+template <class Pol = Production>
 SCREE_HD inline Ratios ratios_at(const Params& P, const PeakRatio& k) {
   Ratios r;
   const Real e = k.e, p = k.p, pe = fmax(p, P.pmin), tp = k.tp;
@@ -299,7 +335,7 @@ SCREE_HD inline Ratios ratios_at(const Params& P, const PeakRatio& k) {
   // (e/e_c)^n_d of eq. (18) and (p_e/p_at)^(xi-1) of dM_p/dp: on the fast path from peak()'s
   // logarithm and (p/p_at)^xi, instead of two more pow()s.
   Real fd, pxi1;
-  if (P.exact != 0) {
+  if (Pol::exact_powers) {
     fd = pow(e / r.ec, P.nd);
     pxi1 = pow(pe * P.inv_pat, P.xi - 1);
   } else {
@@ -316,14 +352,16 @@ SCREE_HD inline Ratios ratios_at(const Params& P, const PeakRatio& k) {
   r.dMp_dp = dMdt * (-P.np * tp * P.lambda * P.xi * pxi1 * P.inv_pat);
   return r;
 }
-SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) { return ratios_at(P, peak(P, e, p)); }
+template <class Pol = Production>
+SCREE_HD inline Ratios ratios(const Params& P, Real e, Real p) { return ratios_at<Pol>(P, peak<Pol>(P, e, p)); }
 
 /// Lode-angle function g(theta) of M (Sheng et al. 2000) from sin(3 theta) in the
 /// compression-positive convention (+1 triaxial compression, -1 triaxial extension).
+template <class Pol = Production>
 SCREE_HD inline Real lode_g(const Params& P, Real S) {
   if (P.lode == 0) return 1;
   S = fmin(fmax(S, Real(-1)), Real(1));
-  return power(P, 2 * P.c4 / (1 + P.c4 - (1 - P.c4) * S), Real(0.25));
+  return power<Pol>(P, 2 * P.c4 / (1 + P.c4 - (1 - P.c4) * S), Real(0.25));
 }
 
 /// What a yield evaluation and a plastic rate at the same (sigma, e) share: g(theta) and M_p
@@ -370,19 +408,21 @@ SCREE_HD inline Real yield_value(const Params& P, Real q, Real p, Real g, Real M
   return (q * kk - Mp * k * pg) / (pg * kk);
 }
 
+template <class Pol = Production>
 SCREE_HD inline Real yield(const Params& P, const Sym3& sig, Real e, Real kappa) {
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex)) return 0;
-  const Real g = lode_g(P, v.S);
-  return yield_value(P, v.q, v.p, g, peak_ratio(P, e, v.p), kappa);
+  const Real g = lode_g<Pol>(P, v.S);
+  return yield_value(P, v.q, v.p, g, peak_ratio<Pol>(P, e, v.p), kappa);
 }
 
 /// Put a stress on the yield surface by scaling its deviator at constant p and Lode angle
 /// (drift correction; also used for initial stresses outside the surface).
+template <class Pol = Production>
 SCREE_HD inline void project_to_surface(const Params& P, Sym3& sig, Real e, Real kappa) {
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex) || !(v.q > 0)) return;
-  const Real qt = hardening(P, peak_ratio(P, e, v.p), kappa) * lode_g(P, v.S) * v.p;
+  const Real qt = hardening(P, peak_ratio<Pol>(P, e, v.p), kappa) * lode_g<Pol>(P, v.S) * v.p;
   sig = from_p_s(v.p, v.s * (qt / v.q));
 }
 
@@ -391,14 +431,15 @@ SCREE_HD inline void project_to_surface(const Params& P, Sym3& sig, Real e, Real
 /// same numbers as the two calls. Returns f before the projection; `projected` says whether
 /// sig changed. `at`, if not null, receives g(theta) and M_p's parts for a plastic rate at
 /// (sig, e) (valid only where p > p_apex).
+template <class Pol = Production>
 SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real kappa, bool both_sides,
                                        bool& projected, PointRatios* at = nullptr) {
   projected = false;
   if (at) at->valid = false;
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex)) return 0;
-  const Real g = lode_g(P, v.S);
-  const PeakRatio k = peak(P, e, v.p);
+  const Real g = lode_g<Pol>(P, v.S);
+  const PeakRatio k = peak<Pol>(P, e, v.p);
   if (at) *at = PointRatios{g, k, true};
   const Real f = yield_value(P, v.q, v.p, g, k.Mp, kappa);
   if ((both_sides ? fabs(f) : f) > kFtol && v.q > 0) {
@@ -412,22 +453,23 @@ SCREE_HD inline Real yield_and_project(const Params& P, Sym3& sig, Real e, Real 
 /// e frozen: d(p + p_min)^(1-n) = (1-n) C F(e) d(-eps_v), and the deviator with the secant
 /// shear modulus G = rG (p1 - p0)/(-eps_v) (exact along a straight strain path since G/K is
 /// constant). Returns false when the extension would take p below zero (separation).
+template <class Pol = Production>
 SCREE_HD inline bool elastic_predictor(const Params& P, const Sym3& sig0, Real e, const Sym3& deps, Sym3& sig1) {
   const Real p0 = fmax(mean_pressure(sig0), Real(0));
   const Real evc = -deps.trace();          // volumetric strain, compression positive
   const Real C = P.Cfac * void_function(e);  // K = C (p + p_min)^n
-  const Real A0 = power(P, p0 + P.pmin, P.m);
+  const Real A0 = power<Pol>(P, p0 + P.pmin, P.m);
   const Real dA = P.m * C * evc;
   const Real B = A0 + dA;
   if (!(B > P.Amin)) return false;  // p1 <= 0: tension cut-off
   Real Ksec;
   Real p1;
   if (fabs(dA) > Real(1e-9) * A0) {
-    p1 = power(P, B, P.inv_m) - P.pmin;
+    p1 = power<Pol>(P, B, P.inv_m) - P.pmin;
     Ksec = (p1 - p0) / evc;
   } else {  // tiny volumetric increment: tangent modulus at the mid-point
-    const Real Kt = C * power(P, p0 + P.pmin, P.n);
-    Ksec = C * power(P, fmax(p0 + Real(0.5) * Kt * evc, Real(0)) + P.pmin, P.n);
+    const Real Kt = C * power<Pol>(P, p0 + P.pmin, P.n);
+    Ksec = C * power<Pol>(P, fmax(p0 + Real(0.5) * Kt * evc, Real(0)) + P.pmin, P.n);
     p1 = p0 + Ksec * evc;
   }
   p1 = fmax(p1, Real(0));
@@ -449,13 +491,14 @@ struct Rate {
   Real num;  ///< loading indicator n_f : D : deps (before clipping)
 };
 /// `at`: g(theta) and M_p's parts at (sig, e) already evaluated (PointRatios), or null.
+template <class Pol = Production>
 SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, Real e, const Sym3& deps, Real de,
                                   Rate& r, const PointRatios* at = nullptr) {
   if (at && !at->valid) at = nullptr;
   const Invariants v = invariants(sig);
   if (!(v.p > P.papex) || !finite_real(v.p)) return false;
   const Real p = v.p, q = v.q;
-  const Real K = bulk_modulus(P, e, p);  // eq. (13)
+  const Real K = bulk_modulus<Pol>(P, e, p);  // eq. (13)
   const Real G = P.rG * K;
   const Sym3 dev = dev_part(deps);
   const Real tr = deps.trace();
@@ -472,7 +515,7 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
   Real g = 1;
   Sym3 L = Sym3::zero();
   if (P.lode != 0 && q > Real(1e-8) * p) {
-    g = at ? at->g : lode_g(P, v.S);
+    g = at ? at->g : lode_g<Pol>(P, v.S);
     const Real den_g = 1 + P.c4 - (1 - P.c4) * v.S;
     const Real dg = Real(0.25) * g * (1 - P.c4) / den_g;  // dg/dS
     // 1/J2^{3/2}, and 1/J2^{5/2} = (1/J2^{3/2})^2 sqrt(J2)
@@ -488,7 +531,7 @@ SCREE_HD inline bool plastic_rate(const Params& P, const Sym3& sig, Real kappa, 
   }
   const Real rpg = 1 / (p * g);  // 1/(p g), used four times below
   const Real eta = q * rpg;
-  const Ratios R = at ? ratios_at(P, at->k) : ratios(P, e, p);  // eqs. (16)-(18)
+  const Ratios R = at ? ratios_at<Pol>(P, at->k) : ratios<Pol>(P, e, p);  // eqs. (16)-(18)
   const Real kk = fmax(kappa, Real(0)), rk = 1 / (P.kp + kk);
   const Real h = kk * rk;
   const Real dh = P.kp * rk * rk;
@@ -534,11 +577,12 @@ SCREE_HD inline void separate(Sym3& sig, Vars& v, const Sym3& deps, Real frac) {
 }
 
 /// f along the elastic path at fraction a of deps from sig0.
+template <class Pol = Production>
 SCREE_HD inline Real elastic_path_yield(const Params& P, const Sym3& sig0, Real kappa, Real ope0, const Sym3& deps,
                                         Real a, Sym3& sig_a) {
   const Real tr = deps.trace();
-  if (!elastic_predictor(P, sig0, void_ratio_at(ope0, tr, Real(0.5) * a), deps * a, sig_a)) return 1;
-  return yield(P, sig_a, void_ratio_at(ope0, tr, a), kappa);
+  if (!elastic_predictor<Pol>(P, sig0, void_ratio_at(ope0, tr, Real(0.5) * a), deps * a, sig_a)) return 1;
+  return yield<Pol>(P, sig_a, void_ratio_at(ope0, tr, a), kappa);
 }
 
 /// The Pegasus method (Dowell & Jarratt 1972), a secant search that keeps a root bracketed,
@@ -560,12 +604,13 @@ SCREE_HD inline void pegasus_bracket(Real x, Real fx, Real& xa, Real& fa, Real& 
 
 /// Pegasus search of the elastic fraction a in (a0, a1) where the elastic path crosses f = 0
 /// (f0 < 0 < f1).
+template <class Pol = Production>
 SCREE_HD inline Real yield_crossing(const Params& P, const Sym3& sig0, Real kappa, Real ope0, const Sym3& deps,
                                     Real a0, Real f0, Real a1, Real f1) {
   Sym3 tmp;
   for (int it = 0; it < 60; ++it) {
     const Real a = pegasus_point(a0, f0, a1, f1);
-    const Real fa = elastic_path_yield(P, sig0, kappa, ope0, deps, a, tmp);
+    const Real fa = elastic_path_yield<Pol>(P, sig0, kappa, ope0, deps, a, tmp);
     if (fabs(fa) <= kFtol) return a;
     pegasus_bracket(a, fa, a0, f0, a1, f1);
     if (fabs(a1 - a0) < Real(1e-14)) break;
@@ -578,18 +623,19 @@ SCREE_HD inline Real yield_crossing(const Params& P, const Sym3& sig0, Real kapp
 /// the deviatoric strain is plastic); a compression rebuilds stress by the elastic trial from
 /// zero, returned radially in the deviatoric plane (constant p) onto the cone. Isochoric shear
 /// keeps the point stress-free. Does not update v.e.
+template <class Pol = Production>
 SCREE_HD inline void apex_update(const Params& P, Sym3& sig, Vars& v, const Sym3& deps, Real e_mid, Real e1) {
   Sym3 st;
-  if (!elastic_predictor(P, Sym3::zero(), e_mid, deps, st)) {
+  if (!elastic_predictor<Pol>(P, Sym3::zero(), e_mid, deps, st)) {
     separate(sig, v, deps, 1);
     return;
   }
   const Invariants iv = invariants(st);
-  const Real H = hardening(P, peak_ratio(P, e1, iv.p), v.kappa);
-  const Real qt = H * lode_g(P, iv.S) * iv.p;
+  const Real H = hardening(P, peak_ratio<Pol>(P, e1, iv.p), v.kappa);
+  const Real qt = H * lode_g<Pol>(P, iv.S) * iv.p;
   if (iv.q > qt && iv.q > 0) {  // return radially in the deviatoric plane at constant p
     const Real dq = iv.q - qt;
-    const Real G = P.rG * bulk_modulus(P, e1, iv.p);
+    const Real G = P.rG * bulk_modulus<Pol>(P, e1, iv.p);
     st = from_p_s(iv.p, iv.s * (qt / iv.q));
     v.kappa += dq / (3 * G);
     v.epsEq += dq / (3 * G);
@@ -601,6 +647,7 @@ SCREE_HD inline void apex_update(const Params& P, Sym3& sig, Vars& v, const Sym3
 /// (sig, kappa) at void ratio ea: the first rate is r1u (for the whole of drem) scaled by x,
 /// the second is evaluated at the Euler end state. Returns false when the second rate cannot be
 /// evaluated (the Euler end state has p <= p_apex); sn, kn are then the Euler end state.
+template <class Pol = Production>
 SCREE_HD inline bool heun_substep(const Params& P, const Sym3& sig, Real kappa, const Rate& r1u, const Sym3& drem,
                                   Real x, Real eb, Real de, Rate& r1, Rate& r2, Sym3& sn, Real& kn) {
   r1.dsig = r1u.dsig * x;
@@ -609,7 +656,7 @@ SCREE_HD inline bool heun_substep(const Params& P, const Sym3& sig, Real kappa, 
   r1.num = r1u.num * x;
   sn = sig + r1.dsig;
   kn = kappa + r1.dkappa;
-  if (!plastic_rate(P, sn, kn, eb, drem * x, de, r2)) return false;
+  if (!plastic_rate<Pol>(P, sn, kn, eb, drem * x, de, r2)) return false;
   sn = sig + (r1.dsig + r2.dsig) * Real(0.5);
   kn = kappa + Real(0.5) * (r1.dkappa + r2.dkappa);
   return true;
@@ -666,10 +713,11 @@ struct StiffReturn {
 ///   p <= p_min, where K ~ (p + p_min)^n hardly varies along the path and the frozen moduli are
 ///   all but exact, or 1.25 (where the two nearly balance at a larger p, whether the path falls
 ///   to the apex depends on how K varies along it).
+template <class Pol = Production>
 SCREE_HD inline Real stiff_return_margin(const Params& P, const Sym3& sig, Real e, const Sym3& drem) {
   const Real p = mean_pressure(sig);
   if (!(p > P.papex)) return -1;
-  const Ratios R = ratios(P, e, p);
+  const Ratios R = ratios<Pol>(P, e, p);
   if (!(R.Mpt >= R.Mp)) return -1;  // denser than critical
   const Real contraction = P.Ad * (R.Mpt - R.Mp) * equivalent_deviatoric_strain(drem);
   const Real compression = fmax(-drem.trace(), Real(0));
@@ -683,14 +731,15 @@ inline constexpr Real kStiffApexMargin = 1.25;  ///< ... and for a return to sep
 /// method (phi(0) > 0 outside the surface, phi(q_t/3G) = -H g p < 0 while p > 0), then the drift
 /// correction of the substepping. Returns false (nothing changed) when the substep reaches the
 /// apex: the trial separates, or p(x) would reach p_apex before q/(p g) comes down to H.
+template <class Pol = Production>
 SCREE_HD inline bool stiff_substep(const Params& P, Sym3& sig, Vars& v, Real e_mid, Real eb, const Sym3& d) {
   Sym3 st;
-  if (!elastic_predictor(P, sig, e_mid, d, st)) return false;
+  if (!elastic_predictor<Pol>(P, sig, e_mid, d, st)) return false;
   const Invariants iv = invariants(st);
   if (!(iv.p > P.papex)) return false;
-  const Ratios R = ratios(P, eb, iv.p);
-  const Real K = bulk_modulus(P, eb, iv.p);
-  const StiffReturn ret{iv.p, iv.q, 3 * P.rG * K, K * P.Ad, R.Mp, R.Mpt, lode_g(P, iv.S), fmax(v.kappa, Real(0)),
+  const Ratios R = ratios<Pol>(P, eb, iv.p);
+  const Real K = bulk_modulus<Pol>(P, eb, iv.p);
+  const StiffReturn ret{iv.p, iv.q, 3 * P.rG * K, K * P.Ad, R.Mp, R.Mpt, lode_g<Pol>(P, iv.S), fmax(v.kappa, Real(0)),
                         P.kp};
   Real xa = 0, fa = ret.phi(0);
   Real x = 0;
@@ -714,7 +763,7 @@ SCREE_HD inline bool stiff_substep(const Params& P, Sym3& sig, Vars& v, Real e_m
   }
   sig = st;
   bool projected;
-  yield_and_project(P, sig, eb, v.kappa, true, projected);  // drift correction
+  yield_and_project<Pol>(P, sig, eb, v.kappa, true, projected);  // drift correction
   return true;
 }
 
@@ -727,6 +776,7 @@ enum StiffOutcome { kStiffDone, kStiffApex, kStiffDeclined };
 /// it (the caller separates the rest). kStiffDeclined: p grew along the returns beyond twice its
 /// start (+ STOL s_e), where frozen moduli are not accurate, or a return reached the apex where
 /// that is not certain; nothing changed (the caller goes on with Heun substeps).
+template <class Pol = Production>
 SCREE_HD inline StiffOutcome stiff_remainder(const Params& P, Sym3& sig, Vars& v, Real ope0, Real tr, Real alpha,
                                              Real& T, const Sym3& drem, bool may_separate) {
   Sym3 s = sig;
@@ -737,7 +787,7 @@ SCREE_HD inline StiffOutcome stiff_remainder(const Params& P, Sym3& sig, Vars& v
     const Real Tn = j == kReturnSubsteps ? Real(1) : T + (1 - T) * j / kReturnSubsteps;
     const Real em = void_ratio_at(ope0, tr, alpha + (1 - alpha) * Real(0.5) * (Ts + Tn));
     const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * Tn);
-    if (!stiff_substep(P, s, w, em, eb, drem * (Tn - Ts))) {
+    if (!stiff_substep<Pol>(P, s, w, em, eb, drem * (Tn - Ts))) {
       if (!may_separate) return kStiffDeclined;
       sig = s;
       v = w;
@@ -768,6 +818,7 @@ struct ElasticTrial {
   bool elastic;    ///< the whole increment is elastic: sig_tr is the answer
   PointRatios at0;  ///< g(theta) and M_p's parts at (sig0, e) (integrate() only)
 };
+template <class Pol = Production>
 SCREE_HD inline void elastic_trial_from_start(const Params& P, const Vars& v, const Sym3& deps, ElasticTrial& t) {
   t.tr = deps.trace();
   t.ope0 = 1 + v.e;
@@ -776,20 +827,21 @@ SCREE_HD inline void elastic_trial_from_start(const Params& P, const Vars& v, co
   // An extension whose elastic trial ends at the apex (p <= p_apex, where yield() no longer
   // bounds q) separates like one that would end in tension: otherwise a small stress rebuilt at
   // the apex could be pulled back to p ~ 0 with its deviator kept (q >> p; found by the fuzz test).
-  t.separates = !elastic_predictor(P, t.sig0, e_mid, deps, t.sig_tr) ||
+  t.separates = !elastic_predictor<Pol>(P, t.sig0, e_mid, deps, t.sig_tr) ||
                 !(mean_pressure(t.sig_tr) > P.papex);
-  t.ftr = t.separates ? Real(0) : yield(P, t.sig_tr, t.e1, v.kappa);
+  t.ftr = t.separates ? Real(0) : yield<Pol>(P, t.sig_tr, t.e1, v.kappa);
   t.elastic = !t.separates && t.ftr <= kFtol;
 }
 /// integrate()'s opening: the start stress first brought back onto the yield surface when it
 /// lies outside (f0 > kFtol), e.g. an initial or prescribed stress from elsewhere.
+template <class Pol = Production>
 SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, const Vars& v, const Sym3& deps) {
   ElasticTrial t;
   t.sig0 = sig;
   bool projected;
-  t.f0 = yield_and_project(P, t.sig0, v.e, v.kappa, false, projected, &t.at0);
+  t.f0 = yield_and_project<Pol>(P, t.sig0, v.e, v.kappa, false, projected, &t.at0);
   if (projected) t.f0 = 0;
-  elastic_trial_from_start(P, v, deps, t);
+  elastic_trial_from_start<Pol>(P, v, deps, t);
   return t;
 }
 
@@ -807,11 +859,12 @@ SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, con
 /// trial from the start scaled back onto the surface, this from the start itself, and both
 /// end admissible. From an integrator's own state that needs a start f within round-off
 /// above kFtol (1e-9): a difference of at most 1e-9 p g in q.
+template <class Pol = Production>
 SCREE_HD inline bool integrate_elastic(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
   if (!finite_sym(sig) || !finite_sym(deps) || !(mean_pressure(sig) > P.papex)) return false;
   ElasticTrial t;
   t.sig0 = sig;
-  elastic_trial_from_start(P, v, deps, t);
+  elastic_trial_from_start<Pol>(P, v, deps, t);
   if (!t.elastic) return false;
   sig = t.sig_tr;
   v.e = t.e1;
@@ -821,6 +874,7 @@ SCREE_HD inline bool integrate_elastic(const Params& P, Sym3& sig, Vars& v, cons
 /// One stress update of the frictional model: sig (tension positive) and the internal
 /// variables v over the strain increment deps. Always returns a defined state: p >= 0,
 /// no tension, finite values.
+template <class Pol = Production>
 SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
   if (!finite_sym(sig)) sig = Sym3::zero();
   if (!finite_sym(deps)) {  // nothing sensible to integrate
@@ -836,11 +890,11 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     const Real tr = deps.trace();
     Real e_mid, e1;
     void_ratios_mid_end(1 + v.e, tr, e_mid, e1);
-    apex_update(P, sig, v, deps, e_mid, e1);
+    apex_update<Pol>(P, sig, v, deps, e_mid, e1);
     v.e = e1;
     return;
   }
-  const ElasticTrial t = elastic_trial(P, sig, v, deps);
+  const ElasticTrial t = elastic_trial<Pol>(P, sig, v, deps);
   const Real tr = t.tr, ope0 = t.ope0, e1 = t.e1, f0 = t.f0;
   const Sym3& sig_tr = t.sig_tr;
   sig = t.sig0;
@@ -861,10 +915,10 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   Rate r1u;               // rate at the start of the current substep for the whole remaining
   bool have_r1u = false;  // increment (linear in it: reused, scaled, after a rejection)
   if (f0 < -kFtol) {
-    alpha = yield_crossing(P, sig, v.kappa, ope0, deps, 0, f0, 1, ftr);
+    alpha = yield_crossing<Pol>(P, sig, v.kappa, ope0, deps, 0, f0, 1, ftr);
   } else {
     Rate r0;
-    const bool ok0 = plastic_rate(P, sig, v.kappa, v.e, deps, ope0 * expm1(tr), r0, &t.at0);
+    const bool ok0 = plastic_rate<Pol>(P, sig, v.kappa, v.e, deps, ope0 * expm1(tr), r0, &t.at0);
     if (ok0 && r0.num >= 0) {
       r1u = r0;  // loading from the start: this is the first Euler rate
       have_r1u = true;
@@ -874,7 +928,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
       Real alo = -1, flo = 0;
       for (int j = 1; j < 10; ++j) {
         const Real a = Real(0.1) * j;
-        const Real fa = elastic_path_yield(P, sig, v.kappa, ope0, deps, a, tmp);
+        const Real fa = elastic_path_yield<Pol>(P, sig, v.kappa, ope0, deps, a, tmp);
         if (fa < -kFtol) {
           alo = a;
           flo = fa;
@@ -882,12 +936,12 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
           break;
         }
       }
-      if (alo > 0) alpha = yield_crossing(P, sig, v.kappa, ope0, deps, alo, flo, 1, ftr);
+      if (alo > 0) alpha = yield_crossing<Pol>(P, sig, v.kappa, ope0, deps, alo, flo, 1, ftr);
     }
   }
   if (alpha > 0) {
     Sym3 sa;
-    if (elastic_predictor(P, sig, void_ratio_at(ope0, tr, Real(0.5) * alpha), deps * alpha, sa)) sig = sa;
+    if (elastic_predictor<Pol>(P, sig, void_ratio_at(ope0, tr, Real(0.5) * alpha), deps * alpha, sa)) sig = sa;
   }
   // ---- plastic part: modified Euler with local error control (Sloan et al. 2001)
   const Sym3 drem = deps * (1 - alpha);
@@ -903,14 +957,14 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
   int n = 0;
   while (T < 1) {
     ++n;
-    if (P.stiff_return != 0 && !stiff_tried && n > kStiffAfter && 1 - T > kStiffRemaining * dT) {
+    if (Pol::stiff_returns && !stiff_tried && n > kStiffAfter && 1 - T > kStiffRemaining * dT) {
       // ---- a stiff remainder: the substep the error control asks for is set by the elastic
       // stiffness (about p/(3G |de_d|): hundreds of substeps near the apex, or where M_p is
       // tiny at a large void ratio), not by the curvature of the path.
       stiff_tried = true;
-      const Real margin = stiff_return_margin(P, sig, ea, drem);
+      const Real margin = stiff_return_margin<Pol>(P, sig, ea, drem);
       const StiffOutcome o = margin >= kStiffMargin
-                                 ? stiff_remainder(P, sig, v, ope0, tr, alpha, T, drem,
+                                 ? stiff_remainder<Pol>(P, sig, v, ope0, tr, alpha, T, drem,
                                                    margin >= kStiffApexMargin || mean_pressure(sig) <= P.pmin)
                                  : kStiffDeclined;
       if (o == kStiffDone) break;
@@ -928,11 +982,11 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     if (n > 3 * kMaxSubsteps) dT = 1 - T;
     const Real eb = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + dT));
     if (!have_r1u)
-      have_r1u = plastic_rate(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u, &at);
+      have_r1u = plastic_rate<Pol>(P, sig, v.kappa, ea, drem, (1 + ea) * expm1(tr * (1 - alpha)), r1u, &at);
     Rate r1, r2;
     Sym3 sn = sig;
     Real kn = v.kappa, R = Real(1e300);
-    const bool ok = have_r1u && heun_substep(P, sig, v.kappa, r1u, drem, dT, eb, eb - ea, r1, r2, sn, kn);
+    const bool ok = have_r1u && heun_substep<Pol>(P, sig, v.kappa, r1u, drem, dT, eb, eb - ea, r1, r2, sn, kn);
     if (ok) R = heun_error(P, r1, r2, sn, kn);
     const bool reject = R > P.stol && !relaxed && dT > kMinSubstep;
     // A Heun end state beyond the apex from a substep whose error fails the test does not say
@@ -980,7 +1034,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
         const Real x = pegasus_point(xa, ha, xb, hb);
         if (!(x > 0 && x < dT)) break;
         const Real ex = void_ratio_at(ope0, tr, alpha + (1 - alpha) * (T + x));
-        const bool okx = heun_substep(P, sig, v.kappa, r1u, drem, x, ex, ex - ea, r1, r2, sn, kn);
+        const bool okx = heun_substep<Pol>(P, sig, v.kappa, r1u, drem, x, ex, ex - ea, r1, r2, sn, kn);
         const Real px = mean_pressure(sn);
         if (okx && px > P.papex) {
           const Real Rx = heun_error(P, r1, r2, sn, kn);
@@ -1018,7 +1072,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
     v.epsEq += Real(0.5) * (r1.deq + r2.deq);
     T += dT;
     ea = eb;
-    yield_and_project(P, sig, eb, v.kappa, true, projected, &at);  // drift correction
+    yield_and_project<Pol>(P, sig, eb, v.kappa, true, projected, &at);  // drift correction
     if (T >= 1 - Real(1e-12)) break;
     const Real fac = R > 0 ? fmin(substep_factor(P, R), Real(1.1)) : Real(1.1);
     dT = fmin(fmax(dT * fac, kMinSubstep), 1 - T);
@@ -1048,6 +1102,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
 /// State for an initial stress (tension positive): tension is cut to zero; kappa is chosen
 /// so that the stress lies on the yield surface (eq. 14); a stress ratio beyond 0.99 M_p is
 /// reduced to 0.99 M_p (deviator scaled at constant p and Lode angle).
+template <class Pol = Production>
 inline Vars initial_vars(const Params& P, Sym3& sig, Real e0) {
   Vars v{e0, 0, 0};
   const Invariants iv = invariants(sig);
@@ -1055,9 +1110,9 @@ inline Vars initial_vars(const Params& P, Sym3& sig, Real e0) {
     sig = Sym3::zero();
     return v;
   }
-  const Real g = lode_g(P, iv.S);
+  const Real g = lode_g<Pol>(P, iv.S);
   const Real eta = iv.q / (iv.p * g);
-  const Real Mp = ratios(P, e0, iv.p).Mp;
+  const Real Mp = ratios<Pol>(P, e0, iv.p).Mp;
   if (eta <= 0) return v;
   if (eta < Real(0.99) * Mp) {
     v.kappa = P.kp * eta / (Mp - eta);  // H(kappa) = eta
@@ -1069,9 +1124,10 @@ inline Vars initial_vars(const Params& P, Sym3& sig, Real e0) {
 }
 
 /// Elastic P-wave speed sqrt((K + 4/3 G)/rho) at the current state.
+template <class Pol = Production>
 SCREE_HD inline Real pwave_speed(const Params& P, Real e, Real p, Real rho) {
   if (!(rho > 0)) return 0;
-  const Real K = bulk_modulus(P, e, p);
+  const Real K = bulk_modulus<Pol>(P, e, p);
   return sqrt(K * (1 + Real(4) / 3 * P.rG) / rho);
 }
 
