@@ -22,7 +22,7 @@ struct FieldData {
   std::vector<Real> values;
 };
 
-/// The fields every body's snapshot carries, whatever its material (material_body.hpp),
+/// The fields every body's snapshot carries, whatever its material (mpm/material_body.hpp),
 /// besides the material's own (PluginEntry::output_fields). Writers add particleId.
 inline const std::vector<std::string>& standard_particle_fields() {
   static const std::vector<std::string> names{"velocity", "displacement", "stress",  "pressure", "deviatoricStress",

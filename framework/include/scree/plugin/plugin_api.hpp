@@ -50,18 +50,30 @@ inline void declare_execute_control(ParamSpec& spec) {
   spec.scalar("executeInterval", "s or steps", "interval for timeStep/runTime").default_value(1.0).positive();
 }
 
+namespace detail {
+/// A registry entry for plugin class P of `kind`: its name, and its spec (which also
+/// accepts the `type` key that selected it).
+template <class P>
+PluginEntry plugin_entry(PluginKind kind) {
+  PluginEntry e;
+  e.kind = kind;
+  e.name = P::type_name;
+  auto spec = std::make_shared<ParamSpec>(P::spec());
+  spec->allow_keys({"type"});
+  if (kind == PluginKind::functionObject) declare_execute_control(*spec);
+  e.spec = spec;
+  return e;
+}
+}  // namespace detail
+
 template <class M>
 void Registry::add_material() {
   // The contract of material.hpp, one message per missing piece; the registration below is
   // compiled only for a material that meets it (no cascade of errors from the kernels).
   static_assert(check_material<M>(), "M does not meet the material contract (scree/material/material.hpp)");
   if constexpr (Material<M>) {
-    PluginEntry e;
-    e.kind = PluginKind::material;
-    e.name = M::type_name;
-    auto spec = std::make_shared<ParamSpec>(M::spec());
-    spec->allow_keys({"type"});
-    e.spec = spec;
+    PluginEntry e = detail::plugin_entry<M>(PluginKind::material);
+    const auto spec = e.spec;
     {
       OutputFields<M> out;
       M::describe(out);
@@ -85,12 +97,8 @@ void Registry::add_material() {
 
 template <class BC>
 void Registry::add_boundary_condition() {
-  PluginEntry e;
-  e.kind = PluginKind::boundaryCondition;
-  e.name = BC::type_name;
-  auto spec = std::make_shared<ParamSpec>(BC::spec());
-  spec->allow_keys({"type"});
-  e.spec = spec;
+  PluginEntry e = detail::plugin_entry<BC>(PluginKind::boundaryCondition);
+  const auto spec = e.spec;
   e.boundary = [spec](const Dictionary& d, const SolverContext& ctx) -> std::unique_ptr<BoundaryCondition> {
     return std::make_unique<BC>(ParamReader(*spec, d), ctx);
   };
@@ -99,12 +107,8 @@ void Registry::add_boundary_condition() {
 
 template <class W>
 void Registry::add_writer() {
-  PluginEntry e;
-  e.kind = PluginKind::writer;
-  e.name = W::type_name;
-  auto spec = std::make_shared<ParamSpec>(W::spec());
-  spec->allow_keys({"type"});
-  e.spec = spec;
+  PluginEntry e = detail::plugin_entry<W>(PluginKind::writer);
+  const auto spec = e.spec;
   e.writer = [spec](const Dictionary& d, const SolverContext& ctx) -> std::unique_ptr<Writer> {
     return std::make_unique<W>(ParamReader(*spec, d), ctx);
   };
@@ -113,13 +117,8 @@ void Registry::add_writer() {
 
 template <class F>
 void Registry::add_function_object() {
-  PluginEntry e;
-  e.kind = PluginKind::functionObject;
-  e.name = F::type_name;
-  auto spec = std::make_shared<ParamSpec>(F::spec());
-  spec->allow_keys({"type"});
-  declare_execute_control(*spec);
-  e.spec = spec;
+  PluginEntry e = detail::plugin_entry<F>(PluginKind::functionObject);
+  const auto spec = e.spec;
   e.function_object = [spec](const Dictionary& d, const SolverContext& ctx) -> std::unique_ptr<FunctionObject> {
     return std::make_unique<F>(ParamReader(*spec, d), ctx);
   };
