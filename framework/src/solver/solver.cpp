@@ -316,7 +316,7 @@ template <int D>
 Snapshot Solver<D>::snapshot_header() const {
   Snapshot s;
   s.time = time();
-  s.step = step_;
+  s.step = steps_done();  // the steps that advanced the clock: the same in every run
   s.dimension = D;
   s.bodies.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i)

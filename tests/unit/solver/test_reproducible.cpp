@@ -46,6 +46,8 @@ TEST(Reproducible, ChunkingDoesNotChangeABit) {
         << "field " << fa.name << " differs between two chunkings of the same run";
   }
   EXPECT_EQ(std::memcmp(A.id.data(), B.id.data(), A.id.size() * sizeof(A.id[0])), 0) << "particle order";
+  EXPECT_EQ(a.step, b.step) << "the step written with the output counts the steps that advanced the clock";
+  EXPECT_EQ(a.time, b.time);
 }
 
 }  // namespace
