@@ -1,4 +1,4 @@
-// phaseTransition (seed 001 eq. 1): frictional + collisional stresses in parallel.
+// phaseTransition (Feng et al. 2025, eq. 1): frictional + collisional stresses in parallel.
 #include <gtest/gtest.h>
 
 #include <cmath>

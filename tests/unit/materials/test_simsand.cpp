@@ -1,4 +1,4 @@
-// SIMSAND-type frictional model (seed 001 eqs. 12-18): element tests against physical
+// SIMSAND-type frictional model (Feng et al. 2025, eqs. 12-18): element tests against physical
 // statements that follow from the model's equations independently of the integrator.
 #include <gtest/gtest.h>
 
