@@ -320,7 +320,7 @@ Snapshot Solver<D>::snapshot_header() const {
   s.dimension = D;
   s.bodies.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i)
-    s.bodies[i].material = BodySettings::read(case_.bodies().sub(bodies_[i]->name())).material;
+    s.bodies[i].material = material_names_[i];
   return s;
 }
 

@@ -123,6 +123,7 @@ class Solver {
 
   // Particles
   std::vector<std::unique_ptr<Body<D>>> bodies_;
+  std::vector<std::string> material_names_;  // each body's material (constant/materialProperties)
 
   // Time
   TimeControl time_;

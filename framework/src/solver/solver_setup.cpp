@@ -163,6 +163,7 @@ void Solver<D>::setup_bodies() {
     if constexpr (D == 2) body = pe.material.body2(mat, s);
     else body = pe.material.body3(mat, s);
     ctx_.body_names.push_back(e.key());
+    material_names_.push_back(bs.material);
     bodies_.push_back(std::move(body));
   }
   mass_eps_ = sch.mass_tolerance * min_mass;

@@ -64,12 +64,6 @@ class NodeLawCondition : public BoundaryCondition {
   bool has_node_law() const override { return true; }
   void apply(const Exec& ex, const GridNodes<2>& g) const override { run(ex, g); }
   void apply(const Exec& ex, const GridNodes<3>& g) const override { run(ex, g); }
-  /// How many grid nodes the region selected.
-  Index nodes() const { return count_; }
-
- protected:
-  const Region& region() const { return region_; }
-
  private:
   template <int D>
   void run(const Exec& ex, const GridNodes<D>& g) const {
