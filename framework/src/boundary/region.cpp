@@ -13,11 +13,15 @@ void BoundaryCondition::declare_time_window(ParamSpec& spec) {
   spec.scalar("startTime", "s", "the condition acts from this time").default_value(-1e300);
   spec.scalar("endTime", "s", "the condition acts until this time (e.g. a gate removed at 0.2 s)")
       .default_value(1e300);
+  spec.boolean("drained", "two-phase bodies: the pore liquid crosses this wall freely (a drained boundary); "
+                          "default: the wall is impermeable, the liquid's velocity obeys it as the solid's")
+      .default_value("false");
 }
 
 void BoundaryCondition::read_time_window(const ParamReader& r, Wall& w) {
   w.t_start = r.scalar("startTime");
   w.t_end = r.scalar("endTime");
+  if (r.has("drained")) w.drained = r.boolean("drained") ? 1 : 0;
 }
 
 void BoundaryCondition::declare_normal(ParamSpec& spec) {

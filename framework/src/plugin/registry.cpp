@@ -15,13 +15,16 @@ const char* to_string(PluginKind k) {
     case PluginKind::boundaryCondition: return "boundaryCondition";
     case PluginKind::writer: return "writer";
     case PluginKind::functionObject: return "functionObject";
+    case PluginKind::retention: return "retention";
+    case PluginKind::permeability: return "permeability";
   }
   return "?";
 }
 
 const std::vector<PluginKind>& all_plugin_kinds() {
   static const std::vector<PluginKind> k{PluginKind::material, PluginKind::boundaryCondition, PluginKind::writer,
-                                         PluginKind::functionObject};
+                                         PluginKind::functionObject, PluginKind::retention,
+                                         PluginKind::permeability};
   return k;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <set>
 
+#include "../porous/porous_media.hpp"
 #include "scree/output/snapshot.hpp"
 
 namespace fs = std::filesystem;
@@ -157,6 +158,9 @@ const CoreSpecs& CoreSpecs::get() {
     init->scalar("K0", "-", "lateral earth pressure coefficient (geostatic)").default_value(0.5).non_negative();
     init->scalar("surface", "m", "elevation of the free surface along -g (default: top of the body)").optional();
     b->dict("initialStress", "initial stress (default none)").sub_spec(init).optional();
+    b->dict("twoPhase", "a porous body with a pore liquid (the two-phase formulation, porous/two_phase.hpp)")
+        .sub_spec(two_phase_spec())
+        .optional();
     s.body = b;
     return s;
   }();
@@ -286,6 +290,12 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
       } catch (const InputError&) {
       }
     }
+    for (const Entry& e : c.bodies_.entries())
+      if (e.is_dict() && e.dict().has("twoPhase")) {
+        const auto names = two_phase_field_names();
+        known.insert(known.end(), names.begin(), names.end());
+        break;
+      }
     known.push_back("all");
     for (const char* group : {"writers", "functions"}) {
       const Entry* g = c.control_.find(group);
@@ -324,6 +334,19 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     ++nbodies;
     const Dictionary& b = e.dict();
     validate(*cs.body, b, errors, dim);
+    // A two-phase body's retention and permeability models: their plugins' specs.
+    if (const Entry* tp = b.find("twoPhase"); tp && tp->is_dict())
+      for (const auto& [key, kind] : {std::pair{"retention", PluginKind::retention},
+                                      std::pair{"permeability", PluginKind::permeability}}) {
+        const Entry* m = tp->dict().find(key);
+        if (!m || !m->is_dict()) continue;
+        try {
+          const Entry& t = m->dict().at("type");
+          validate(*reg.get(kind, t.as_word(), t.where()).spec, m->dict(), errors, dim);
+        } catch (const InputError& err) {
+          errors.push_back(err);
+        }
+      }
     if (const Entry* m = b.find("material")) {
       try {
         const std::string name = m->as_word();

@@ -23,6 +23,10 @@ unsigned pending_flags(UpdateScheme s) {
 
 template <int D>
 void Solver<D>::step() {
+  if (porous_) {
+    step_two_phase();
+    return;
+  }
   const int p = parity();
   const int A = 1 - p, B = p;
   const UpdateScheme scheme = settings_.schemes.update_scheme;
@@ -60,11 +64,39 @@ void Solver<D>::step() {
   ++step_;
 }
 
+/// The two-phase step (porous/two_phase.hpp), USL: the liquid's gather at the points'
+/// positions x^k (the last step's G2P of v_l and the pore pressure), the solid's fused pass
+/// (its G2P, stress, P2G), the liquid's scatter at x^{k+1}, then both phases' grid update.
+template <int D>
+void Solver<D>::step_two_phase() {
+  const int p = parity();
+  const int A = 1 - p, B = p;
+  const unsigned pend = pending_ ? pending_flags(UpdateScheme::USL) : 0u;
+  PassParams<D> pp = pass_params(pend | kScatterMassMomentum | kScatterForce, A, B, A);
+  pp.tile_stamps = nullptr;  // the two-phase grid update visits every node
+  phase("pore liquid: G2P v_l, pore pressure", [&] {
+    if (pending_) porous_->gather(pp, A, B);
+  });
+  phase("particles: G2P + stress + P2G (fused)", [&] {
+    for (auto& b : bodies_) b->pass(pp);
+  });
+  phase("pore liquid: P2G", [&] { porous_->scatter(pp, A, B); });
+  phase("grid: both phases, implicit drag", [&] {
+    const DampingSettings& damping = settings_.schemes.damping;
+    porous_->grid_update(B, ctl_.data(), p, mass_eps_, damping.coefficient, damping.start_time, damping.end_time,
+                         sets_);
+    apply_node_laws(kNormalize | kIntegrate, B);
+  });
+  pending_ = true;
+  ++step_;
+}
+
 template <int D>
 void Solver<D>::flush() {
   if (!pending_) return;
   const int last = 1 - parity();  // set and parity of the last step
   const unsigned flags = pending_flags(settings_.schemes.update_scheme);
+  if (porous_) porous_->gather(pass_params(flags, last, last, last), last, last);
   for (auto& b : bodies_) b->pass(pass_params(flags, last, last, last));
   pending_ = false;
 }
@@ -266,6 +298,7 @@ template <int D>
 Real Solver<D>::max_signal_speed() const {
   Real cmax = 0;
   for (auto& b : bodies_) cmax = std::max(cmax, b->max_signal_speed(grid_.h));
+  if (porous_) cmax = std::max(cmax, porous_->max_signal_speed());
   return cmax;
 }
 

@@ -16,6 +16,9 @@
 //   MUSL:                     pass[stress from remapped v, x update | P2G m, mv, f]
 //                             -> grid[v^k, v^{k+1}] -> pass[v_p update | P2G m v_p]
 //                             -> grid[remapped v]
+//   two-phase (USL):          pore[G2P_{k-1} v_l, p_w] -> pass[as USL] -> pore[P2G liquid,
+//                             pore force] -> two-phase grid[v_s, v_l; implicit drag]
+//                             -> hydraulic laws (porous/two_phase.hpp)
 //
 // The clock lives on the device (time/step_control.hpp); the host syncs once per chunk of
 // steps (to report progress, write output, or re-sort particles). On CUDA a chunk replays
@@ -31,6 +34,7 @@
 
 #include "../exec/step_graphs.hpp"
 #include "../output/output_schedule.hpp"
+#include "../porous/porous_media.hpp"
 #include "progress.hpp"
 #include "scree/boundary/boundary_condition.hpp"
 #include "scree/exec/kernel_policy.hpp"
@@ -71,6 +75,7 @@ class Solver {
 
   // the step
   void step();                        ///< launch one step (all its passes and grid updates)
+  void step_two_phase();              ///< ... of a case with two-phase bodies (USL)
   void launch_steps(std::int64_t n);  ///< n steps, via CUDA graphs when possible
   void flush();                       ///< apply the pending gather (G2P) of the last step
   PassParams<D> pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const;
@@ -124,6 +129,7 @@ class Solver {
   // Particles
   std::vector<std::unique_ptr<Body<D>>> bodies_;
   std::vector<std::string> material_names_;  // each body's material (constant/materialProperties)
+  std::unique_ptr<PorousMedia<D>> porous_;   // the pore liquid of two-phase bodies (none: single phase)
 
   // Time
   TimeControl time_;

@@ -133,6 +133,19 @@ void Solver<D>::setup_bodies() {
   int id = 0;
   Real min_mass = 1e300;
   for (const Entry& e : case_.bodies().entries()) {
+    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_' || !e.dict().has("twoPhase")) continue;
+    // A two-phase body (porous/two_phase.hpp): the case runs the two-phase step, USL only.
+    if (sch.update_scheme != UpdateScheme::USL) {
+      const Entry* u = case_.schemes().find("updateScheme");
+      throw InputError(u ? u->where() : case_.schemes().where(),
+                       "updateScheme: a case with a two-phase body (" + e.key() +
+                           ", twoPhase) runs the USL scheme; set `updateScheme USL;`");
+    }
+    porous_ = std::make_unique<PorousMedia<D>>(reg, grid_, exec_, gravity_, sch.shape,
+                                               Real(0.5) / BodySettings::read(e.dict()).particles_per_cell);
+    break;
+  }
+  for (const Entry& e : case_.bodies().entries()) {
     if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
     const Dictionary& b = e.dict();
     const BodySettings bs = BodySettings::read(b);
@@ -158,10 +171,12 @@ void Solver<D>::setup_bodies() {
     s.velocity_gradient = gp.velocity_gradient;
     s.first_id = next_id;
     next_id += static_cast<std::int64_t>(s.x.size());
-    for (Real v : s.volume) min_mass = std::min(min_mass, v * density);
+    const bool porous = porous_ && porous_->prepare(b, s, density);
+    for (Real v : s.volume) min_mass = std::min(min_mass, v * density * s.mass_factor);
     std::unique_ptr<Body<D>> body;
     if constexpr (D == 2) body = pe.material.body2(mat, s);
     else body = pe.material.body3(mat, s);
+    if (porous) porous_->attach(body.get());
     ctx_.body_names.push_back(e.key());
     material_names_.push_back(bs.material);
     bodies_.push_back(std::move(body));
@@ -236,6 +251,13 @@ void Solver<D>::setup_boundaries() {
       if (set.count(static_cast<int>(i)) == 0)
         log_ << "warning: " << d.where().str() << ": boundary condition '" << e.key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
+    if (bc->hydraulic()) {
+      if (!porous_)
+        throw InputError(type.where(), "type " + type.as_word() + ": '" + e.key() +
+                                           "' acts on the pore liquid, and no body of this case is two-phase (a "
+                                           "body with a twoPhase { ... } block in constant/bodies)");
+      porous_->add_condition(bc.get());
+    }
     boundaries_.push_back(std::move(bc));
   }
   has_walls_ = !set.table().empty();
@@ -245,6 +267,9 @@ void Solver<D>::setup_boundaries() {
     masks_.resize(set.masks().size(), exec_.device);
     masks_.copy_from_host(set.masks());
   }
+  if (porous_)
+    porous_->set_walls(has_walls_ ? walls_.data() : nullptr, has_walls_ ? masks_.data() : nullptr, set.table(),
+                       set.masks());
 }
 
 // The rest of Solver<D> is instantiated in solver.cpp.

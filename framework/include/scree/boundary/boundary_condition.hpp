@@ -20,7 +20,13 @@
 //   halfSpace { point (0 0); normal (1 -1); }   nodes on or behind a plane (n points out
 //                                               of the selected side, into the material)
 // and startTime/endTime give the window in which it acts (a gate removed at t = 0.2 s
-// has endTime 0.2).
+// has endTime 0.2). In a two-phase case a wall also stops the pore liquid (impermeable)
+// unless it is `drained`.
+//
+// Hydraulic conditions act on the pore liquid of two-phase bodies (porous/two_phase.hpp):
+// a prescribed pore pressure on the points of a region (constrain_pores: water table,
+// ponding), or a law on both phases' nodal velocities after the two-phase grid update
+// (apply_hydraulic: rainfall, boundary/rainfall).
 //
 //   struct MyWall : RegionWall {
 //     static constexpr const char* type_name = "myWall";
@@ -43,6 +49,9 @@
 namespace scree {
 
 struct SolverContext;  // what plugins learn about the case (scree/plugin/context.hpp)
+template <int D>
+struct TwoPhaseNodes;   // the two-phase grid after its update (scree/porous/two_phase.hpp)
+struct PorePressureLaw;
 
 /// The grid's nodes as WallSet and select_nodes visit them.
 struct NodeLattice {
@@ -129,6 +138,23 @@ class SCREE_API BoundaryCondition {
     (void)g;
   }
   virtual void apply(const Exec& ex, const GridNodes<3>& g) const {
+    (void)ex;
+    (void)g;
+  }
+
+  // Hydraulic conditions (two-phase bodies, porous/two_phase.hpp), at their points of the step:
+  /// Whether the condition acts on the pore liquid only (it needs a two-phase body).
+  virtual bool hydraulic() const { return false; }
+  /// Prescribed pore pressures on points (the water table, ponding, a drained layer):
+  /// applied after each step's pore-pressure update.
+  virtual void constrain_pores(std::vector<PorePressureLaw>& laws) const { (void)laws; }
+  /// A law on both phases' nodal velocities after the two-phase grid update (rainfall).
+  virtual bool has_hydraulic_law() const { return false; }
+  virtual void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<2>& g) const {
+    (void)ex;
+    (void)g;
+  }
+  virtual void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<3>& g) const {
     (void)ex;
     (void)g;
   }

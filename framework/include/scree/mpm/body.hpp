@@ -36,6 +36,20 @@ struct BodySetup {
   std::vector<Sym3> sigma;     ///< initial stress (tension positive) [Pa]
   Mat<D> velocity_gradient = Mat<D>::zero();  ///< of the initial velocity field (APIC's C_p) [1/s]
   std::int64_t first_id = 0;   ///< particle ids are first_id, first_id + 1, ...
+  /// Particle mass = mass_factor x the material's density x volume. A two-phase body's
+  /// material is its skeleton, whose density is the grains' rho_s: its points carry the
+  /// solid mass (1 - n0) rho_s V0 (porous/two_phase.hpp).
+  Real mass_factor = 1;
+  /// Columns every point carries beside the material's (a formulation's own per-point
+  /// fields): sorted with the particles and written as output fields.
+  struct ExtraColumn {
+    std::string name, unit, doc;
+    int components = 1;  ///< 1: a scalar; D: a vector (output with 3 components)
+    Real initial = 0;    ///< the value every point starts with, unless `values` is given
+    std::vector<Real> values;  ///< per point and component (point-major: p * components + k)
+    bool output = true;  ///< written by the writers (false: internal state)
+  };
+  std::vector<ExtraColumn> extra;
 };
 
 template <int D>
@@ -65,6 +79,9 @@ class Body {
   virtual Real max_signal_speed(Real cell_size) const = 0;
   /// Device pointers (for tests and function objects that work on the device).
   virtual const ParticleArrays<D>& arrays() const = 0;
+  /// The first of the extra columns of BodySetup::extra (column j at extra_columns() + j
+  /// size(), on the backend), or null. Permuted with the particles by sort_by_cell.
+  virtual Real* extra_columns() const { return nullptr; }
   /// Bytes of particle data per particle (benchmarks).
   virtual std::size_t bytes_per_particle() const = 0;
   /// Overwrite particle velocities (D values per particle, interleaved), e.g. to start

@@ -55,7 +55,9 @@ class MaterialBody final : public Body<D> {
         exec_(s.exec),
         shape_(s.shape),
         lp_(s.gimp_half_length),
-        store_(static_cast<Index>(s.x.size()), K, s.transfer) {
+        store_(static_cast<Index>(s.x.size()), K, s.transfer, extra_column_count(s.extra)),
+        extra_(s.extra) {
+    for (auto& e : extra_) e.values.clear();  // uploaded below from s.extra; not kept on the host
     const Index n = store_.size();
     std::vector<Real> host(static_cast<std::size_t>(store_.columns() * n), 0.0);
     auto col = [&](int c) { return store_.col(host.data(), c); };
@@ -72,7 +74,7 @@ class MaterialBody final : public Body<D> {
       Sym3 sigma = s.sigma.empty() ? Sym3::zero() : s.sigma[p];
       const State st = M::initial_state(params_, sigma);
       for (int c = 0; c < kSig; ++c) col(store_.c_sig() + c)[p] = sigma[c];
-      col(store_.c_mass())[p] = rho * s.volume[p];
+      col(store_.c_mass())[p] = s.mass_factor == 1 ? rho * s.volume[p] : s.mass_factor * rho * s.volume[p];
       col(store_.c_vol0())[p] = s.volume[p];
       col(store_.c_id())[p] = static_cast<Real>(s.first_id + p);
       if constexpr (K > 0) {
@@ -81,6 +83,13 @@ class MaterialBody final : public Body<D> {
         for (int k = 0; k < K; ++k) col(store_.c_state())[static_cast<std::size_t>(k) * n + p] = tmp[k];
       }
     }
+    for (int c = 0, j = 0; j < static_cast<int>(extra_.size()); c += extra_[j].components, ++j)
+      for (int k = 0; k < extra_[j].components; ++k) {
+        Real* dst = col(store_.c_extra() + c + k);
+        const auto& v = s.extra[j].values;
+        for (Index p = 0; p < n; ++p)
+          dst[p] = v.empty() ? extra_[j].initial : v[static_cast<std::size_t>(p) * extra_[j].components + k];
+      }
     store_.upload(host, exec_.device);
     if constexpr (material_has_elastic_path<M>()) {  // the elastic-first split's list (zeroed)
       deferred_.resize(static_cast<std::size_t>(n), exec_.device);
@@ -100,6 +109,7 @@ class MaterialBody final : public Body<D> {
   Index size() const override { return store_.size(); }
   const ParticleArrays<D>& arrays() const override { return store_.arrays(); }
   std::size_t bytes_per_particle() const override { return store_.bytes_per_particle(); }
+  Real* extra_columns() const override { return store_.extra(); }
 
   void pass(const PassParams<D>& pp) override {
     const Real inv_h = 1 / pp.grid.h;
@@ -161,7 +171,7 @@ class MaterialBody final : public Body<D> {
       return out.fields.back().values.data();
     };
     out.fields.clear();
-    out.fields.reserve(10 + fields_.size());
+    out.fields.reserve(10 + fields_.size() + extra_.size());
     Real* vel = add("velocity", 3, "m/s", "particle velocity");
     Real* disp = add("displacement", 3, "m", "displacement from the initial position");
     Real* stress = add("stress", 6, "Pa", "Cauchy stress, tension positive (xx yy zz xy yz zx)");
@@ -173,6 +183,16 @@ class MaterialBody final : public Body<D> {
     Real* bid = add("bodyId", 1, "-", "index of the body in constant/bodies");
     std::vector<Real*> mat;
     for (const auto& f : fields_) mat.push_back(add(f.name, f.components, f.unit, f.doc));
+    for (int c = 0, j = 0; j < static_cast<int>(extra_.size()); c += extra_[j].components, ++j) {
+      const auto& e = extra_[j];
+      if (!e.output) continue;
+      const int comps = e.components == 1 ? 1 : 3;
+      Real* dst = add(e.name, comps, e.unit, e.doc);
+      for (int k = 0; k < e.components; ++k) {
+        const Real* src = col(store_.c_extra() + c + k);
+        for (Index p = 0; p < n; ++p) dst[static_cast<std::size_t>(comps) * p + k] = src[p];
+      }
+    }
     std::vector<Real> st(K > 0 ? K : 1);
     for (Index p = 0; p < n; ++p) {
       Sym3 sig = Sym3::zero();
@@ -212,6 +232,12 @@ class MaterialBody final : public Body<D> {
   void sort_by_cell(const GridGeometry<D>& g) override { sorter_.sort(store_, exec_, g); }
 
  private:
+  static int extra_column_count(const std::vector<typename BodySetup<D>::ExtraColumn>& e) {
+    int c = 0;
+    for (const auto& x : e) c += x.components;
+    return c;
+  }
+
   static constexpr int kTransferBlock = 256;
   static constexpr int kStressBlock = 64;
 
@@ -272,6 +298,7 @@ class MaterialBody final : public Body<D> {
   ShapeKind shape_;
   Real lp_;
   ParticleStorage<D> store_;
+  std::vector<typename BodySetup<D>::ExtraColumn> extra_;
   ParticleSorter<D> sorter_;
   mutable SnapshotCopy copy_;
   Buffer<Index> deferred_;            // the elastic-first split's deferred points

@@ -1,8 +1,9 @@
 // ParticleStorage<D>: one body's particle data, structure of arrays in one allocation.
 //
 // Columns of n Reals each:
-//   x[D] v[D] x0[D] F[D*D] sigma[kStressComponents] mass volume0 id C[D*D] state[K]
-// (C only with APIC). Every column is permuted together when particles are sorted
+//   x[D] v[D] x0[D] F[D*D] sigma[kStressComponents] mass volume0 id C[D*D] state[K] extra[E]
+// (C only with APIC; extra: columns a formulation adds to every point, e.g. the pore
+// fluid's of a two-phase body, porous/two_phase.hpp). Every column is permuted together when particles are sorted
 // (particle_sort.hpp); a snapshot copies the whole block (snapshot_copy.hpp). The material
 // decides only K, the number of Reals of its State.
 #pragma once
@@ -22,7 +23,10 @@ class ParticleStorage {
   static constexpr int kSig = kStressComponents<D>;
 
   /// Lay out the columns for n particles with K state Reals (and C with APIC).
-  ParticleStorage(Index n, int K, Transfer transfer) : n_(n), K_(K), transfer_(transfer) { layout(); }
+  ParticleStorage(Index n, int K, Transfer transfer, int extra = 0)
+      : n_(n), K_(K), E_(extra), transfer_(transfer) {
+    layout();
+  }
 
   Index size() const { return n_; }
   int columns() const { return columns_; }
@@ -43,6 +47,10 @@ class ParticleStorage {
   int c_id() const { return c_id_; }
   int c_C() const { return c_C_; }
   int c_state() const { return c_state_; }
+  int c_extra() const { return c_extra_; }
+  int extra_columns() const { return E_; }
+  /// The first extra column on the backend (column j at extra() + j n); null without any.
+  Real* extra() const { return E_ > 0 ? const_cast<Real*>(data_.data()) + static_cast<std::size_t>(c_extra_) * n_ : nullptr; }
 
   /// Upload a host block to `device` and point the arrays at it.
   void upload(const std::vector<Real>& host, Device device) {
@@ -76,6 +84,8 @@ class ParticleStorage {
     if (transfer_ == Transfer::apic) c += D * D;
     c_state_ = c;
     c += K_;
+    c_extra_ = c;
+    c += E_;
     columns_ = c;
   }
   void bind() {
@@ -99,9 +109,10 @@ class ParticleStorage {
 
   Index n_;
   int K_;
+  int E_;
   Transfer transfer_;
   int columns_ = 0, c_x_ = 0, c_v_ = 0, c_x0_ = 0, c_F_ = 0, c_sig_ = 0, c_mass_ = 0, c_vol0_ = 0, c_id_ = 0,
-      c_C_ = 0, c_state_ = 0;
+      c_C_ = 0, c_state_ = 0, c_extra_ = 0;
   Buffer<Real> data_;
   ParticleArrays<D> arrays_{};
 };

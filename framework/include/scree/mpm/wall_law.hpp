@@ -40,6 +40,7 @@ struct Wall {
   Real centre[3] = {0, 0, 0};    ///< centre of rotation [m]
   Real t_start = -1e300;         ///< active for t_start <= t < t_end [s]
   Real t_end = 1e300;
+  int drained = 0;               ///< two-phase: the pore liquid crosses the wall (else it obeys it too)
 
   /// The wall's velocity w (D components) at the node position x.
   template <int D>

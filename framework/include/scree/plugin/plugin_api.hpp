@@ -27,6 +27,7 @@
 #include "scree/output/function_object.hpp"
 #include "scree/output/writer.hpp"
 #include "scree/plugin/registry.hpp"
+#include "scree/porous/hydraulic_model.hpp"
 
 #include "scree/plugin/plugin_api_names.hpp"
 
@@ -121,6 +122,26 @@ void Registry::add_function_object() {
   const auto spec = e.spec;
   e.function_object = [spec](const Dictionary& d, const SolverContext& ctx) -> std::unique_ptr<FunctionObject> {
     return std::make_unique<F>(ParamReader(*spec, d), ctx);
+  };
+  add(std::move(e));
+}
+
+template <class R>
+void Registry::add_retention() {
+  PluginEntry e = detail::plugin_entry<R>(PluginKind::retention);
+  const auto spec = e.spec;
+  e.retention = [spec](const Dictionary& d) -> std::unique_ptr<RetentionModel> {
+    return std::make_unique<R>(ParamReader(*spec, d));
+  };
+  add(std::move(e));
+}
+
+template <class K>
+void Registry::add_permeability() {
+  PluginEntry e = detail::plugin_entry<K>(PluginKind::permeability);
+  const auto spec = e.spec;
+  e.permeability = [spec](const Dictionary& d) -> std::unique_ptr<PermeabilityModel> {
+    return std::make_unique<K>(ParamReader(*spec, d));
   };
   add(std::move(e));
 }

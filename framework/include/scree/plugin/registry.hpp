@@ -1,6 +1,7 @@
 // The plugin registry: (kind, name) -> (parameter spec, factory).
 //
-// Kinds: material, boundaryCondition, writer, functionObject. Each plugin library's
+// Kinds: material, boundaryCondition, writer, functionObject, and the two-phase
+// formulation's retention and permeability models (porous/hydraulic_model.hpp). Each plugin library's
 // entry point (SCREE_PLUGIN, plugin_api.hpp) adds its entries; built-in core entries
 // are added by the core. Lookup of an unknown name throws an InputError listing the
 // valid names of that kind.
@@ -22,13 +23,15 @@ class PointMaterial;
 class BoundaryCondition;
 class Writer;
 class FunctionObject;
+class RetentionModel;
+class PermeabilityModel;
 template <int D>
 class Body;
 template <int D>
 struct BodySetup;
 struct SolverContext;
 
-enum class PluginKind { material, boundaryCondition, writer, functionObject };
+enum class PluginKind { material, boundaryCondition, writer, functionObject, retention, permeability };
 SCREE_API const char* to_string(PluginKind k);
 SCREE_API const std::vector<PluginKind>& all_plugin_kinds();
 
@@ -51,6 +54,9 @@ struct PluginEntry {
   std::function<std::unique_ptr<BoundaryCondition>(const Dictionary&, const SolverContext&)> boundary;
   std::function<std::unique_ptr<Writer>(const Dictionary&, const SolverContext&)> writer;
   std::function<std::unique_ptr<FunctionObject>(const Dictionary&, const SolverContext&)> function_object;
+  /// kind == retention / permeability
+  std::function<std::unique_ptr<RetentionModel>(const Dictionary&)> retention;
+  std::function<std::unique_ptr<PermeabilityModel>(const Dictionary&)> permeability;
 };
 
 class SCREE_API Registry {
@@ -88,6 +94,10 @@ class SCREE_API Registry {
   void add_writer();
   template <class F>
   void add_function_object();
+  template <class R>
+  void add_retention();
+  template <class K>
+  void add_permeability();
 
  private:
   std::map<std::pair<PluginKind, std::string>, PluginEntry> entries_;

@@ -1,0 +1,163 @@
+// rainfall: rain of a given intensity on the surface of two-phase bodies, by the correction
+// of both phases' nodal velocities (and so accelerations) after the grid update; the
+// supplementary material of the rainfall-infiltration MPM we implement, its eqs. (A)-(E):
+//
+//   (A) outward unit normal at node I from the mixture's density:
+//         n_I = sum_p rho_mix,p grad N_I(x_p) V_p / |...|,  rho_mix V = m_s + n S_l rho_l V
+//       (grad N_I(x_p) points from the points towards the node: outwards at a surface node);
+//   (B) if [n S_l (v~_l - v~_s) - w] . n_I <= 0, the surface would take at least the rain
+//       (w: the rain's velocity, intensity x its unit direction; w . n < 0 into the soil):
+//       correct, else the soil cannot take the rain, the surface keeps the natural
+//       condition of the weak form (zero liquid traction, p_w = 0: ponding);
+//   (C) n S_l [(v~_l + dv_l n) - (v~_s + dv_s n)] . n = w . n,
+//   (D) M_lm dv_l + M_s dv_s = 0 (the mixture's momentum is unchanged), hence
+//         r = (w . n) / (n S_l) - (v~_l - v~_s) . n,
+//         dv_l = r M_s / (M_s + M_lm),  dv_s = -r M_lm / (M_s + M_lm);
+//   (E) v_l = v~_l + dv_l n, v_s = v~_s + dv_s n (the accelerations (v - v^k) / dt follow).
+// n S_l at the node is M_lm / M_l (both mapped from the points, eq. 9 of the paper). The
+// velocities v~ are those of the grid update with every force (the paper's temporary
+// accelerations leave the external forces out; gravity's share of the normal flux is then
+// part of what the correction replaces, the same at convergence of the flux).
+//
+// Surface nodes are found at every step: nodes with mass that touch both an empty cell and
+// a cell holding points, inside the condition's region and time window.
+//
+//   rain { type rainfall; box { min (0 1.0); max (0.1 1.2); } intensity 1800; unit mm/h; }
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "scree/boundary/boundary_condition.hpp"
+#include "scree/exec/memory.hpp"
+#include "scree/plugin/context.hpp"
+#include "scree/porous/two_phase.hpp"
+
+namespace scree::boundary {
+
+/// The correction (A)-(E) at one node; returns whether it was applied.
+template <int D>
+SCREE_HD inline bool rainfall_correction(const Real* grad, Real ms, Real ml, Real mlm, const Real* w, Real* vs,
+                                         Real* vl) {
+  Real g2 = 0;
+  for (int d = 0; d < D; ++d) g2 += grad[d] * grad[d];
+  if (!(g2 > 0) || !(ml > 0) || !(mlm > 0) || !(ms > 0)) return false;
+  const Real inv = 1 / sqrt(g2);
+  Real n[D];
+  for (int d = 0; d < D; ++d) n[d] = grad[d] * inv;  // (A)
+  const Real nS = mlm / ml;
+  Real rel = 0, wn = 0;
+  for (int d = 0; d < D; ++d) {
+    rel += (vl[d] - vs[d]) * n[d];
+    wn += w[d] * n[d];
+  }
+  if (nS * rel - wn > 0) return false;  // (B): the soil takes less than the rain: ponding
+  const Real r = wn / nS - rel;         // (C)
+  const Real dl = r * ms / (ms + mlm), ds = -r * mlm / (ms + mlm);  // (D)
+  for (int d = 0; d < D; ++d) {  // (E)
+    vl[d] += dl * n[d];
+    vs[d] += ds * n[d];
+  }
+  return true;
+}
+
+namespace detail {
+template <int D>
+struct RainfallKernel {
+  const Index* nodes;
+  Real w[3];
+  Real t_start, t_end;
+  TwoPhaseNodes<D> g;
+  SCREE_HD void operator()(Index i) const {
+    const Index I = nodes[i];
+    const Real t = g.control->t[g.parity];
+    if (t < t_start || t >= t_end) return;
+    const Real ms = g.solid.mass[I];
+    if (!(ms > g.mass_eps)) return;
+    // A surface node: among the cells around it, one empty and one with points.
+    int idx[D];
+    g.grid.unflat(I, idx);
+    bool empty = false, full = false;
+    for (int c = 0; c < (1 << D); ++c) {
+      Index cell = 0, stride = 1;
+      bool ok = true;
+      for (int d = 0; d < D; ++d) {
+        const int j = idx[d] - 1 + ((c >> d) & 1);
+        ok = ok && j >= 0 && j < g.grid.n[d] - 1;
+        cell += j * stride;
+        stride *= g.grid.n[d];
+      }
+      if (!ok) continue;
+      (g.cells[cell] > 0 ? full : empty) = true;
+    }
+    if (!(empty && full)) return;
+    Real grad[D], vs[D], vl[D];
+    for (int d = 0; d < D; ++d) {
+      grad[d] = g.liquid.gradient[d][I];
+      vs[d] = g.solid.velocity_new[d][I];
+      vl[d] = g.liquid.velocity_new[d][I];
+    }
+    if (!rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], w, vs, vl)) return;
+    for (int d = 0; d < D; ++d) {
+      g.solid.velocity_new[d][I] = vs[d];
+      g.liquid.velocity_new[d][I] = vl[d];
+    }
+  }
+};
+}  // namespace detail
+
+class Rainfall final : public BoundaryCondition {
+ public:
+  static constexpr const char* type_name = "rainfall";
+  static ParamSpec spec() {
+    ParamSpec s(type_name,
+                "rain on the surface nodes of two-phase bodies inside a region: the seepage into the soil is the "
+                "rain's intensity while the soil can take it, else the surface ponds");
+    Region::declare(s);
+    s.scalar("intensity", "m/s or mm/h (unit)", "rain intensity, per unit horizontal area").non_negative();
+    s.word("unit", "the intensity's unit").choices({"m/s", "mm/h"}).default_value("m/s");
+    s.vector("direction", "-", "direction in which the rain falls (default: along gravity)").size(-1).optional();
+    s.scalar("startTime", "s", "the rain starts").default_value(-1e300);
+    s.scalar("endTime", "s", "the rain stops").default_value(1e300);
+    return s;
+  }
+  Rainfall(const ParamReader& r, const SolverContext& ctx) : region_(Region::read(r, ctx)) {
+    Real I = r.scalar("intensity");
+    if (r.word("unit") == "mm/h") I *= 1e-3 / 3600;
+    std::vector<Real> dir = r.has("direction") ? r.scalars("direction") : ctx.gravity;
+    Real len = 0;
+    for (Real c : dir) len += c * c;
+    len = std::sqrt(len);
+    if (!(len > 0))
+      throw InputError(r.has("direction") ? r.entry("direction").where() : r.dict().where(),
+                       "direction: the rain needs a direction (gravity is zero and no direction is given)");
+    for (int d = 0; d < ctx.dimension; ++d) w_[d] = I * dir[d] / len;
+    t_start_ = r.scalar("startTime");
+    t_end_ = r.scalar("endTime");
+    hosted_ = select_nodes(NodeLattice::of(ctx), [this](const Real* x) { return region_.contains(x); });
+  }
+  bool hydraulic() const override { return true; }
+  bool has_hydraulic_law() const override { return true; }
+  void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<2>& g) const override { run(ex, g); }
+  void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<3>& g) const override { run(ex, g); }
+
+ private:
+  template <int D>
+  void run(const Exec& ex, const TwoPhaseNodes<D>& g) const {
+    if (hosted_.empty()) return;
+    if (nodes_.size() != hosted_.size()) {
+      nodes_.resize(hosted_.size(), ex.device);
+      nodes_.copy_from_host(hosted_);
+    }
+    detail::RainfallKernel<D> k{nodes_.data(), {w_[0], w_[1], w_[2]}, t_start_, t_end_, g};
+    parallel_for(ex, static_cast<Index>(hosted_.size()), k);
+  }
+
+  Region region_;
+  Real w_[3] = {0, 0, 0};
+  Real t_start_ = -1e300, t_end_ = 1e300;
+  std::vector<Index> hosted_;
+  mutable Buffer<Index> nodes_;
+};
+
+}  // namespace scree::boundary

@@ -1,0 +1,349 @@
+// The two-phase formulation: saturated or unsaturated soil as one set of material points
+// carrying the solid skeleton and the pore liquid, with a velocity field for each phase
+// (the single-point, two-velocity formulation of Anura3D and of the rainfall-infiltration
+// MPM we implement: a_s, a_l, n, S_l, rho_s, rho_l). The pore air is at atmospheric
+// pressure (p_a = 0).
+//
+// The solid skeleton is an ordinary body of the case's material: its kernels (mpm/
+// particle_pass.hpp) move the points with the solid velocity v_s, update F and the
+// effective stress sigma' (tension positive), and scatter the solid mass m_s = (1 - n0)
+// rho_s V0, its momentum and the force -V sigma' grad N + N m_s g. The pore liquid adds two
+// passes over the same points and its own grid fields; nothing of it runs in a
+// single-phase case.
+//
+// Per point (extra columns, PoreColumn): p_w (compression positive) [Pa], S_l, n, suction,
+// v_l, seepage velocity w = n S_l (v_l - v_s).
+// Per node (LiquidFields): M_l = sum N rho_l V, M_lm = sum N n S_l rho_l V (the liquid's
+// mass in the mixture), liquid momentum sum N rho_l V v_l, liquid force F_l, drag
+// coefficient Q, liquid velocities, and for the rainfall condition the gradient of the
+// mixture density sum (m_s + m_lm) grad N (its eq. A) and the points per cell.
+//
+// Equations (SI, p_w compression positive, sigma tension positive, chi = S_l):
+//   effective stress (Bishop, chi = S_l):   sigma = sigma' - S_l p_w I
+//   mixture momentum:   M_s a_s + M_lm a_l = F_mix
+//       F_mix = -sum V (sigma' - S_l p_w I) grad N + sum N (m_s + m_lm) g
+//   liquid momentum (per unit volume of liquid, Darcy drag):
+//       M_l a_l = F_l - Q (v_l - v_s),  F_l = sum V p_w grad N + sum N rho_l V g,
+//       Q = sum N V n S_l mu_l / (kappa k_rel)
+//     (steady state: n S_l (v_l - v_s) = -(kappa k_rel / mu_l)(grad p_w - rho_l g), Darcy)
+//   liquid mass balance, incompressible grains, liquid bulk modulus K_l:
+//       (n S_l / K_l + n dS_l/dp_w) dp_w/dt = -(S_l div v_s + div q),  q = n S_l (v_l - v_s)
+//   porosity from the solid volumetric strain: n = 1 - (1 - n0) / J, J = det F.
+// The drag is integrated implicitly per node (TwoPhaseGridUpdate): its explicit limit,
+// dt < 2 k / (n g) with k the hydraulic conductivity (4e-8 s at k = 1e-7 m/s, and smaller
+// as k_rel -> 0), no longer constrains the step, which the acoustic limit alone sets.
+#pragma once
+
+#include "scree/core/config.hpp"
+#include "scree/core/tensor.hpp"
+#include "scree/exec/parallel.hpp"
+#include "scree/mpm/grid.hpp"
+#include "scree/mpm/particle_pass.hpp"
+#include "scree/mpm/wall_law.hpp"
+#include "scree/porous/hydraulic_model.hpp"
+#include "scree/time/step_control.hpp"
+
+namespace scree {
+
+/// The extra columns of a two-phase body's points, in order (BodySetup::extra).
+enum PoreColumn : int { kPorePressure = 0, kSaturation = 1, kPorosity = 2, kSuction = 3, kLiquidVelocity = 4 };
+/// Column of the seepage velocity's first component.
+template <int D>
+inline constexpr int kSeepage = kLiquidVelocity + D;
+template <int D>
+inline constexpr int kPoreColumns = kLiquidVelocity + 2 * D;
+
+/// The constants of a two-phase body.
+struct PoreParams {
+  Real n0 = 0.3;          ///< initial porosity [-]
+  Real rho_l = 1000;      ///< liquid density [kg/m^3]
+  Real bulk_l = 2e9;      ///< liquid bulk modulus K_l [Pa]
+  Real viscosity = 1e-3;  ///< dynamic viscosity mu_l [Pa s]
+  Real kappa = 1e-12;     ///< intrinsic permeability [m^2]
+  HydraulicTable table;
+};
+
+/// One set of the liquid's nodal fields (two sets alternate, as the solid's).
+template <int D>
+struct LiquidFields {
+  Real* mass;             ///< M_l = sum N rho_l V [kg]
+  Real* mass_mix;         ///< M_lm = sum N n S_l rho_l V [kg]
+  Real* momentum[D];      ///< sum N rho_l V v_l [kg m/s]
+  Real* force[D];         ///< F_l [N]
+  Real* drag;             ///< Q [kg/s]
+  Real* velocity[D];      ///< v_l^k [m/s]
+  Real* velocity_new[D];  ///< v_l^{k+1} [m/s]
+  Real* gradient[D];      ///< sum (m_s + m_lm) grad N [kg/m], the mixture density's (eq. A)
+};
+template <int D>
+inline constexpr int kLiquidFieldCount = 3 + 5 * D;
+
+/// A prescribed pore pressure on the points inside a box (porePressure condition):
+/// p_w = value, or hydrostatic below the level z_w along -g, p_w = rho_l |g| (z_w - z)
+/// (negative above it: the suction of a hydrostatic profile).
+struct PorePressureLaw {
+  Real lo[3] = {-1e300, -1e300, -1e300}, hi[3] = {1e300, 1e300, 1e300};
+  Real value = 0;
+  int hydrostatic = 0;
+  Real level = 0;  ///< z_w along the vertical (the axis opposite to g) [m]
+  Real t_start = -1e300, t_end = 1e300;
+};
+inline constexpr int kMaxPorePressureLaws = 8;
+
+/// What the pore passes need beyond the solid pass's parameters.
+template <int D>
+struct PorePassParams {
+  PoreParams pore;
+  LiquidFields<D> gather;   ///< the liquid set read (the last step's)
+  LiquidFields<D> scatter;  ///< the liquid set written (this step's)
+  Real* cells = nullptr;    ///< points per cell (this step's), for the surface nodes
+  Real* extra = nullptr;    ///< the body's extra columns (PoreColumn order)
+  int n_laws = 0;
+  PorePressureLaw laws[kMaxPorePressureLaws];
+  int vertical = 1;         ///< the axis opposite to gravity
+};
+
+namespace detail {
+SCREE_INLINE Real clamp01(Real x, Real lo, Real hi) { return x < lo ? lo : (x > hi ? hi : x); }
+}  // namespace detail
+
+/// The liquid's gather (before the solid pass moves the points; weights at x_p^k): the
+/// liquid velocity (FLIP/PIC, as the solid's), and the pore pressure from the liquid mass
+/// balance with the velocities of the step just integrated. Then the prescribed pore
+/// pressures, and S_l(p_w).
+template <int D, class Shape>
+struct PoreGather {
+  PassParams<D> pp;        ///< the solid pass's (grid, sets, control, PIC fraction)
+  PorePassParams<D> lp;
+  ParticleArrays<D> pa;
+  Shape shape;
+
+  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+
+  SCREE_HD void operator()(Index p) const {
+    if (!(pa.volume0[p] >= 0)) return;  // frozen
+    const Real dt = pp.control->dt[pp.gather_parity];
+    const Real t = pp.control->t[pp.gather_parity];
+    Vec<D> x;
+    for (int d = 0; d < D; ++d) x[d] = pa.x[d][p];
+    Real pw = col(kPorePressure, p);
+    if (dt > 0) {
+      const detail::Stencil<D, Shape> st(shape, pp.grid, x);
+      if (st.inside) {
+        Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
+        for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
+        Real div_s = 0, div_q = 0;
+        for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+          Index I;
+          Real N;
+          Vec<D> gradN, dx;
+          st.node(k, pp.grid, x, I, N, gradN, dx);
+          const Real ml = lp.gather.mass[I];
+          if (!(ml > 0)) continue;
+          const Real rm = 1 / ml;
+          const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
+          for (int d = 0; d < D; ++d) {
+            const Real vln = lp.gather.velocity_new[d][I];
+            const Real vsn = pp.gather.velocity_new[d][I];
+            vpic[d] += N * vln;
+            dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
+            div_s += vsn * gradN[d];
+            div_q += nS * (vln - vsn) * gradN[d];
+          }
+        }
+        const Real a = pp.pic_fraction;
+        for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
+        // The liquid mass balance (top of this file), explicit in p_w.
+        const Real n = col(kPorosity, p), S = col(kSaturation, p);
+        const Real storage = n * S / lp.pore.bulk_l + n * lp.pore.table.dsaturation_dp(pw);
+        pw -= dt * (S * div_s + div_q) / storage;
+      }
+    }
+    // Prescribed pore pressures (water table, ponding, drained boundaries).
+    for (int i = 0; i < lp.n_laws; ++i) {
+      const PorePressureLaw& L = lp.laws[i];
+      if (t < L.t_start || t >= L.t_end) continue;
+      bool in = true;
+      for (int d = 0; d < D; ++d) in = in && x[d] >= L.lo[d] && x[d] <= L.hi[d];
+      if (!in) continue;
+      Real g = 0;
+      for (int d = 0; d < D; ++d) g += pp.gravity[d] * pp.gravity[d];
+      pw = L.hydrostatic ? lp.pore.rho_l * sqrt(g) * (L.level - x[lp.vertical]) : L.value;
+    }
+    col(kPorePressure, p) = pw;
+    col(kSaturation, p) = lp.pore.table.saturation(pw);
+    col(kSuction, p) = pw < 0 ? -pw : Real(0);
+  }
+};
+
+/// The liquid's scatter (after the solid pass; weights at x_p^{k+1}): porosity from J,
+/// the liquid's nodal fields, and the pore pressure's share of the mixture force,
+/// V S_l p_w grad N + N m_lm g, into the solid's force.
+template <int D, class Shape>
+struct PoreScatter {
+  PassParams<D> pp;
+  PorePassParams<D> lp;
+  ParticleArrays<D> pa;
+  Shape shape;
+
+  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+
+  SCREE_HD void operator()(Index p) const {
+    if (!(pa.volume0[p] >= 0)) return;
+    Vec<D> x, vs, vl;
+    for (int d = 0; d < D; ++d) {
+      x[d] = pa.x[d][p];
+      vs[d] = pa.v[d][p];
+      vl[d] = col(kLiquidVelocity + d, p);
+    }
+    Mat<D> F;
+    for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
+    const Real J = det(F);
+    const Real V = pa.volume0[p] * J;
+    const Real n = detail::clamp01(1 - (1 - lp.pore.n0) / J, Real(1e-3), Real(0.999));
+    const Real S = col(kSaturation, p), pw = col(kPorePressure, p);
+    col(kPorosity, p) = n;
+    for (int d = 0; d < D; ++d) col(kSeepage<D> + d, p) = n * S * (vl[d] - vs[d]);
+    const Real rho_l = lp.pore.rho_l;
+    const Real m_lm = n * S * rho_l * V, m_l = rho_l * V, m_s = pa.mass[p];
+    const Real krel = lp.pore.table.relative_permeability(S);
+    const Real q = V * n * S * lp.pore.viscosity / (lp.pore.kappa * (krel > 1e-300 ? krel : Real(1e-300)));
+
+    const detail::Stencil<D, Shape> st(shape, pp.grid, x);
+    if (!st.inside) return;  // the solid pass froze it
+    if (lp.cells) {
+      int c[D];
+      Index cell = 0, stride = 1;
+      for (int d = 0; d < D; ++d) {
+        c[d] = static_cast<int>(floor((x[d] - pp.grid.origin[d]) / pp.grid.h));
+        cell += c[d] * stride;
+        stride *= pp.grid.n[d];
+      }
+      atomic_add(lp.cells + cell, Real(1), pp.serial);
+    }
+    const bool serial = pp.serial;
+    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I;
+      Real N;
+      Vec<D> gradN, dx;
+      st.node(k, pp.grid, x, I, N, gradN, dx);
+      if (N == 0) continue;
+      atomic_add(lp.scatter.mass + I, N * m_l, serial);
+      atomic_add(lp.scatter.mass_mix + I, N * m_lm, serial);
+      atomic_add(lp.scatter.drag + I, N * q, serial);
+      for (int d = 0; d < D; ++d) {
+        atomic_add(lp.scatter.momentum[d] + I, N * m_l * vl[d], serial);
+        atomic_add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d], serial);
+        atomic_add(pp.scatter.force[d] + I, V * S * pw * gradN[d] + N * m_lm * pp.gravity[d], serial);
+        atomic_add(lp.scatter.gradient[d] + I, (m_s + m_lm) * gradN[d], serial);
+      }
+    }
+    // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
+    // (C rho_mix) with the storage C = n S_l / K_l + n dS_l/dp (K_l / (n rho_mix) when
+    // saturated), plus |v_l|. The step takes the larger of it and the skeleton's.
+    if (pp.need_speed && V > 0) {
+      const Real C = n * S / lp.pore.bulk_l + n * lp.pore.table.dsaturation_dp(pw);
+      const Real rho_mix = (m_s + m_lm) / V;
+      const Real c = sqrt(S * S / (C * rho_mix)) + norm(vl);
+      atomic_max_nonneg(&pp.control->max_speed[pp.parity], c, serial);
+    }
+  }
+};
+
+/// The grid update of the two-phase formulation, per node, for the USL scheme: nodal
+/// velocities of both phases with the walls, then both phases' v^{k+1} with the drag
+/// implicit (a closed-form 2 x 2 solve per component), the walls again, and the other
+/// sets cleared; node 0 advances the clock.
+template <int D>
+struct TwoPhaseGridUpdate {
+  GridGeometry<D> grid;
+  GridFields<D> solid, solid_other;
+  LiquidFields<D> liquid, liquid_other;
+  Real* cells_other = nullptr;  ///< the other parity's cell counts (cleared)
+  Index n_cells = 0;
+  StepControl* control = nullptr;
+  int parity = 0;
+  const Wall* walls = nullptr;
+  const WallMask* masks = nullptr;
+  const WallMask* liquid_masks = nullptr;  ///< the walls the liquid cannot cross
+  Real mass_eps = 0;
+  Real damping = 0, damping_start = 0, damping_end = 0;
+
+  SCREE_HD void operator()(Index I) const {
+    if (I == 0) advance_clock(control, parity);
+    if (I < n_cells && cells_other) cells_other[I] = 0;
+    const Real t = control->t[parity], dt = control->dt[parity];
+    const Real ms = solid.mass[I], ml = liquid.mass[I], mlm = liquid.mass_mix[I];
+    Real x[D] = {};
+    const WallMask mask = masks ? masks[I] : 0, lmask = liquid_masks ? liquid_masks[I] : 0;
+    if (mask | lmask) {
+      const Vec<D> xn = grid.node_position(I);
+      for (int d = 0; d < D; ++d) x[d] = xn[d];
+    }
+    Real vs[D], vl[D];
+    for (int d = 0; d < D; ++d) {
+      vs[d] = ms > 0 ? solid.momentum[d][I] / ms : Real(0);
+      vl[d] = ml > 0 ? liquid.momentum[d][I] / ml : Real(0);
+    }
+    if (mask) apply_walls<D>(walls, mask, vs, x, t);
+    if (lmask) apply_walls<D>(walls, lmask, vl, x, t);
+    for (int d = 0; d < D; ++d) {
+      solid.velocity[d][I] = vs[d];
+      liquid.velocity[d][I] = vl[d];
+    }
+    Real ws[D], wl[D];
+    const bool damp = damping > 0 && t >= damping_start && t < damping_end;
+    const Real Q = liquid.drag[I];
+    for (int d = 0; d < D; ++d) {
+      Real fm = solid.force[d][I], fl = liquid.force[d][I];
+      if (damp) {
+        if (vs[d] != 0) fm -= damping * fabs(fm) * (vs[d] > 0 ? Real(1) : Real(-1));
+        if (vl[d] != 0) fl -= damping * fabs(fl) * (vl[d] > 0 ? Real(1) : Real(-1));
+      }
+      ws[d] = vs[d];
+      wl[d] = vl[d];
+      if (!(ms > mass_eps)) continue;
+      if (ml > 0) {
+        // M_l dl = dt [F_l - Q (v_l + dl - v_s - ds)],  M_s ds = dt F_mix - M_lm dl
+        const Real dl = dt * (fl - Q * (vl[d] - vs[d]) + dt * Q * fm / ms) / (ml + dt * Q * (1 + mlm / ms));
+        wl[d] = vl[d] + dl;
+        ws[d] = vs[d] + (dt * fm - mlm * dl) / ms;
+      } else {
+        ws[d] = vs[d] + dt * fm / ms;
+      }
+    }
+    if (mask) apply_walls<D>(walls, mask, ws, x, t);
+    if (lmask) apply_walls<D>(walls, lmask, wl, x, t);
+    for (int d = 0; d < D; ++d) {
+      solid.velocity_new[d][I] = ws[d];
+      liquid.velocity_new[d][I] = wl[d];
+    }
+    // The next step's P2G adds into the other sets.
+    solid_other.mass[I] = 0;
+    liquid_other.mass[I] = 0;
+    liquid_other.mass_mix[I] = 0;
+    liquid_other.drag[I] = 0;
+    for (int d = 0; d < D; ++d) {
+      solid_other.momentum[d][I] = 0;
+      solid_other.force[d][I] = 0;
+      liquid_other.momentum[d][I] = 0;
+      liquid_other.force[d][I] = 0;
+      liquid_other.gradient[d][I] = 0;
+    }
+  }
+};
+
+/// What a hydraulic node law (the rainfall condition) sees after the two-phase grid
+/// update: both phases' fields of the set just updated, and the points per cell.
+template <int D>
+struct TwoPhaseNodes {
+  GridGeometry<D> grid;
+  GridFields<D> solid;
+  LiquidFields<D> liquid;
+  const Real* cells = nullptr;  ///< points per cell (cell (i, j) at i + j n_x, n the node counts)
+  const StepControl* control = nullptr;
+  int parity = 0;
+  Real mass_eps = 0;
+};
+
+}  // namespace scree

@@ -1,0 +1,43 @@
+// Tabulation of the retention and permeability curves for the kernels (hydraulic_model.hpp).
+#include "scree/porous/hydraulic_model.hpp"
+
+#include <cmath>
+#include <vector>
+
+namespace scree {
+
+RetentionModel::~RetentionModel() = default;
+PermeabilityModel::~PermeabilityModel() = default;
+
+HydraulicTableStorage::HydraulicTableStorage(const RetentionModel* ret, const PermeabilityModel* perm, Device device) {
+  HydraulicTable& t = table_;
+  if (!ret) {
+    t.saturated = 1;
+    t.s_min = 0;
+    t.s_max = 1;
+    return;
+  }
+  constexpr int ns = HydraulicTable::kSuction, nk = HydraulicTable::kPermeability;
+  std::vector<Real> host(static_cast<std::size_t>(2 * ns + nk));
+  t.s_ref = ret->suction_scale();
+  t.s_min = ret->s_min();
+  t.s_max = ret->s_max();
+  // u = ln(1 + s / s_ref) from 0 to ln(1 + 1e6): suctions up to a million times the scale.
+  t.du = std::log1p(1e6) / (ns - 1);
+  for (int i = 0; i < ns; ++i) {
+    const double s = t.s_ref * std::expm1(i * t.du);
+    host[i] = ret->saturation(s);
+    host[ns + i] = ret->dsaturation(s);
+  }
+  for (int j = 0; j < nk; ++j) {
+    const double se = static_cast<double>(j) / (nk - 1);
+    host[2 * ns + j] = perm ? perm->relative(se, *ret) : 1.0;
+  }
+  data_.resize(host.size(), device);
+  data_.copy_from_host(host);
+  t.sat = data_.data();
+  t.dsat = data_.data() + ns;
+  t.krel = data_.data() + 2 * ns;
+}
+
+}  // namespace scree

@@ -1,0 +1,323 @@
+// PorousMedia<D> (porous_media.hpp): compiled as CUDA when the CUDA backend is on, for the
+// pore liquid's kernels (porous/two_phase.hpp).
+#include "porous_media.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <type_traits>
+
+#include "scree/io/dictionary.hpp"
+#include "scree/params/spec.hpp"
+#include "scree/solver/case.hpp"
+
+namespace scree {
+
+std::shared_ptr<ParamSpec> two_phase_spec() {
+  static const std::shared_ptr<ParamSpec> spec = [] {
+    auto s = std::make_shared<ParamSpec>(
+        "twoPhase", "the body is a porous solid with a pore liquid (two-phase formulation; its material is the "
+                    "skeleton, its density the grains' rho_s, its stress the effective stress)");
+    s->scalar("porosity", "-", "initial porosity n0").range(0, 1).open_min().open_max();
+    s->scalar("liquidDensity", "kg/m^3", "density of the pore liquid rho_l").default_value(1000.0).positive();
+    s->scalar("liquidBulkModulus", "Pa", "bulk modulus of the pore liquid K_l (water: 2.2e9; a smaller value "
+                                         "allows a larger time step, the pore pressure's wave is then slower)")
+        .default_value(2.2e9)
+        .positive();
+    s->scalar("viscosity", "Pa s", "dynamic viscosity of the pore liquid mu_l (water at 20 C: 1.0e-3)")
+        .default_value(1.0e-3)
+        .positive();
+    s->scalar("intrinsicPermeability", "m^2", "intrinsic permeability kappa (give this or hydraulicConductivity)")
+        .positive()
+        .optional();
+    s->scalar("hydraulicConductivity", "m/s",
+              "saturated hydraulic conductivity K_sat = kappa rho_l |g| / mu_l (give this or intrinsicPermeability)")
+        .positive()
+        .optional();
+    s->dict("retention", "retention curve { type vanGenuchten; ... } (default: saturated, S_l = 1)").optional();
+    s->dict("permeability", "relative permeability { type mualemVanGenuchten; ... } (default: k_rel = 1)")
+        .optional();
+    auto init = std::make_shared<ParamSpec>("initialPorePressure", "initial pore pressure");
+    init->word("type", "uniform: `value`; hydrostatic: p_w = rho_l |g| (waterTable - z), suction above it")
+        .choices({"uniform", "hydrostatic"});
+    init->scalar("value", "Pa", "uniform pore pressure (compression positive)").default_value(0.0);
+    init->scalar("waterTable", "m", "elevation of the water table along -g (hydrostatic)").default_value(0.0);
+    s->dict("initialPorePressure", "initial pore pressure (default: uniform 0)").sub_spec(init).optional();
+    s->check([](const Dictionary& d, std::vector<InputError>& errors) {
+      const bool k = d.has("intrinsicPermeability"), K = d.has("hydraulicConductivity");
+      if (k == K)
+        errors.emplace_back(d.where(), std::string("twoPhase: give exactly one of intrinsicPermeability [m^2] and "
+                                                   "hydraulicConductivity [m/s]") +
+                                           (k ? " (both are given)" : " (neither is given)"));
+    });
+    return s;
+  }();
+  return spec;
+}
+
+std::vector<std::string> two_phase_field_names() {
+  return {"porePressure", "saturation", "porosity", "suction", "liquidVelocity", "seepageVelocity"};
+}
+
+template <int D>
+PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, const Exec& exec, const Vec<D>& gravity,
+                            ShapeKind shape, Real gimp_half_length)
+    : reg_(reg), grid_(grid), exec_(exec), gravity_(gravity), shape_(shape), gimp_half_length_(gimp_half_length) {
+  Real gmax = -1;
+  for (int d = 0; d < D; ++d)
+    if (std::fabs(gravity[d]) > gmax) {
+      gmax = std::fabs(gravity[d]);
+      vertical_ = d;
+    }
+  const Index nn = grid_.num_nodes();
+  n_cells_ = nn;  // cell (i, j) indexed as node (i, j): the last row of cells is unused
+  for (int s = 0; s < 2; ++s) {
+    liquid_data_[s].resize(static_cast<std::size_t>(nn) * kLiquidFieldCount<D>, exec_.device);
+    Real* b = liquid_data_[s].data();
+    int k = 0;
+    auto next = [&] { return b + static_cast<std::size_t>(k++) * nn; };
+    LiquidFields<D>& f = sets_[s];
+    f.mass = next();
+    f.mass_mix = next();
+    f.drag = next();
+    for (int d = 0; d < D; ++d) f.momentum[d] = next();
+    for (int d = 0; d < D; ++d) f.force[d] = next();
+    for (int d = 0; d < D; ++d) f.velocity[d] = next();
+    for (int d = 0; d < D; ++d) f.velocity_new[d] = next();
+    for (int d = 0; d < D; ++d) f.gradient[d] = next();
+    cells_[s].resize(static_cast<std::size_t>(nn), exec_.device);
+  }
+}
+
+template <int D>
+PorousMedia<D>::~PorousMedia() = default;
+
+template <int D>
+bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain_density) {
+  const Entry* e = body.find("twoPhase");
+  if (!e) return false;
+  const Dictionary& tp = e->dict();
+  const ParamReader r(*two_phase_spec(), tp);
+  PorousBody b;
+  b.grain_density = grain_density;
+  PoreParams& P = b.params;
+  P.n0 = r.scalar("porosity");
+  P.rho_l = r.scalar("liquidDensity");
+  P.bulk_l = r.scalar("liquidBulkModulus");
+  P.viscosity = r.scalar("viscosity");
+  const Real g = norm(gravity_);
+  if (r.has("intrinsicPermeability")) {
+    P.kappa = r.scalar("intrinsicPermeability");
+  } else {
+    if (!(g > 0))
+      throw InputError(tp.at("hydraulicConductivity").where(),
+                       "hydraulicConductivity: needs gravity (constant/g) to convert to an intrinsic permeability; "
+                       "give intrinsicPermeability instead");
+    P.kappa = r.scalar("hydraulicConductivity") * P.viscosity / (P.rho_l * g);
+  }
+  auto plugin = [&](const char* key, PluginKind kind) -> const PluginEntry* {
+    if (!tp.has(key)) return nullptr;
+    const Entry& t = tp.at(key).dict().at("type");
+    return &reg_.get(kind, t.as_word(), t.where());
+  };
+  if (const PluginEntry* pe = plugin("retention", PluginKind::retention))
+    b.retention = pe->retention(tp.at("retention").dict());
+  if (const PluginEntry* pe = plugin("permeability", PluginKind::permeability))
+    b.permeability = pe->permeability(tp.at("permeability").dict());
+  if (b.permeability && !b.retention)
+    throw InputError(tp.at("permeability").where(),
+                     "permeability: a relative permeability needs a retention curve (retention { type ...; }); a "
+                     "saturated body has k_rel = 1");
+  b.table = std::make_unique<HydraulicTableStorage>(b.retention.get(), b.permeability.get(), exec_.device);
+  P.table = b.table->table();
+
+  // The initial pore pressure per point, and its saturation.
+  const std::size_t n = s.x.size();
+  std::vector<Real> pw(n, 0), sat(n), por(n, P.n0), suction(n);
+  bool hydrostatic = false;
+  Real table = 0, value = 0;
+  if (tp.has("initialPorePressure")) {
+    const ParamReader ir(*two_phase_spec()->find("initialPorePressure")->sub(), tp.at("initialPorePressure").dict());
+    hydrostatic = ir.word("type") == "hydrostatic";
+    table = ir.scalar("waterTable");
+    value = ir.scalar("value");
+  }
+  auto pore_pressure = [&](Real z) { return hydrostatic ? P.rho_l * g * (table - z) : value; };
+  auto saturation = [&](Real p) {
+    return b.retention ? (p >= 0 ? b.retention->s_max() : b.retention->saturation(-p)) : Real(1);
+  };
+  for (std::size_t p = 0; p < n; ++p) {
+    pw[p] = pore_pressure(s.x[p][vertical_]);
+    sat[p] = saturation(pw[p]);
+    suction[p] = pw[p] < 0 ? -pw[p] : 0;
+  }
+
+  // The effective initial stress. A geostatic body's stress was made with the grains'
+  // density: its depth below the surface is sigma_v / (-rho_s g). The total vertical stress
+  // integrates the mixture's density (1 - n0) rho_s + n0 S_l rho_l over the depth, with S_l
+  // of the initial pore pressure; the effective stress is sigma' = sigma + S_l p_w I
+  // (Bishop, chi = S_l), with K0 acting on the effective stresses.
+  if (const Entry* is = body.find("initialStress"); is && is->dict().get_word("type") == "geostatic" && g > 0) {
+    const Real K0 = is->dict().has("K0") ? is->dict().get_scalar("K0") : Real(0.5);
+    Real top = -1e300;
+    std::vector<Real> depth(n);
+    for (std::size_t p = 0; p < n; ++p) {
+      depth[p] = s.sigma[p][vertical_] / (-grain_density * g);
+      top = std::max(top, s.x[p][vertical_] + depth[p]);
+    }
+    for (std::size_t p = 0; p < n; ++p) {
+      // sigma_v = -g int_0^depth rho_mix(z) dz, by the midpoint rule in steps of at most 1 mm.
+      const int steps = std::max(1, static_cast<int>(std::ceil(depth[p] / 1e-3)));
+      const Real dz = depth[p] / steps;
+      Real sv = 0;
+      for (int i = 0; i < steps; ++i) {
+        const Real z = top - (i + Real(0.5)) * dz;
+        sv -= g * dz * ((1 - P.n0) * grain_density + P.n0 * saturation(pore_pressure(z)) * P.rho_l);
+      }
+      const Real sv_eff = sv + sat[p] * pw[p], sh_eff = K0 * sv_eff;
+      Sym3 sig{{sh_eff, sh_eff, sh_eff, 0, 0, 0}};
+      sig[vertical_] = sv_eff;
+      s.sigma[p] = sig;
+    }
+  } else {
+    // Any other initial stress is the effective stress as given.
+  }
+  s.mass_factor = 1 - P.n0;
+  using Col = typename BodySetup<D>::ExtraColumn;
+  s.extra.clear();
+  s.extra.push_back(Col{"porePressure", "Pa", "pore-liquid pressure p_w, compression positive (negative: suction)",
+                        1, 0, pw, true});
+  s.extra.push_back(Col{"saturation", "-", "degree of liquid saturation S_l", 1, 0, sat, true});
+  s.extra.push_back(Col{"porosity", "-", "porosity n = 1 - (1 - n0) / det F", 1, 0, por, true});
+  s.extra.push_back(Col{"suction", "Pa", "suction s = -p_w where p_w < 0, else 0", 1, 0, suction, true});
+  s.extra.push_back(Col{"liquidVelocity", "m/s", "velocity of the pore liquid v_l", D, 0, {}, true});
+  s.extra.push_back(
+      Col{"seepageVelocity", "m/s", "Darcy flux, the seepage velocity w = n S_l (v_l - v_s)", D, 0, {}, true});
+  pending_.push_back(std::move(b));
+  return true;
+}
+
+template <int D>
+void PorousMedia<D>::attach(Body<D>* body) {
+  if (pending_.empty()) throw std::logic_error("PorousMedia::attach without prepare");
+  PorousBody b = std::move(pending_.front());
+  pending_.erase(pending_.begin());
+  b.body = body;
+  bodies_.push_back(std::move(b));
+}
+
+template <int D>
+void PorousMedia<D>::add_condition(const BoundaryCondition* bc) {
+  std::vector<PorePressureLaw> laws;
+  bc->constrain_pores(laws);
+  for (const PorePressureLaw& l : laws) laws_.push_back(l);
+  if (static_cast<int>(laws_.size()) > kMaxPorePressureLaws)
+    throw std::runtime_error("too many pore-pressure conditions (at most " + std::to_string(kMaxPorePressureLaws) +
+                             " per case)");
+  if (bc->has_hydraulic_law()) node_laws_.push_back(bc);
+}
+
+template <int D>
+void PorousMedia<D>::set_walls(const Wall* walls, const WallMask* masks, const std::vector<Wall>& table,
+                               const std::vector<WallMask>& host_masks) {
+  walls_ = walls;
+  masks_ = masks;
+  if (!walls) return;
+  WallMask drained = 0;
+  for (std::size_t i = 0; i < table.size(); ++i)
+    if (table[i].drained) drained |= WallMask(1) << i;
+  std::vector<WallMask> lm(host_masks.size());
+  for (std::size_t i = 0; i < lm.size(); ++i) lm[i] = host_masks[i] & ~drained;
+  liquid_masks_.resize(lm.size(), exec_.device);
+  liquid_masks_.copy_from_host(lm);
+  has_liquid_walls_ = true;
+}
+
+template <int D>
+PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_set, int scatter_set) const {
+  PorePassParams<D> lp;
+  lp.pore = b.params;
+  lp.gather = sets_[gather_set];
+  lp.scatter = sets_[scatter_set];
+  lp.cells = const_cast<Real*>(cells_[scatter_set].data());
+  lp.extra = b.body->extra_columns();
+  lp.n_laws = static_cast<int>(laws_.size());
+  for (int i = 0; i < lp.n_laws; ++i) lp.laws[i] = laws_[i];
+  lp.vertical = vertical_;
+  return lp;
+}
+
+template <int D>
+void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter_set) {
+  for (const PorousBody& b : bodies_) run_pass<true>(pp, pass_params(b, gather_set, scatter_set), b.body->arrays());
+}
+
+template <int D>
+void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatter_set) {
+  for (const PorousBody& b : bodies_) run_pass<false>(pp, pass_params(b, gather_set, scatter_set), b.body->arrays());
+}
+
+template <int D>
+template <bool Gather>
+void PorousMedia<D>::run_pass(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa) {
+  const Real inv_h = 1 / grid_.h;
+  auto go = [&](const auto& sh) {
+    using Shape = std::decay_t<decltype(sh)>;
+    if constexpr (Gather) parallel_for(exec_, pa.n, PoreGather<D, Shape>{pp, lp, pa, sh});
+    else parallel_for(exec_, pa.n, PoreScatter<D, Shape>{pp, lp, pa, sh});
+  };
+  switch (shape_) {
+    case ShapeKind::linear: go(ShapeLinear{inv_h}); break;
+    case ShapeKind::gimp: go(ShapeGimp{inv_h, gimp_half_length_}); break;
+    case ShapeKind::bspline2: go(ShapeBspline2{inv_h}); break;
+  }
+}
+
+template <int D>
+void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real mass_eps, Real damping,
+                                 Real damping_start, Real damping_end, const GridFields<D>* solid_sets) {
+  TwoPhaseGridUpdate<D> u;
+  u.grid = grid_;
+  u.solid = solid_sets[set];
+  u.solid_other = solid_sets[1 - set];
+  u.liquid = sets_[set];
+  u.liquid_other = sets_[1 - set];
+  u.cells_other = cells_[1 - set].data();
+  u.n_cells = n_cells_;
+  u.control = control;
+  u.parity = parity;
+  u.walls = walls_;
+  u.masks = masks_;
+  u.liquid_masks = has_liquid_walls_ ? liquid_masks_.data() : nullptr;
+  u.mass_eps = mass_eps;
+  u.damping = damping;
+  u.damping_start = damping_start;
+  u.damping_end = damping_end;
+  parallel_for(exec_, grid_.num_nodes(), u);
+  if (node_laws_.empty()) return;
+  TwoPhaseNodes<D> g;
+  g.grid = grid_;
+  g.solid = solid_sets[set];
+  g.liquid = sets_[set];
+  g.cells = cells_[set].data();
+  g.control = control;
+  g.parity = parity;
+  g.mass_eps = mass_eps;
+  for (const BoundaryCondition* bc : node_laws_) bc->apply_hydraulic(exec_, g);
+}
+
+template <int D>
+Real PorousMedia<D>::max_signal_speed() const {
+  Real c = 0;
+  for (const PorousBody& b : bodies_) {
+    // Saturated and undrained, at the initial porosity: c^2 = K_l / (n0 rho_mix).
+    const Real rho_mix = (1 - b.params.n0) * b.grain_density + b.params.n0 * b.params.rho_l;
+    c = std::max(c, std::sqrt(b.params.bulk_l / (b.params.n0 * rho_mix)));
+  }
+  return c;
+}
+
+template class PorousMedia<2>;
+template class PorousMedia<3>;
+
+}  // namespace scree

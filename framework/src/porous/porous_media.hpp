@@ -1,0 +1,90 @@
+// PorousMedia<D>: the two-phase formulation's part of a case (porous/two_phase.hpp): the
+// two-phase bodies' pore liquid, its grid fields, its passes and grid update, and the
+// hydraulic conditions. The solver owns one when a body of the case has a `twoPhase`
+// block; a single-phase case never creates it (private to the core).
+#pragma once
+
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+#include "scree/boundary/boundary_condition.hpp"
+#include "scree/exec/memory.hpp"
+#include "scree/mpm/body.hpp"
+#include "scree/mpm/schemes.hpp"
+#include "scree/plugin/registry.hpp"
+#include "scree/porous/two_phase.hpp"
+
+namespace scree {
+
+/// The `twoPhase { ... }` block of a body (constant/bodies): its spec.
+SCREE_API std::shared_ptr<ParamSpec> two_phase_spec();
+/// Names of the per-point fields a two-phase body writes.
+SCREE_API std::vector<std::string> two_phase_field_names();
+
+template <int D>
+class PorousMedia {
+ public:
+  PorousMedia(const Registry& reg, const GridGeometry<D>& grid, const Exec& exec, const Vec<D>& gravity,
+              ShapeKind shape, Real gimp_half_length);
+  ~PorousMedia();
+
+  /// Before a body is made: if its dictionary has a twoPhase block, set the setup's extra
+  /// columns (the pore liquid's initial state), its mass factor (1 - n0) and its
+  /// effective initial stress, and return true (the body is then attach()ed).
+  bool prepare(const Dictionary& body, BodySetup<D>& s, Real grain_density);
+  void attach(Body<D>* body);
+  /// A hydraulic condition (has_hydraulic_law or constrain_pores).
+  void add_condition(const BoundaryCondition* bc);
+  /// The walls of the case and which of them the liquid obeys (all but the drained).
+  void set_walls(const Wall* walls, const WallMask* masks, const std::vector<Wall>& table,
+                 const std::vector<WallMask>& host_masks);
+
+  /// The liquid's gather (before the solid passes of a step; pp as the solid's pass) from
+  /// the liquid set `gather_set`.
+  void gather(const PassParams<D>& pp, int gather_set, int scatter_set);
+  /// The liquid's scatter into the liquid set `scatter_set` (after the solid passes).
+  void scatter(const PassParams<D>& pp, int gather_set, int scatter_set);
+  /// The two-phase grid update of set `set` (USL), then the hydraulic node laws.
+  void grid_update(int set, StepControl* control, int parity, Real mass_eps, Real damping, Real damping_start,
+                   Real damping_end, const GridFields<D>* solid_sets);
+
+  /// Largest signal speed of the pore liquid over the points (host; the first step).
+  Real max_signal_speed() const;
+  bool empty() const { return bodies_.empty(); }
+
+ private:
+  struct PorousBody {
+    Body<D>* body = nullptr;
+    PoreParams params;
+    Real grain_density = 0;
+    std::unique_ptr<HydraulicTableStorage> table;
+    std::unique_ptr<RetentionModel> retention;
+    std::unique_ptr<PermeabilityModel> permeability;
+  };
+  PorePassParams<D> pass_params(const PorousBody& b, int gather_set, int scatter_set) const;
+  template <bool Gather>
+  void run_pass(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa);
+
+  const Registry& reg_;
+  GridGeometry<D> grid_;
+  Exec exec_;
+  Vec<D> gravity_;
+  int vertical_ = D - 1;
+  ShapeKind shape_;
+  Real gimp_half_length_;
+  std::vector<PorousBody> bodies_;
+  std::vector<PorousBody> pending_;  // prepared, not yet attached
+  Buffer<Real> liquid_data_[2];
+  LiquidFields<D> sets_[2]{};
+  Buffer<Real> cells_[2];
+  Index n_cells_ = 0;
+  std::vector<PorePressureLaw> laws_;
+  std::vector<const BoundaryCondition*> node_laws_;
+  const Wall* walls_ = nullptr;
+  const WallMask* masks_ = nullptr;
+  Buffer<WallMask> liquid_masks_;
+  bool has_liquid_walls_ = false;
+};
+
+}  // namespace scree
