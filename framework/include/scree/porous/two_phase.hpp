@@ -291,17 +291,19 @@ struct TwoPhaseGridUpdate {
       solid.velocity[d][I] = vs[d];
       liquid.velocity[d][I] = vl[d];
     }
-    Real ws[D], wl[D];
+    Real ws[D], wl[D], fls[D];
     const bool damp = damping > 0 && t >= damping_start && t < damping_end;
     const Real Q = liquid.drag[I];
     for (int d = 0; d < D; ++d) {
       Real fm = solid.force[d][I], fl = liquid.force[d][I];
+      fls[d] = 0;
       if (damp) {
         if (vs[d] != 0) fm -= damping * fabs(fm) * (vs[d] > 0 ? Real(1) : Real(-1));
         if (vl[d] != 0) fl -= damping * fabs(fl) * (vl[d] > 0 ? Real(1) : Real(-1));
       }
       ws[d] = vs[d];
       wl[d] = vl[d];
+      fls[d] = fl;
       if (!(ms > mass_eps)) continue;
       if (ml > 0) {
         // M_l dl = dt [F_l - Q (v_l + dl - v_s - ds)],  M_s ds = dt F_mix - M_lm dl
@@ -312,7 +314,14 @@ struct TwoPhaseGridUpdate {
         ws[d] = vs[d] + dt * fm / ms;
       }
     }
-    if (mask) apply_walls<D>(walls, mask, ws, x, t);
+    if (mask) {
+      apply_walls<D>(walls, mask, ws, x, t);
+      // A wall held the solid: its reaction is not in F_mix, so the coupled solve dragged the
+      // liquid along with a solid motion that did not happen. The liquid again, against the
+      // solid velocity the wall left: M_l dl = dt [F_l - Q (v_l + dl - v_s^{k+1})].
+      if (ms > mass_eps && ml > 0)
+        for (int d = 0; d < D; ++d) wl[d] = vl[d] + dt * (fls[d] - Q * (vl[d] - ws[d])) / (ml + dt * Q);
+    }
     if (lmask) apply_walls<D>(walls, lmask, wl, x, t);
     for (int d = 0; d < D; ++d) {
       solid.velocity_new[d][I] = ws[d];
