@@ -89,7 +89,7 @@ TEST(SrivastavaYeh, SeriesIsTheSolutionOfItsProblem) {
 
 // Head profiles against eq. 12a at t* = 0.5, 1, 2, 4 on 25, 50, 100 and 200 cells.
 // Measured (README): max |h - h_exact| = 2.1e-2, 6.8e-3, 1.9e-3, 5.9e-4 m of a head range of
-// 0.897 m, falling 3.1-3.6 times per halving of dz (second order in space, approached as the
+// 0.899 m, falling 3.1-3.6 times per halving of dz (second order in space, approached as the
 // front is resolved; the time error is held below it by timeTolerance 1e-7 m). Asserted:
 // each halving cuts the error by at least 2.5, the error on 50 cells is below 1% of the
 // head range (the acceptance bound) and on 200 cells below 0.1%.
