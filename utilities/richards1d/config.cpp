@@ -69,7 +69,7 @@ const std::vector<KeySpec>& specs() {
       {"initialHead", Kind::number, "m", "", "uniform: h everywhere", -kInf, kInf},
       {"initialFlux", Kind::number, "m/s", "", "steadyFlux: the steady profile under this infiltration rate "
        "above the base head (needs bottom head)", 0, kInf},
-      {"top", Kind::word, "", "", "top condition (required): head, or flux that ponds when the surface saturates",
+      {"top", Kind::word, "", "", "top condition (required; flux ponds when the surface saturates)",
        -kInf, kInf, false, false, {"head", "flux"}},
       {"topHead", Kind::number, "m", "0", "head: h at the surface", -kInf, kInf},
       {"topFlux", Kind::number, "m/s", "", "flux: infiltration rate, downward positive", 0, kInf},
@@ -143,6 +143,15 @@ std::optional<double> to_number(const std::string& s) {
   const double v = std::strtod(s.c_str(), &end);
   if (end != s.c_str() + s.size() || !std::isfinite(v)) return std::nullopt;
   return v;
+}
+
+std::string number_text(double x) {
+  std::ostringstream o;
+  if (x == std::floor(x) && std::abs(x) < 1e15)
+    o << static_cast<long long>(x);
+  else
+    o << x;
+  return o.str();
 }
 
 struct Entry {
@@ -245,8 +254,12 @@ class Parser {
       const bool above = spec->hi_open ? !(*x < spec->hi) : !(*x <= spec->hi);
       if (below || above) {
         std::ostringstream r;
-        r << "value " << v << " is out of range " << (spec->lo_open ? '(' : '[') << spec->lo << ", " << spec->hi
-          << (spec->hi_open ? ')' : ']');
+        r << "value " << v << " is out of range: ";
+        if (std::isinf(spec->hi))
+          r << "must be " << (spec->lo_open ? "> " : ">= ") << number_text(spec->lo);
+        else
+          r << "must be in " << (spec->lo_open ? '(' : '[') << number_text(spec->lo) << ", " << number_text(spec->hi)
+            << (spec->hi_open ? ')' : ']');
         if (*spec->unit && std::string(spec->unit) != "-") r << " [" << spec->unit << "]";
         error(where, key, r.str());
       }
@@ -445,6 +458,7 @@ void apply_overrides(Parser& p, const std::vector<std::string>& overrides) {
 
 Settings read_config(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                      std::vector<std::string>* warnings) {
+  if (!std::ifstream(file)) throw ConfigError(file.string() + ": cannot open the config file\n");
   Parser p;
   p.parse_file(file, "command line", 0);
   apply_overrides(p, overrides);

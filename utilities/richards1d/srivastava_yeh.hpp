@@ -76,12 +76,16 @@ class Solution {
     const double zs = p_.alpha * z, Ls = p_.alpha * p_.L, ts = t_star(t);
     const double qA = p_.q_A / p_.K_s, qB = p_.q_B / p_.K_s, Kr = std::exp(p_.alpha * p_.h_r);
     double sum = 0;
+    bool converged = ts == 0;  // at t = 0 every term is summed
     for (double l : lambda_) {
       const double decay = std::exp(-l * l * ts);
       sum += std::sin(l * zs) * std::sin(l * Ls) * decay / (1 + Ls / 2 + 2 * l * l * Ls);
-      if (ts > 0 && decay < 1e-17) return qB - (qB - Kr) * std::exp(-zs) - 4 * (qB - qA) * std::exp((Ls - zs) / 2 - ts / 4) * sum;
+      if (ts > 0 && decay < 1e-17) {
+        converged = true;
+        break;
+      }
     }
-    if (ts > 0) throw std::runtime_error("srivastava_yeh: more series terms needed at this time");
+    if (!converged) throw std::runtime_error("srivastava_yeh: more series terms needed at this time");
     return qB - (qB - Kr) * std::exp(-zs) - 4 * (qB - qA) * std::exp((Ls - zs) / 2 - ts / 4) * sum;
   }
 
