@@ -36,11 +36,15 @@
 
 #include "scree/io/dictionary.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <system_error>
@@ -910,19 +914,66 @@ Dictionary renamed(const Dictionary& src, const std::string& name, const SourceL
 // Files
 // ---------------------------------------------------------------------------------------
 
-enum class ReadStatus { ok, missing, directory, unreadable };
+enum class ReadStatus { ok, missing, directory, not_regular, unreadable };
 
-ReadStatus read_text(const fs::path& path, std::string& out) {
+/// What a path that is neither a regular file nor a directory is ("a named pipe").
+std::string special_file_kind(fs::file_type t) {
+  switch (t) {
+    case fs::file_type::fifo: return "a named pipe (FIFO)";
+    case fs::file_type::socket: return "a socket";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::character: return "a character device";
+    default: return "not a regular file";
+  }
+}
+
+fs::file_type file_type_of_mode(mode_t m) {
+  if (S_ISFIFO(m)) return fs::file_type::fifo;
+  if (S_ISSOCK(m)) return fs::file_type::socket;
+  if (S_ISBLK(m)) return fs::file_type::block;
+  if (S_ISCHR(m)) return fs::file_type::character;
+  if (S_ISDIR(m)) return fs::file_type::directory;
+  return fs::file_type::unknown;
+}
+
+/// Read a whole regular file. Anything else (a named pipe, a device, a socket) is refused
+/// before it is opened: reading a FIFO blocks until a writer appears, a device may never
+/// end. The file is then opened without blocking and checked again, so that a path
+/// replaced in between cannot block either. `kind` receives the type of a refused path.
+ReadStatus read_text(const fs::path& path, std::string& out, fs::file_type& kind) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st)) return ReadStatus::missing;
   if (fs::is_directory(st)) return ReadStatus::directory;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return ReadStatus::unreadable;
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) return ReadStatus::unreadable;
-  out = std::move(buf).str();
+  if (!fs::is_regular_file(st)) {
+    kind = st.type();
+    return ReadStatus::not_regular;
+  }
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return ReadStatus::unreadable;
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat opened {};
+  if (::fstat(fd, &opened) != 0) return ReadStatus::unreadable;
+  if (!S_ISREG(opened.st_mode)) {
+    kind = file_type_of_mode(opened.st_mode);
+    return kind == fs::file_type::directory ? ReadStatus::directory : ReadStatus::not_regular;
+  }
+  std::string text;
+  if (opened.st_size > 0) text.reserve(static_cast<std::size_t>(opened.st_size));
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return ReadStatus::unreadable;
+    }
+    text.append(buf, static_cast<std::size_t>(n));
+  }
+  out = std::move(text);
   return ReadStatus::ok;
 }
 
@@ -1342,12 +1393,16 @@ class Parser {
       fail(directive.where, "includes nested too deeply (more than " + std::to_string(kMaxIncludeDepth) + " files)");
 
     std::string text;
-    switch (read_text(actual, text)) {
+    fs::file_type kind = fs::file_type::unknown;
+    switch (read_text(actual, text, kind)) {
       case ReadStatus::ok: break;
       case ReadStatus::missing:
         fail(directive.where, "cannot open include file '" + name + "' (looked for " + absolute_text(actual) + ")");
       case ReadStatus::directory:
         fail(directive.where, "cannot include '" + name + "': " + absolute_text(actual) + " is a directory");
+      case ReadStatus::not_regular:
+        fail(directive.where, "cannot include '" + name + "': " + absolute_text(actual) + " is " +
+                                  special_file_kind(kind) + ", not a regular file");
       case ReadStatus::unreadable:
         fail(directive.where, "cannot read include file '" + name + "' (" + absolute_text(actual) + ")");
     }
@@ -1378,12 +1433,16 @@ Dictionary Dictionary::read_file(const fs::path& path, std::optional<std::string
   std::string display = display_name ? std::move(*display_name) : path.string();
   std::string text;
   const SourceLocation where{std::make_shared<const std::string>(display), 0, 0};
-  switch (read_text(path, text)) {
+  fs::file_type kind = fs::file_type::unknown;
+  switch (read_text(path, text, kind)) {
     case ReadStatus::ok: break;
     case ReadStatus::missing:
       throw InputError(where, "cannot open file '" + display + "' (looked for " + absolute_text(path) + ")");
     case ReadStatus::directory:
       throw InputError(where, "cannot read '" + display + "': " + absolute_text(path) + " is a directory");
+    case ReadStatus::not_regular:
+      throw InputError(where, "cannot read '" + display + "': " + absolute_text(path) + " is " +
+                                  special_file_kind(kind) + ", not a regular file");
     case ReadStatus::unreadable:
       throw InputError(where, "cannot read file '" + display + "' (" + absolute_text(path) + ")");
   }

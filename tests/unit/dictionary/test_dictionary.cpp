@@ -4,9 +4,12 @@
 // exact file, line and column; hostile input (deep nesting, NUL bytes, exponential
 // macros, huge files); and a deterministic fuzz test.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +22,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "scree/io/dictionary.hpp"
@@ -649,6 +653,53 @@ TEST(DictionaryInclude, Errors) {
   ASSERT_TRUE(top.where().file);
   EXPECT_EQ(*top.where().file, "system/absent");
   EXPECT_NE(top.message().find("cannot open file 'system/absent'"), std::string::npos) << top.message();
+}
+
+/// Runs `read`, which must throw an InputError without blocking on the named pipe `fifo`:
+/// should it block in open() or read(), a watchdog writes to the pipe after 3 s, which
+/// releases it, and the test fails (instead of hanging until CTest's timeout).
+InputError error_without_blocking(const fs::path& fifo, const std::function<void()>& read) {
+  std::atomic<bool> done{false}, released{false};
+  std::thread watchdog([&] {
+    for (int i = 0; i < 60 && !done; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (done) return;
+    const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // succeeds only with a reader waiting
+    if (fd >= 0) {
+      released = true;
+      const char text[] = "released 1;\n";
+      [[maybe_unused]] const auto n = ::write(fd, text, sizeof text - 1);
+      ::close(fd);
+    }
+  });
+  InputError e = error_of(read);
+  done = true;
+  watchdog.join();
+  EXPECT_FALSE(released) << "reading blocked on the named pipe " << fifo;
+  return e;
+}
+
+// Reading a named pipe blocks until something writes to it: a FIFO in place of
+// constant/g hung `scree --check` forever. Anything but a regular file is refused, naming
+// the path, before it is opened.
+TEST(DictionaryInclude, FilesThatAreNotRegularFilesAreRefusedWithoutBlocking) {
+  TempDir dir;
+  const fs::path fifo = dir.path() / "g";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const InputError top = error_without_blocking(fifo, [&] { Dictionary::read_file(fifo, "constant/g"); });
+  ASSERT_TRUE(top.where().file);
+  EXPECT_EQ(*top.where().file, "constant/g");
+  EXPECT_NE(top.message().find(fifo.string() + " is a named pipe (FIFO), not a regular file"), std::string::npos)
+      << top.message();
+  const fs::path includer = dir.write("controlDict", "a 1;\n#include \"g\"\n");
+  check_error(error_without_blocking(fifo, [&] { Dictionary::read_file(includer, "system/controlDict"); }),
+              "system/controlDict", 2, 1, "cannot include 'g': " + fifo.string() + " is a named pipe (FIFO), not a regular file");
+  const fs::path device = dir.write("dev", "#include \"/dev/null\"\n");
+  check_error(error_of([&] { Dictionary::read_file(device, "dev"); }), "dev", 1, 1,
+              "/dev/null is a character device, not a regular file");
+  // A symbolic link to a regular file is read as that file.
+  dir.write("real", "x 1;\n");
+  fs::create_symlink(dir.path() / "real", dir.path() / "link");
+  EXPECT_EQ(Dictionary::read_file(dir.path() / "link", "link").get_integer("x"), 1);
 }
 
 TEST(DictionaryInclude, LongIncludeChainsAreLimited) {

@@ -21,6 +21,9 @@
 // Later entries with the same key replace earlier ones (OpenFOAM semantics); the
 // location kept is the one of the entry that wins.
 //
+// A file must be a regular file: a named pipe, a device or a socket is an error naming
+// the path, reported without opening it (reading a named pipe blocks).
+//
 // Every entry, item and dictionary keeps file, line and column (1-based). Every error
 // is an InputError whose what() reads `file:line:col: message`.
 #pragma once
@@ -140,8 +143,9 @@ class SCREE_API Dictionary {
   Dictionary(std::string name, SourceLocation where);
 
   /// Read a file. `display_name` is the path used in messages (defaults to `path` as
-  /// given). Throws InputError for any syntax error, a missing file, an unknown macro,
-  /// an include cycle or a missing include; never hangs or crashes on malformed input.
+  /// given). Throws InputError for any syntax error, a missing file or one that is not a
+  /// regular file (a named pipe would block), an unknown macro, an include cycle or a
+  /// missing include; never hangs or crashes on malformed input.
   static Dictionary read_file(const std::filesystem::path& path,
                               std::optional<std::string> display_name = std::nullopt);
   /// Parse text; `name` is used as the file name in locations.
