@@ -1009,10 +1009,21 @@ struct OpenFile {
 /// What a body of entries belongs to.
 enum class Level { main_file, included_file, nested };
 
+/// Which source wrote an entry, and where: the file being read (each file read, the main
+/// one and every #include, is a source of its own) or a `$name;` merge (each a source).
+struct Origin {
+  int source = 0;
+  SourceLocation where;
+};
+
 /// A dictionary under construction.
 struct Scope {
   Dictionary* dict;
   std::string path;  ///< dotted path of the dictionary ("" at the top level)
+  /// key -> the source of its entry: a key written twice by the same source is a mistake
+  /// (a line copied and edited, a value appended), one replacing an included or merged
+  /// entry is the intended "base plus changes" of a variant.
+  std::unordered_map<std::string, Origin> origins = {};
 };
 
 class Parser {
@@ -1092,7 +1103,28 @@ class Parser {
     return path.empty() ? std::string() : " (dictionary '" + shorten(path) + "')";
   }
 
-  void add(Entry e) { current().set(std::move(e)); }
+  /// An entry written in the file being read, at `key`. A key the same file already set
+  /// in this dictionary is an error naming both places, unless '#inputMode overwrite' (or
+  /// merge) is in force in this file; a key set by an included file or a `$name;` merge
+  /// is replaced (a variant includes its base and changes a few entries).
+  void add_written(const Token& key, Entry e) {
+    Scope& scope = scopes_.back();
+    auto [it, fresh] = scope.origins.try_emplace(key.text, Origin{source_, key.where});
+    if (!fresh) {
+      if (it->second.source == source_ && !overwrite_)
+        fail(key.where, shorten(key.text) + ": duplicate entry, already set at " + it->second.where.str() +
+                            " (a key is set once per dictionary: remove one of them, or write "
+                            "'#inputMode overwrite' before an intended replacement)");
+      it->second = Origin{source_, key.where};
+    }
+    scope.dict->set(std::move(e));
+  }
+
+  /// An entry copied by a `$name;` merge (source: that merge).
+  void add_merged(Entry e, int source) {
+    scopes_.back().origins[e.key()] = Origin{source, e.where()};
+    current().set(std::move(e));
+  }
 
   void parse_entry(Lexer& lx, const Token& key, Level level) {
     const std::string path = join_path(scopes_.back().path, key.text);
@@ -1106,7 +1138,7 @@ class Parser {
         if (level == Level::main_file) scopes_.front().dict->set_header(std::move(d));
         return;  // the header of an included file is ignored
       }
-      add(Entry(key.text, key.where, std::move(d)));
+      add_written(key, Entry(key.text, key.where, std::move(d)));
       return;
     }
     std::vector<Item> items = parse_value(lx, key, path);
@@ -1114,11 +1146,11 @@ class Parser {
       fail(key.where, "the FoamFile header must be a dictionary 'FoamFile { ... }', found " +
                           (items.size() == 1 ? describe(items[0]) : std::to_string(items.size()) + " values"));
     if (items.size() == 1 && items[0].kind == Item::Kind::dict) {  // `sand2 $sand;`
-      add(Entry(key.text, key.where,
-                std::make_shared<const Dictionary>(renamed(*items[0].dict, path, key.where))));
+      add_written(key, Entry(key.text, key.where,
+                             std::make_shared<const Dictionary>(renamed(*items[0].dict, path, key.where))));
       return;
     }
-    add(Entry(key.text, key.where, std::move(items)));
+    add_written(key, Entry(key.text, key.where, std::move(items)));
   }
 
   /// `{ ... }` after its '{'; `close` receives the location just after the '}'.
@@ -1347,7 +1379,8 @@ class Parser {
     // Copy first: merging may replace the very entry that owns the source dictionary.
     std::vector<Entry> copies;
     for (const Entry& src : e.dict().entries()) copies.push_back(renamed(src, scopes_.back().path));
-    for (Entry& c : copies) add(std::move(c));
+    const int source = sources_++;
+    for (Entry& c : copies) add_merged(std::move(c), source);
     if (lx.peek().kind == Tok::semicolon) lx.next();
   }
 
@@ -1362,13 +1395,15 @@ class Parser {
       include(d, file.text);
     } else if (d.text == "inputMode") {
       Token mode = lx.next();
-      if (mode.kind != Tok::word || (mode.text != "merge" && mode.text != "overwrite"))
+      if (mode.kind != Tok::word || (mode.text != "merge" && mode.text != "overwrite" && mode.text != "error"))
         fail(mode.kind == Tok::end ? d.where : mode.where,
-             "expected 'merge' or 'overwrite' after '#inputMode', found " + describe(mode) +
-                 " (later entries always replace earlier ones)");
+             "expected 'overwrite', 'merge' or 'error' after '#inputMode', found " + describe(mode) +
+                 " (overwrite and merge: later entries of this file replace earlier ones; error, the default: "
+                 "a key set twice is an error)");
+      overwrite_ = mode.text != "error";
     } else {
       fail(d.where, "unknown directive '#" + shorten(d.text) +
-                        "' (supported: #include \"file\"; #inputMode merge|overwrite is accepted and ignored)");
+                        "' (supported: #include \"file\"; #inputMode overwrite|merge|error)");
     }
     if (lx.peek().kind == Tok::semicolon) lx.next();
   }
@@ -1408,12 +1443,22 @@ class Parser {
     }
     files_.push_back(std::move(file));
     Lexer sub(std::move(text), std::make_shared<const std::string>(display));
+    // The included file is a source of its own, in the default mode until it says otherwise.
+    const int includer_source = source_;
+    const bool includer_overwrite = overwrite_;
+    source_ = sources_++;
+    overwrite_ = false;
     parse_entries(sub, Level::included_file, nullptr);
+    source_ = includer_source;
+    overwrite_ = includer_overwrite;
     files_.pop_back();
   }
 
   std::vector<Scope> scopes_;
   std::vector<OpenFile> files_;
+  int source_ = 0;         // the source of entries written now (the file being read)
+  int sources_ = 1;        // the next unused source number
+  bool overwrite_ = false; // '#inputMode overwrite' (or merge) in force in the file being read
   int depth_ = 0;
   std::size_t expanded_ = 0;
 };
