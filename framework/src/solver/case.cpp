@@ -37,6 +37,19 @@ const CoreSpecs& CoreSpecs::get() {
         .default_value(0.0)
         .non_negative();
     c->allow_keys({"FoamFile"});
+    c->check([spec = c.get()](const Dictionary& d, std::vector<InputError>& errors) {
+      const ParamReader r(*spec, d);
+      // The largest step: deltaT, or with adjustTimeStep maxDeltaT (which defaults to
+      // deltaT). A step the clock cannot add at endTime ran forever without a word.
+      const bool adaptive = r.boolean("adjustTimeStep");
+      const char* key = adaptive && d.has("maxDeltaT") ? "maxDeltaT" : "deltaT";
+      std::string problem = TimeControl::step_problem(r.scalar("startTime"), r.scalar("endTime"), r.scalar(key));
+      if (!problem.empty()) {
+        if (adaptive && !d.has("maxDeltaT"))
+          problem += "; with adjustTimeStep, deltaT is also the largest step unless maxDeltaT is given";
+        errors.emplace_back(d.at(key).where(), std::string(key) + ": " + problem);
+      }
+    });
     s.control = c;
 
     // ---- system/mpmSchemes ----
