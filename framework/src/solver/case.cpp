@@ -181,18 +181,21 @@ namespace {
 /// Entries named _name are variables for $macros, not bodies, materials or plugins.
 bool is_variable(const Entry& e) { return !e.key().empty() && e.key()[0] == '_'; }
 
-/// Read a case file; a parse error is recorded and an empty dictionary returned (whose
-/// name is marked so that its contents are not validated: no cascade of "missing" errors).
+/// Read a case file; a parse error, or a required file that is missing, is recorded and
+/// an empty dictionary returned whose name is marked, so that neither its contents nor
+/// what other files refer to in it are checked: the cause is reported once, without a
+/// cascade of "missing" or "not defined" errors. An optional file that is absent is an
+/// empty dictionary (its defaults apply).
 constexpr const char* kUnreadable = "<unreadable>";
 Dictionary read_or_record(const fs::path& dir, const std::string& rel, std::vector<InputError>& errors,
                           bool required = true) {
   const fs::path p = dir / rel;
   std::error_code ec;
   if (!fs::exists(p, ec)) {
-    if (required) errors.emplace_back(SourceLocation{std::make_shared<std::string>(rel), 0, 0},
-                                      "missing case file (expected " + p.string() + ")");
-    Dictionary d(rel, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
-    return d;
+    if (!required) return Dictionary(rel, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
+    errors.emplace_back(SourceLocation{std::make_shared<std::string>(rel), 0, 0},
+                        "missing case file (expected " + p.string() + ")");
+    return Dictionary(kUnreadable, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
   }
   try {
     return Dictionary::read_file(p, rel);
@@ -266,13 +269,18 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   }
 
   const CoreSpecs& cs = CoreSpecs::get();
+  bool dimension_known = false;
   if (const Entry* d = c.grid_.find("dimension")) {
     try {
       c.dimension_ = static_cast<int>(d->as_integer());
+      dimension_known = c.dimension_ == 2 || c.dimension_ == 3;
     } catch (const InputError&) {
     }
   }
-  const int dim = (c.dimension_ == 3) ? 3 : 2;
+  // Without a valid dimension (gridDict unreadable, or its dimension wrong, which is
+  // reported there), vectors are not checked for their number of components: a 3D case
+  // would otherwise get an error for every vector of every file.
+  const int dim = dimension_known ? c.dimension_ : 0;
   if (readable(c.control_)) validate(*cs.control, c.control_, errors, dim);
   if (readable(c.schemes_)) validate(*cs.schemes, c.schemes_, errors, dim);
   if (readable(c.grid_)) validate(*cs.grid, c.grid_, errors, dim);
@@ -323,10 +331,12 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     }
   }
 
-  // Bodies: the core spec, and the material must exist.
+  // Bodies: the core spec, and the material must exist. A material whose own entry is
+  // wrong (reported above) is still defined; when materialProperties is missing or could
+  // not be read, that is the one error (no "material 'soil' is not defined" besides).
   std::vector<std::string> materials;
   for (const Entry& e : c.materials_.entries())
-    if (e.is_dict() && e.key() != "FoamFile" && !is_variable(e)) materials.push_back(e.key());
+    if (e.key() != "FoamFile" && !is_variable(e)) materials.push_back(e.key());
   int nbodies = 0;
   for (const Entry& e : c.bodies_.entries()) {
     if (e.key() == "FoamFile" || is_variable(e)) continue;
@@ -337,15 +347,19 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     ++nbodies;
     const Dictionary& b = e.dict();
     validate(*cs.body, b, errors, dim);
-    if (const Entry* m = b.find("material")) {
+    if (const Entry* m = b.find("material"); m && readable(c.materials_)) {
       try {
         const std::string name = m->as_word();
         if (std::find(materials.begin(), materials.end(), name) == materials.end()) {
           std::string msg = "material: '" + name + "' is not defined in constant/materialProperties";
           const std::string near = nearest_name(name, materials);
           if (!near.empty()) msg += "; did you mean '" + near + "'?";
-          msg += " Defined: ";
-          for (std::size_t i = 0; i < materials.size(); ++i) msg += (i ? ", " : "") + materials[i];
+          if (materials.empty()) {
+            msg += " (it defines no material)";
+          } else {
+            msg += "; defined: ";
+            for (std::size_t i = 0; i < materials.size(); ++i) msg += (i ? ", " : "") + materials[i];
+          }
           errors.emplace_back(m->where(), msg);
         }
       } catch (const InputError& err) {

@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sys/wait.h>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "scree_test.hpp"
 
@@ -107,6 +109,64 @@ TEST(CaseErrors, UnknownOutputFieldIsAnErrorWithItsLine) {
                        "'pressure'?"),
             std::string::npos)
       << r.err;
+}
+
+/// The lines of `text` that report an error (file:line: ... or file: ...), without the
+/// summary line.
+std::vector<std::string> error_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty() && l.rfind("scree:", 0) != 0) lines.push_back(l);
+  return lines;
+}
+
+// A missing or unreadable constant/materialProperties also gave "constant/bodies:
+// material 'soil' is not defined ... Defined: " (with an empty list) for every body. The
+// cause is reported once.
+TEST(CaseErrors, AMissingOrBrokenMaterialPropertiesIsReportedOnce) {
+  TempCase tc("materials");
+  write_valid_case(tc);
+  std::filesystem::remove(tc.dir() / "constant/materialProperties");
+  Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("constant/materialProperties: missing case file"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("is not defined"), std::string::npos) << r.err;
+
+  tc.write("constant/materialProperties", "soil\n{\n    type linearElastic;\n    E 1e6\n    nu 0.3;\n}\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("constant/materialProperties:4:10: expected ';' after the value of 'E'"), std::string::npos)
+      << r.err;
+
+  // A material entry that is not a dictionary is one error, not two.
+  tc.write("constant/materialProperties", "soil 5;\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("constant/materialProperties:1:1: 'soil': expected a dictionary"), std::string::npos) << r.err;
+
+  // A material that is really not defined is still reported, with the defined ones.
+  tc.write("constant/materialProperties", "sand { type linearElastic; E 1e6; nu 0.3; rho 1000; }\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_NE(r.err.find("constant/bodies:3:5: material: 'soil' is not defined in constant/materialProperties; "
+                       "defined: sand"),
+            std::string::npos)
+      << r.err;
+}
+
+// Without a readable gridDict the dimension is unknown: a 3D case's vectors are not
+// reported as "expected 2 components" one by one.
+TEST(CaseErrors, AMissingGridDictIsReportedOnce) {
+  TempCase tc("grid");
+  write_valid_case(tc);
+  tc.write("constant/g", "value (0 0 -9.81);\n");
+  std::filesystem::remove(tc.dir() / "system/gridDict");
+  const Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("system/gridDict: missing case file"), std::string::npos) << r.err;
 }
 
 TEST(CaseErrors, ListPluginsDocumentsParameters) {
