@@ -2,6 +2,7 @@
 #include "scree/solver/case.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "scree/output/snapshot.hpp"
@@ -9,6 +10,27 @@
 namespace fs = std::filesystem;
 
 namespace scree {
+
+namespace {
+
+/// An interval counted in steps (`control` names the setting that makes it so) must be a
+/// whole number of at least 1: `writeInterval 0.4` with `writeControl timeStep` was
+/// rounded to every step without a word.
+void check_step_count(const Entry& e, const std::string& control, const std::string& in_seconds,
+                      std::vector<InputError>& errors) {
+  double v = 0;
+  try {
+    v = e.as_scalar();
+  } catch (const InputError&) {
+    return;  // the spec reports a value that is no number
+  }
+  if (v >= 1 && v == std::floor(v) && v < 9.2e18) return;
+  errors.emplace_back(e.where(), e.key() + ": with " + control + " it counts steps: expected a whole number of "
+                                 "steps, at least 1, found " + e.value_string() +
+                                 " (for an interval in seconds use " + in_seconds + ")");
+}
+
+}  // namespace
 
 const CoreSpecs& CoreSpecs::get() {
   static const CoreSpecs specs = [] {
@@ -49,6 +71,10 @@ const CoreSpecs& CoreSpecs::get() {
           problem += "; with adjustTimeStep, deltaT is also the largest step unless maxDeltaT is given";
         errors.emplace_back(d.at(key).where(), std::string(key) + ": " + problem);
       }
+      // writeInterval 0.4 with writeControl timeStep was rounded to "every step".
+      if (r.word("writeControl") == "timeStep")
+        check_step_count(d.at("writeInterval"), "writeControl timeStep", "writeControl runTime or adjustableRunTime",
+                         errors);
     });
     s.control = c;
 
@@ -291,8 +317,19 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   validate_plugin_entries(c.boundaries_, PluginKind::boundaryCondition, reg, errors, dim);
   if (const Entry* w = c.control_.find("writers"); w && w->is_dict())
     validate_plugin_entries(w->dict(), PluginKind::writer, reg, errors, dim);
-  if (const Entry* f = c.control_.find("functions"); f && f->is_dict())
+  if (const Entry* f = c.control_.find("functions"); f && f->is_dict()) {
+    const std::size_t before = errors.size();
     validate_plugin_entries(f->dict(), PluginKind::functionObject, reg, errors, dim);
+    // executeInterval counts steps with executeControl timeStep, as writeInterval does.
+    if (errors.size() == before)
+      for (const Entry& e : f->dict().entries()) {
+        if (!e.is_dict() || is_variable(e)) continue;
+        const Entry* control = e.dict().find("executeControl");
+        const Entry* interval = e.dict().find("executeInterval");
+        if (control && interval && control->as_word() == "timeStep")
+          check_step_count(*interval, "executeControl timeStep", "executeControl runTime", errors);
+      }
+  }
 
   // `fields (...)` of writers and function objects: every name must be a field some body
   // of this case will have (the standard ones or its material's), so that a typo is an

@@ -169,6 +169,47 @@ TEST(CaseErrors, AMissingGridDictIsReportedOnce) {
   EXPECT_NE(r.err.find("system/gridDict: missing case file"), std::string::npos) << r.err;
 }
 
+// writeControl timeStep with writeInterval 0.4 silently became "every step".
+TEST(CaseErrors, AnIntervalInStepsMustBeAWholeNumber) {
+  TempCase tc("steps");
+  write_valid_case(tc);
+  tc.write("system/controlDict",
+           "endTime 0.01;\ndeltaT 1e-3;\nwriteControl timeStep;\nwriteInterval 0.4;\n"
+           "writers { vtk { type vtk; } }\n"
+           "functions\n{\n    e { type energies; executeControl timeStep; executeInterval 2.5; }\n"
+           "    f { type energies; executeControl runTime; executeInterval 2.5e-3; }\n}\n");
+  const Result r = run_scree("--case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:4:1: writeInterval: with writeControl timeStep it counts steps: expected a "
+                       "whole number of steps, at least 1, found 0.4"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("system/controlDict:8:49: executeInterval: with executeControl timeStep it counts steps"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(error_lines(r.err).size(), 2u) << r.err;  // runTime counts seconds: 2.5e-3 is fine
+  EXPECT_FALSE(std::filesystem::exists(tc.dir() / "VTK"));
+  tc.write("system/controlDict", "endTime 0.01;\ndeltaT 1e-3;\nwriteControl timeStep;\nwriteInterval 4;\n");
+  EXPECT_EQ(run_scree("--check --case " + tc.dir().string()).status, 0);
+}
+
+// deltaT 1e-30 ran forever: the clock cannot add it to endTime.
+TEST(CaseErrors, ATimeStepThatCannotEndTheRunIsAnError) {
+  TempCase tc("deltaT");
+  write_valid_case(tc);
+  tc.write("system/controlDict", "endTime 3;\ndeltaT 1e-30;\nwriteInterval 0.5;\n");
+  Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:2:1: deltaT: a step of 1e-30 s cannot advance the clock"),
+            std::string::npos)
+      << r.err;
+  tc.write("system/controlDict", "endTime 3;\ndeltaT 1e-4;\nadjustTimeStep yes;\nmaxDeltaT 1e-14;\nwriteInterval 0.5;\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:4:1: maxDeltaT: a step of 1e-14 s needs 3e+14 steps"), std::string::npos)
+      << r.err;
+}
+
 TEST(CaseErrors, ListPluginsDocumentsParameters) {
   const Result r = run_scree("--list-plugins material");
   EXPECT_EQ(r.status, 0);
