@@ -5,6 +5,10 @@
 //   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
 //   scree --version | --help
 //
+// Before anything runs, the case is validated as a whole: every dictionary, then the
+// setup (bodies against the grid, boundary conditions, output directories); --check
+// stops there.
+//
 // Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message),
 // 2 bad command line, 3 a failure while running.
 #include <omp.h>
@@ -18,6 +22,7 @@
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/case.hpp"
+#include "scree/solver/setup_check.hpp"
 #include "scree/solver/simulation.hpp"
 
 namespace po = boost::program_options;
@@ -67,7 +72,8 @@ int main(int argc, char** argv) {
       ("case,c", po::value<std::string>()->default_value("."), "case directory")
       ("device,d", po::value<std::string>(), "backend: cpu or cuda (default: cuda when a GPU is present)")
       ("threads,t", po::value<int>(), "CPU threads (default: all cores)")
-      ("check", "validate the case (every dictionary and plugin) and exit")
+      ("check", "validate the case (every dictionary and plugin, and the setup: bodies against the grid, boundary "
+                "conditions, output directories) and exit")
       ("list-plugins", po::value<std::string>()->implicit_value(""),
        "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
@@ -161,10 +167,15 @@ int main(int argc, char** argv) {
   const fs::path dir = vm["case"].as<std::string>();
   try {
     scree::Case c = scree::Case::read(dir, rt);
+    // The setup's checks (the run would reject what they find), reported together.
+    scree::SetupReport setup = scree::check_setup(c, rt, opt.output);
+    for (const auto& w : setup.warnings) std::cout << "warning: " << w.what() << "\n";
+    if (!setup.errors.empty()) throw scree::InputErrors(std::move(setup.errors));
     if (vm.count("check")) {
       std::cout << "scree: case " << dir.string() << " is valid\n";
       return 0;
     }
+    opt.check_setup = false;  // done above
     scree::Simulation sim(c, rt, opt);
     const scree::RunStats st = sim.run();
     std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in "

@@ -28,9 +28,20 @@ struct GeneratedParticles {
 };
 
 /// Generate the particles of one body dictionary (validated against CoreSpecs::body).
-/// `density` is the material's initial mass density (for the geostatic stress).
+/// `density` is the material's initial mass density (for the geostatic stress). Throws
+/// InputError, at the region's file:line, for a region that does not fit the case or
+/// the grid (see check_bodies).
 template <int D>
 SCREE_API GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& grid,
                                                    Real density, const Vec<D>& gravity);
+
+/// The checks of every body of constant/bodies against the grid, without keeping any
+/// particle (scree --check runs them, and every run before it allocates anything):
+///   - each region fits the case (rectangle in 2D, box in 3D, a polygon of 3 or more
+///     vertices in 2D) and holds at least one particle position;
+///   - no particle lies outside the domain of system/gridDict.
+/// Each problem is appended to `errors` at the region's file:line.
+template <int D>
+SCREE_API void check_bodies(const Dictionary& bodies, const GridGeometry<D>& grid, std::vector<InputError>& errors);
 
 }  // namespace scree

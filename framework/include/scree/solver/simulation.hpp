@@ -32,6 +32,10 @@ struct RunOptions {
   /// How the kernels run (exec/kernel_policy.hpp): the fast kernels by default.
   KernelPolicy kernels;
   std::ostream* log = nullptr; ///< messages (default std::cout)
+  /// Run check_setup (setup_check.hpp) first: every problem of the setup is then thrown
+  /// together as InputErrors before anything is allocated or written, and its warnings
+  /// go to `log`. Off only for a caller that ran it itself (the scree executable).
+  bool check_setup = true;
 };
 
 struct RunStats {
