@@ -196,6 +196,9 @@ const CoreSpecs& CoreSpecs::get() {
     init->scalar("K0", "-", "lateral earth pressure coefficient (geostatic)").default_value(0.5).non_negative();
     init->scalar("surface", "m", "elevation of the free surface along -g (default: top of the body)").optional();
     b->dict("initialStress", "initial stress (default none)").sub_spec(init).optional();
+    b->boolean("allowOverlap", "yes: this body may share space with other bodies (particles of one inside the "
+                               "other's region, doubling the mass there); no: an overlap is an error")
+        .default_value("no");
     s.body = b;
     return s;
   }();

@@ -245,27 +245,63 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
 
 template <int D>
 void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vector<InputError>& errors) {
+  struct Placed {
+    std::string name;
+    Shape<D> shape;
+    int n = 0;
+    bool allow_overlap = false;
+  };
+  std::vector<Placed> placed;
+  const ParamSpec& spec = *CoreSpecs::get().body;
   for (const Entry& e : bodies.entries()) {
     if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
     const Dictionary& body = e.dict();
     try {
       const Dictionary& region = body.sub("region");
-      const Shape<D> shape = read_shape<D>(region);
-      const int n = BodySettings::read(body).particles_per_cell;
+      Placed p{e.key(), read_shape<D>(region), BodySettings::read(body).particles_per_cell,
+               ParamReader(spec, body).boolean("allowOverlap")};
       bool any = false, outside = false;
-      for_each_position(shape, g, n, [&](const Vec<D>& x) {
+      for_each_position(p.shape, g, p.n, [&](const Vec<D>& x) {
         any = true;
         if (!outside && outside_domain(x, g)) {
           outside = true;
           errors.push_back(region_outside(region, x, g));
         }
       });
-      if (!any) errors.push_back(empty_region<D>(region, n));
+      if (!any) errors.push_back(empty_region<D>(region, p.n));
+      if (any && !outside) placed.push_back(std::move(p));
     } catch (const InputError& err) {
       errors.push_back(err);
     }
   }
 
+  // Two bodies in one place: each point of the one inside the other's region doubles
+  // the mass there. Checked both ways (a small region inside a large one, and points of
+  // a coarse body that fall inside a polygon).
+  for (std::size_t a = 0; a < placed.size(); ++a)
+    for (std::size_t b = a + 1; b < placed.size(); ++b) {
+      const Placed& A = placed[a];
+      const Placed& B = placed[b];
+      if (A.allow_overlap || B.allow_overlap) continue;
+      long long a_in_b = 0, b_in_a = 0, b_total = 0;
+      for_each_position(A.shape, g, A.n, [&](const Vec<D>& x) { a_in_b += B.shape.contains(x); });
+      for_each_position(B.shape, g, B.n, [&](const Vec<D>& x) {
+        ++b_total;
+        b_in_a += A.shape.contains(x);
+      });
+      if (a_in_b == 0 && b_in_a == 0) continue;
+      std::string msg = "region: body '" + B.name + "' overlaps body '" + A.name + "' (region at " +
+                        A.shape.dict->where().str() + "): ";
+      if (b_in_a > 0)
+        msg += std::to_string(b_in_a) + " of its " + std::to_string(b_total) + " particles lie inside the region of '" +
+               A.name + "'";
+      if (a_in_b > 0)
+        msg += std::string(b_in_a > 0 ? ", and " : "") + std::to_string(a_in_b) + " particles of '" + A.name +
+               "' lie inside its region";
+      msg += "; expected bodies in separate places (two bodies in one place double the mass there). If they are "
+             "meant to share space, set allowOverlap yes in one of them";
+      errors.emplace_back(B.shape.dict->where(), msg);
+    }
 }
 
 template GeneratedParticles<2> generate_particles<2>(const Dictionary&, const GridGeometry<2>&, Real,
