@@ -61,6 +61,19 @@ std::string unwritable(const fs::path& dir) {
   return {};
 }
 
+/// Whether `dir` lies inside `case_dir` (after resolving links, "..", and so on).
+bool inside(const fs::path& dir, const fs::path& case_dir) {
+  std::error_code ec;
+  const fs::path d = fs::weakly_canonical(fs::absolute(dir, ec), ec);
+  const fs::path c = fs::weakly_canonical(fs::absolute(case_dir, ec), ec);
+  auto di = d.begin();
+  for (auto ci = c.begin(); ci != c.end(); ++ci, ++di) {
+    if (ci->empty()) continue;  // a trailing separator
+    if (di == d.end() || *di != *ci) return false;
+  }
+  return true;
+}
+
 template <int D>
 void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
   const CaseSettings& s = c.settings();
@@ -117,6 +130,16 @@ void check_output(const Case& c, const Registry& reg, SetupReport& report) {
                                                   place.owner + " cannot be used: " + why +
                                                   "; expected a directory that can be created and written");
       continue;
+    }
+    if (!inside(place.dir, c.dir())) {
+      std::error_code ec;
+      report.warnings.emplace_back(
+          place.where, "directory: the output directory of " + place.owner + ", " +
+                           fs::weakly_canonical(fs::absolute(place.dir, ec), ec).string() +
+                           ", is outside the case directory " +
+                           fs::weakly_canonical(fs::absolute(c.dir(), ec), ec).string() +
+                           ": the results will not be with the case, and another case writing there replaces them "
+                           "(a directory relative to the case, such as VTK, keeps them inside)");
     }
   }
 }

@@ -30,7 +30,7 @@ SCREE_API GridGeometry<D> grid_geometry(const GridSettings& grid);
 
 struct SetupReport {
   std::vector<InputError> errors;    ///< what the run would reject (file:line each)
-  std::vector<InputError> warnings;  ///< what the run accepts but is probably a mistake (none yet)
+  std::vector<InputError> warnings;  ///< what the run accepts but is probably a mistake
 };
 
 /// For a case Case::read accepted:
@@ -40,7 +40,8 @@ struct SetupReport {
 ///                region that selects nothing it can use, ...): the plugins are
 ///                constructed on the host and constrain a scratch set of walls;
 ///   output       (with_output) every writer's and function object's directory can be
-///                created and written (nothing is created).
+///                created and written (nothing is created); one outside the case
+///                directory is a warning.
 SCREE_API SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output = true);
 
 /// Where a writer or function object writes.
