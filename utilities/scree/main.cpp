@@ -14,6 +14,8 @@
 #include <omp.h>
 
 #include <boost/program_options.hpp>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -65,6 +67,10 @@ void print_plugins(const scree::PluginRuntime& rt, const std::string& only) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The log is written a line at a time also into a file or a pipe (where stdout is
+  // otherwise fully buffered): a run killed early leaves its header and every warning.
+  std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
+
   po::options_description opts("scree: GPU material point method for granular flows and soils\n\nOptions");
   opts.add_options()
       ("help,h", "print this help")
@@ -115,33 +121,16 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  // Backend.
+  // The backend asked for (the GPU itself is looked for once the case is valid).
   scree::RunOptions opt;
-  const bool gpu = scree::mem::cuda_available();
-  if (vm.count("device")) {
-    const std::string d = vm["device"].as<std::string>();
-    if (d == "cpu") {
-      opt.device = scree::Device::cpu;
-    } else if (d == "cuda") {
-      if (!scree::mem::cuda_compiled()) {
-        std::cerr << "scree: --device cuda: this build has no CUDA backend (configure with -DSCREE_WITH_CUDA=ON)\n";
-        return 2;
-      }
-      if (!gpu) {
-        std::cerr << "scree: --device cuda: no usable CUDA GPU found\n";
-        return 2;
-      }
-      opt.device = scree::Device::cuda;
-    } else {
-      std::cerr << "scree: --device: expected cpu or cuda, found '" << d << "'\n";
-      return 2;
-    }
-  } else {
-    opt.device = gpu ? scree::Device::cuda : scree::Device::cpu;
-    std::cout << "scree: backend " << scree::to_string(opt.device)
-              << (gpu ? " (a CUDA GPU is present)"
-                      : (scree::mem::cuda_compiled() ? " (no CUDA GPU found)" : " (built without CUDA)"))
-              << std::endl;
+  const std::string device = vm.count("device") ? vm["device"].as<std::string>() : std::string();
+  if (!device.empty() && device != "cpu" && device != "cuda") {
+    std::cerr << "scree: --device: expected cpu or cuda, found '" << device << "'\n";
+    return 2;
+  }
+  if (device == "cuda" && !scree::mem::cuda_compiled()) {
+    std::cerr << "scree: --device cuda: this build has no CUDA backend (configure with -DSCREE_WITH_CUDA=ON)\n";
+    return 2;
   }
   opt.threads = vm.count("threads") ? vm["threads"].as<int>() : omp_get_max_threads();
   if (opt.threads < 1) {
@@ -175,12 +164,34 @@ int main(int argc, char** argv) {
       std::cout << "scree: case " << dir.string() << " is valid\n";
       return 0;
     }
+
+    // Backend.
+    const bool gpu = scree::mem::cuda_available();
+    if (device == "cuda" && !gpu) {
+      std::cerr << "scree: --device cuda: no usable CUDA GPU found\n";
+      return 2;
+    }
+    if (device.empty()) {
+      opt.device = gpu ? scree::Device::cuda : scree::Device::cpu;
+      std::cout << "scree: backend " << scree::to_string(opt.device)
+                << (gpu ? " (a CUDA GPU is present)"
+                        : (scree::mem::cuda_compiled() ? " (no CUDA GPU found)" : " (built without CUDA)"))
+                << std::endl;
+    } else {
+      opt.device = device == "cuda" ? scree::Device::cuda : scree::Device::cpu;
+    }
+
     opt.check_setup = false;  // done above
     scree::Simulation sim(c, rt, opt);
+    const auto t0 = std::chrono::steady_clock::now();
     const scree::RunStats st = sim.run();
-    std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in "
-              << st.wall_seconds << " s wall (" << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0)
-              << " steps/s, " << st.particles << " particles)\n";
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // The whole run's wall time, and what it went to: the steps (their rate), and the
+    // output the loop waited for (snapshots taken and handed to the output thread).
+    std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in " << wall
+              << " s wall (steps " << st.wall_seconds << " s at "
+              << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0) << " steps/s, output "
+              << st.output_seconds << " s; " << st.particles << " particles)\n";
     if (st.split_steps > 0)  // KernelPolicy::split: what the tuner chose, for the record
       std::cout << "scree: stress pass split (elastic points first) in " << st.split_steps << " of " << st.steps
                 << " steps\n";

@@ -42,8 +42,9 @@ struct RunStats {
   std::int64_t split_steps = 0;  ///< steps whose stress pass ran split (KernelPolicy::split)
   std::int64_t steps = 0;
   double simulated_time = 0;   ///< [s]
-  double wall_seconds = 0;     ///< time-loop wall time, setup excluded [s]
-  double output_seconds = 0;   ///< of which spent waiting for snapshots/output [s]
+  double wall_seconds = 0;     ///< wall time of the steps (the chunks of steps), setup and output excluded [s]
+  double output_seconds = 0;   ///< wall time the loop spent taking snapshots and handing them to the output
+                               ///< thread, besides wall_seconds [s]
   std::int64_t particles = 0;
   std::int64_t nodes = 0;
   std::size_t bytes_per_particle = 0;
