@@ -1,18 +1,22 @@
 // scree: the solver executable.
 //
 //   scree [--case DIR] [--device cpu|cuda] [--threads N]    run a case
+//   scree --case DIR --overwrite                              run it again, replacing its results
 //   scree --case DIR --check                                  validate a case and exit
 //   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
 //   scree --version | --help
 //
-// Before anything runs, the case is validated as a whole: every dictionary, then the
-// setup (bodies against the grid, boundary conditions, output directories); --check
-// stops there.
+// Before anything runs, the case is validated as a whole (every dictionary, then the
+// setup: bodies against the grid, boundary conditions, output directories; --check stops
+// there), and a case that already has results (the files of its writers, its
+// postProcessing/) is not run over unless --overwrite is given.
 //
 // Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message),
-// 2 bad command line, 3 a failure while running.
+// 2 bad command line, 3 a failure while running, 4 the case has results of an earlier run
+// that this run would replace (nothing was run: move them, or give --overwrite).
 #include <omp.h>
 
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
@@ -20,6 +24,7 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
@@ -80,6 +85,8 @@ int main(int argc, char** argv) {
       ("threads,t", po::value<int>(), "CPU threads (default: all cores)")
       ("check", "validate the case (every dictionary and plugin, and the setup: bodies against the grid, boundary "
                 "conditions, output directories) and exit")
+      ("overwrite", "run even though the case has results of an earlier run (the writers' files, postProcessing/): "
+                    "they are replaced. Without it scree refuses to start, so that finished results are not lost")
       ("list-plugins", po::value<std::string>()->implicit_value(""),
        "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
@@ -160,9 +167,22 @@ int main(int argc, char** argv) {
     scree::SetupReport setup = scree::check_setup(c, rt, opt.output);
     for (const auto& w : setup.warnings) std::cout << "warning: " << w.what() << "\n";
     if (!setup.errors.empty()) throw scree::InputErrors(std::move(setup.errors));
+    const auto results = opt.output ? scree::existing_results(c, rt.registry()) : std::vector<fs::path>{};
     if (vm.count("check")) {
       std::cout << "scree: case " << dir.string() << " is valid\n";
+      if (!results.empty())
+        std::cout << "scree: note: it has results of an earlier run (" << results.front().string()
+                  << (results.size() > 1 ? ", ..." : "") << "): a run replaces them only with --overwrite\n";
       return 0;
+    }
+    if (!results.empty() && !vm.count("overwrite")) {
+      std::cerr << "scree: case " << dir.string() << " has results of an earlier run, which this run would replace:\n";
+      const std::size_t shown = std::min<std::size_t>(results.size(), 5);
+      for (std::size_t i = 0; i < shown; ++i) std::cerr << "    " << results[i].string() << "\n";
+      if (results.size() > shown) std::cerr << "    ... and " << results.size() - shown << " more\n";
+      std::cerr << "scree: nothing was run. To keep them, move them away (or copy the case); to replace them, run "
+                   "again with --overwrite\n";
+      return 4;
     }
 
     // Backend.

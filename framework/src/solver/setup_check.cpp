@@ -189,4 +189,24 @@ std::vector<OutputPlace> output_places(const Case& c, const Registry& reg) {
   return places;
 }
 
+std::vector<fs::path> existing_results(const Case& c, const Registry& reg) {
+  std::vector<fs::path> found;
+  for (const OutputPlace& place : output_places(c, reg)) {
+    std::error_code ec;
+    if (!fs::is_directory(place.dir, ec)) continue;
+    std::vector<fs::path> here;
+    for (const auto& de : fs::directory_iterator(place.dir, ec)) {
+      const std::string name = de.path().filename().string();
+      if (name.empty() || name[0] == '.') continue;  // temporaries of a killed run
+      const std::string& p = place.prefix;
+      if (!p.empty() && name.rfind(p + ".", 0) != 0 && name.rfind(p + "_", 0) != 0) continue;
+      here.push_back(de.path());
+    }
+    std::sort(here.begin(), here.end());
+    for (auto& f : here)
+      if (std::find(found.begin(), found.end(), f) == found.end()) found.push_back(f);
+  }
+  return found;
+}
+
 }  // namespace scree

@@ -9,7 +9,9 @@
 //   SetupReport r = check_setup(c, rt);      // r.errors: the run would fail
 //   for (auto& w : r.warnings) ...           // the run goes on, probably not as meant
 //
-// It also knows where the writers and function objects of a case write (output_places).
+// It also knows where the writers and function objects of a case write
+// (output_places), so that `scree` can refuse to replace the results of an earlier run
+// (existing_results) unless told to (--overwrite).
 #pragma once
 
 #include <filesystem>
@@ -58,5 +60,10 @@ struct OutputPlace {
 /// The places of the writers (those whose plugin declares a `directory` parameter) and
 /// of the function objects (postProcessing/<name>/) of a validated case.
 SCREE_API std::vector<OutputPlace> output_places(const Case& c, const Registry& reg);
+
+/// The results an earlier run left where this case's writers and function objects
+/// write (hidden temporaries aside), which a run from t = 0 replaces: their files, in
+/// order of the places.
+SCREE_API std::vector<std::filesystem::path> existing_results(const Case& c, const Registry& reg);
 
 }  // namespace scree
