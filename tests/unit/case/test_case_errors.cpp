@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,8 +19,10 @@ struct Result {
 };
 
 Result run_scree(const std::string& args) {
+  // Named after this process: test runs of other build trees may run beside this one.
   const auto dir = std::filesystem::temp_directory_path();
-  const auto out = dir / "scree_test_stdout.txt", err = dir / "scree_test_stderr.txt";
+  const std::string tag = std::to_string(::getpid());
+  const auto out = dir / ("scree_test_stdout_" + tag + ".txt"), err = dir / ("scree_test_stderr_" + tag + ".txt");
   const std::string cmd = std::string(SCREE_BINARY_DIR) + "/bin/scree " + args + " >" + out.string() + " 2>" + err.string();
   const int rc = std::system(cmd.c_str());
   auto slurp = [](const std::filesystem::path& p) {
@@ -28,7 +31,11 @@ Result run_scree(const std::string& args) {
     s << f.rdbuf();
     return s.str();
   };
-  return {WEXITSTATUS(rc), slurp(out), slurp(err)};
+  Result r{WEXITSTATUS(rc), slurp(out), slurp(err)};
+  std::error_code ec;
+  std::filesystem::remove(out, ec);
+  std::filesystem::remove(err, ec);
+  return r;
 }
 
 void write_valid_case(const TempCase& tc) {
