@@ -64,7 +64,7 @@ if want output; then
   rm -rf /tmp/cc /tmp/cc10 && cp -r cases/columnCollapse /tmp/cc && cp -r cases/columnCollapse /tmp/cc10
   sed -i 's/^writeInterval .*/writeInterval 0.005;/' /tmp/cc10/system/controlDict
   for c in /tmp/cc /tmp/cc10; do
-    step 90 bash -c "time $bin/scree --case $c --device cuda --max-steps 12000 2>&1 | tail -1"
+    step 90 bash -c "time $bin/scree --case $c --device cuda --max-steps 12000 --overwrite 2>&1 | tail -1"
   done
   step 60 bash -c "time $bin/scree --case /tmp/cc --device cuda --no-output --max-steps 12000 | tail -1"
 fi

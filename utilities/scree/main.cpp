@@ -1,23 +1,35 @@
 // scree: the solver executable.
 //
 //   scree [--case DIR] [--device cpu|cuda] [--threads N]    run a case
+//   scree --case DIR --overwrite                              run it again, replacing its results
 //   scree --case DIR --check                                  validate a case and exit
 //   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
 //   scree --version | --help
 //
+// Before anything runs, the case is validated as a whole (every dictionary, then the
+// setup: bodies against the grid, boundary conditions, output directories; --check stops
+// there), and a case that already has results (the files of its writers, its
+// postProcessing/) is not run over unless --overwrite is given.
+//
 // Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message),
-// 2 bad command line, 3 a failure while running.
+// 2 bad command line, 3 a failure while running, 4 the case has results of an earlier run
+// that this run would replace (nothing was run: move them, or give --overwrite).
 #include <omp.h>
 
+#include <algorithm>
 #include <boost/program_options.hpp>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/case.hpp"
+#include "scree/solver/setup_check.hpp"
 #include "scree/solver/simulation.hpp"
 
 namespace po = boost::program_options;
@@ -60,6 +72,10 @@ void print_plugins(const scree::PluginRuntime& rt, const std::string& only) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The log is written a line at a time also into a file or a pipe (where stdout is
+  // otherwise fully buffered): a run killed early leaves its header and every warning.
+  std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
+
   po::options_description opts("scree: GPU material point method for granular flows and soils\n\nOptions");
   opts.add_options()
       ("help,h", "print this help")
@@ -67,7 +83,10 @@ int main(int argc, char** argv) {
       ("case,c", po::value<std::string>()->default_value("."), "case directory")
       ("device,d", po::value<std::string>(), "backend: cpu or cuda (default: cuda when a GPU is present)")
       ("threads,t", po::value<int>(), "CPU threads (default: all cores)")
-      ("check", "validate the case (every dictionary and plugin) and exit")
+      ("check", "validate the case (every dictionary and plugin, and the setup: bodies against the grid, boundary "
+                "conditions, output directories) and exit")
+      ("overwrite", "run even though the case has results of an earlier run (the writers' files, postProcessing/): "
+                    "they are replaced. Without it scree refuses to start, so that finished results are not lost")
       ("list-plugins", po::value<std::string>()->implicit_value(""),
        "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
@@ -109,33 +128,16 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  // Backend.
+  // The backend asked for (the GPU itself is looked for once the case is valid).
   scree::RunOptions opt;
-  const bool gpu = scree::mem::cuda_available();
-  if (vm.count("device")) {
-    const std::string d = vm["device"].as<std::string>();
-    if (d == "cpu") {
-      opt.device = scree::Device::cpu;
-    } else if (d == "cuda") {
-      if (!scree::mem::cuda_compiled()) {
-        std::cerr << "scree: --device cuda: this build has no CUDA backend (configure with -DSCREE_WITH_CUDA=ON)\n";
-        return 2;
-      }
-      if (!gpu) {
-        std::cerr << "scree: --device cuda: no usable CUDA GPU found\n";
-        return 2;
-      }
-      opt.device = scree::Device::cuda;
-    } else {
-      std::cerr << "scree: --device: expected cpu or cuda, found '" << d << "'\n";
-      return 2;
-    }
-  } else {
-    opt.device = gpu ? scree::Device::cuda : scree::Device::cpu;
-    std::cout << "scree: backend " << scree::to_string(opt.device)
-              << (gpu ? " (a CUDA GPU is present)"
-                      : (scree::mem::cuda_compiled() ? " (no CUDA GPU found)" : " (built without CUDA)"))
-              << std::endl;
+  const std::string device = vm.count("device") ? vm["device"].as<std::string>() : std::string();
+  if (!device.empty() && device != "cpu" && device != "cuda") {
+    std::cerr << "scree: --device: expected cpu or cuda, found '" << device << "'\n";
+    return 2;
+  }
+  if (device == "cuda" && !scree::mem::cuda_compiled()) {
+    std::cerr << "scree: --device cuda: this build has no CUDA backend (configure with -DSCREE_WITH_CUDA=ON)\n";
+    return 2;
   }
   opt.threads = vm.count("threads") ? vm["threads"].as<int>() : omp_get_max_threads();
   if (opt.threads < 1) {
@@ -161,15 +163,55 @@ int main(int argc, char** argv) {
   const fs::path dir = vm["case"].as<std::string>();
   try {
     scree::Case c = scree::Case::read(dir, rt);
+    // The setup's checks (the run would reject what they find), reported together.
+    scree::SetupReport setup = scree::check_setup(c, rt, opt.output);
+    for (const auto& w : setup.warnings) std::cout << "warning: " << w.what() << "\n";
+    if (!setup.errors.empty()) throw scree::InputErrors(std::move(setup.errors));
+    const auto results = opt.output ? scree::existing_results(c, rt.registry()) : std::vector<fs::path>{};
     if (vm.count("check")) {
       std::cout << "scree: case " << dir.string() << " is valid\n";
+      if (!results.empty())
+        std::cout << "scree: note: it has results of an earlier run (" << results.front().string()
+                  << (results.size() > 1 ? ", ..." : "") << "): a run replaces them only with --overwrite\n";
       return 0;
     }
+    if (!results.empty() && !vm.count("overwrite")) {
+      std::cerr << "scree: case " << dir.string() << " has results of an earlier run, which this run would replace:\n";
+      const std::size_t shown = std::min<std::size_t>(results.size(), 5);
+      for (std::size_t i = 0; i < shown; ++i) std::cerr << "    " << results[i].string() << "\n";
+      if (results.size() > shown) std::cerr << "    ... and " << results.size() - shown << " more\n";
+      std::cerr << "scree: nothing was run. To keep them, move them away (or copy the case); to replace them, run "
+                   "again with --overwrite\n";
+      return 4;
+    }
+
+    // Backend.
+    const bool gpu = scree::mem::cuda_available();
+    if (device == "cuda" && !gpu) {
+      std::cerr << "scree: --device cuda: no usable CUDA GPU found\n";
+      return 2;
+    }
+    if (device.empty()) {
+      opt.device = gpu ? scree::Device::cuda : scree::Device::cpu;
+      std::cout << "scree: backend " << scree::to_string(opt.device)
+                << (gpu ? " (a CUDA GPU is present)"
+                        : (scree::mem::cuda_compiled() ? " (no CUDA GPU found)" : " (built without CUDA)"))
+                << std::endl;
+    } else {
+      opt.device = device == "cuda" ? scree::Device::cuda : scree::Device::cpu;
+    }
+
+    opt.check_setup = false;  // done above
     scree::Simulation sim(c, rt, opt);
+    const auto t0 = std::chrono::steady_clock::now();
     const scree::RunStats st = sim.run();
-    std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in "
-              << st.wall_seconds << " s wall (" << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0)
-              << " steps/s, " << st.particles << " particles)\n";
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // The whole run's wall time, and what it went to: the steps (their rate), and the
+    // output the loop waited for (snapshots taken and handed to the output thread).
+    std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in " << wall
+              << " s wall (steps " << st.wall_seconds << " s at "
+              << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0) << " steps/s, output "
+              << st.output_seconds << " s; " << st.particles << " particles)\n";
     if (st.split_steps > 0)  // KernelPolicy::split: what the tuner chose, for the record
       std::cout << "scree: stress pass split (elastic points first) in " << st.split_steps << " of " << st.steps
                 << " steps\n";

@@ -83,8 +83,9 @@ Region Region::read(const ParamReader& r, const SolverContext& ctx) {
     g.axis_ = f[0] - 'x';
     g.upper_ = f.substr(1) == "Max";
     if (g.axis_ >= g.dim_)
-      throw InputError(d.at("face").where(), "face " + f + " does not exist in a " + std::to_string(g.dim_) +
-                                                 "D case");
+      throw InputError(d.at("face").where(), "face: " + f + " does not exist in a " + std::to_string(g.dim_) +
+                                                 "D case; expected one of " +
+                                                 (g.dim_ == 2 ? "xMin, xMax, yMin, yMax" : "xMin, xMax, yMin, yMax, zMin, zMax"));
     g.plane_ = g.upper_ ? ctx.domain_upper[g.axis_] : ctx.domain_lower[g.axis_];
     g.normal_.assign(g.dim_, 0.0);
     g.normal_[g.axis_] = g.upper_ ? -1 : 1;

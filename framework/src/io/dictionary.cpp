@@ -36,11 +36,15 @@
 
 #include "scree/io/dictionary.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <system_error>
@@ -910,19 +914,66 @@ Dictionary renamed(const Dictionary& src, const std::string& name, const SourceL
 // Files
 // ---------------------------------------------------------------------------------------
 
-enum class ReadStatus { ok, missing, directory, unreadable };
+enum class ReadStatus { ok, missing, directory, not_regular, unreadable };
 
-ReadStatus read_text(const fs::path& path, std::string& out) {
+/// What a path that is neither a regular file nor a directory is ("a named pipe").
+std::string special_file_kind(fs::file_type t) {
+  switch (t) {
+    case fs::file_type::fifo: return "a named pipe (FIFO)";
+    case fs::file_type::socket: return "a socket";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::character: return "a character device";
+    default: return "not a regular file";
+  }
+}
+
+fs::file_type file_type_of_mode(mode_t m) {
+  if (S_ISFIFO(m)) return fs::file_type::fifo;
+  if (S_ISSOCK(m)) return fs::file_type::socket;
+  if (S_ISBLK(m)) return fs::file_type::block;
+  if (S_ISCHR(m)) return fs::file_type::character;
+  if (S_ISDIR(m)) return fs::file_type::directory;
+  return fs::file_type::unknown;
+}
+
+/// Read a whole regular file. Anything else (a named pipe, a device, a socket) is refused
+/// before it is opened: reading a FIFO blocks until a writer appears, a device may never
+/// end. The file is then opened without blocking and checked again, so that a path
+/// replaced in between cannot block either. `kind` receives the type of a refused path.
+ReadStatus read_text(const fs::path& path, std::string& out, fs::file_type& kind) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st)) return ReadStatus::missing;
   if (fs::is_directory(st)) return ReadStatus::directory;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return ReadStatus::unreadable;
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) return ReadStatus::unreadable;
-  out = std::move(buf).str();
+  if (!fs::is_regular_file(st)) {
+    kind = st.type();
+    return ReadStatus::not_regular;
+  }
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return ReadStatus::unreadable;
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat opened {};
+  if (::fstat(fd, &opened) != 0) return ReadStatus::unreadable;
+  if (!S_ISREG(opened.st_mode)) {
+    kind = file_type_of_mode(opened.st_mode);
+    return kind == fs::file_type::directory ? ReadStatus::directory : ReadStatus::not_regular;
+  }
+  std::string text;
+  if (opened.st_size > 0) text.reserve(static_cast<std::size_t>(opened.st_size));
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return ReadStatus::unreadable;
+    }
+    text.append(buf, static_cast<std::size_t>(n));
+  }
+  out = std::move(text);
   return ReadStatus::ok;
 }
 
@@ -958,10 +1009,21 @@ struct OpenFile {
 /// What a body of entries belongs to.
 enum class Level { main_file, included_file, nested };
 
+/// Which source wrote an entry, and where: the file being read (each file read, the main
+/// one and every #include, is a source of its own) or a `$name;` merge (each a source).
+struct Origin {
+  int source = 0;
+  SourceLocation where;
+};
+
 /// A dictionary under construction.
 struct Scope {
   Dictionary* dict;
   std::string path;  ///< dotted path of the dictionary ("" at the top level)
+  /// key -> the source of its entry: a key written twice by the same source is a mistake
+  /// (a line copied and edited, a value appended), one replacing an included or merged
+  /// entry is the intended "base plus changes" of a variant.
+  std::unordered_map<std::string, Origin> origins = {};
 };
 
 class Parser {
@@ -1041,7 +1103,28 @@ class Parser {
     return path.empty() ? std::string() : " (dictionary '" + shorten(path) + "')";
   }
 
-  void add(Entry e) { current().set(std::move(e)); }
+  /// An entry written in the file being read, at `key`. A key the same file already set
+  /// in this dictionary is an error naming both places, unless '#inputMode overwrite' (or
+  /// merge) is in force in this file; a key set by an included file or a `$name;` merge
+  /// is replaced (a variant includes its base and changes a few entries).
+  void add_written(const Token& key, Entry e) {
+    Scope& scope = scopes_.back();
+    auto [it, fresh] = scope.origins.try_emplace(key.text, Origin{source_, key.where});
+    if (!fresh) {
+      if (it->second.source == source_ && !overwrite_)
+        fail(key.where, shorten(key.text) + ": duplicate entry, already set at " + it->second.where.str() +
+                            " (a key is set once per dictionary: remove one of them, or write "
+                            "'#inputMode overwrite' before an intended replacement)");
+      it->second = Origin{source_, key.where};
+    }
+    scope.dict->set(std::move(e));
+  }
+
+  /// An entry copied by a `$name;` merge (source: that merge).
+  void add_merged(Entry e, int source) {
+    scopes_.back().origins[e.key()] = Origin{source, e.where()};
+    current().set(std::move(e));
+  }
 
   void parse_entry(Lexer& lx, const Token& key, Level level) {
     const std::string path = join_path(scopes_.back().path, key.text);
@@ -1055,7 +1138,7 @@ class Parser {
         if (level == Level::main_file) scopes_.front().dict->set_header(std::move(d));
         return;  // the header of an included file is ignored
       }
-      add(Entry(key.text, key.where, std::move(d)));
+      add_written(key, Entry(key.text, key.where, std::move(d)));
       return;
     }
     std::vector<Item> items = parse_value(lx, key, path);
@@ -1063,11 +1146,11 @@ class Parser {
       fail(key.where, "the FoamFile header must be a dictionary 'FoamFile { ... }', found " +
                           (items.size() == 1 ? describe(items[0]) : std::to_string(items.size()) + " values"));
     if (items.size() == 1 && items[0].kind == Item::Kind::dict) {  // `sand2 $sand;`
-      add(Entry(key.text, key.where,
-                std::make_shared<const Dictionary>(renamed(*items[0].dict, path, key.where))));
+      add_written(key, Entry(key.text, key.where,
+                             std::make_shared<const Dictionary>(renamed(*items[0].dict, path, key.where))));
       return;
     }
-    add(Entry(key.text, key.where, std::move(items)));
+    add_written(key, Entry(key.text, key.where, std::move(items)));
   }
 
   /// `{ ... }` after its '{'; `close` receives the location just after the '}'.
@@ -1296,7 +1379,8 @@ class Parser {
     // Copy first: merging may replace the very entry that owns the source dictionary.
     std::vector<Entry> copies;
     for (const Entry& src : e.dict().entries()) copies.push_back(renamed(src, scopes_.back().path));
-    for (Entry& c : copies) add(std::move(c));
+    const int source = sources_++;
+    for (Entry& c : copies) add_merged(std::move(c), source);
     if (lx.peek().kind == Tok::semicolon) lx.next();
   }
 
@@ -1311,13 +1395,15 @@ class Parser {
       include(d, file.text);
     } else if (d.text == "inputMode") {
       Token mode = lx.next();
-      if (mode.kind != Tok::word || (mode.text != "merge" && mode.text != "overwrite"))
+      if (mode.kind != Tok::word || (mode.text != "merge" && mode.text != "overwrite" && mode.text != "error"))
         fail(mode.kind == Tok::end ? d.where : mode.where,
-             "expected 'merge' or 'overwrite' after '#inputMode', found " + describe(mode) +
-                 " (later entries always replace earlier ones)");
+             "expected 'overwrite', 'merge' or 'error' after '#inputMode', found " + describe(mode) +
+                 " (overwrite and merge: later entries of this file replace earlier ones; error, the default: "
+                 "a key set twice is an error)");
+      overwrite_ = mode.text != "error";
     } else {
       fail(d.where, "unknown directive '#" + shorten(d.text) +
-                        "' (supported: #include \"file\"; #inputMode merge|overwrite is accepted and ignored)");
+                        "' (supported: #include \"file\"; #inputMode overwrite|merge|error)");
     }
     if (lx.peek().kind == Tok::semicolon) lx.next();
   }
@@ -1342,23 +1428,37 @@ class Parser {
       fail(directive.where, "includes nested too deeply (more than " + std::to_string(kMaxIncludeDepth) + " files)");
 
     std::string text;
-    switch (read_text(actual, text)) {
+    fs::file_type kind = fs::file_type::unknown;
+    switch (read_text(actual, text, kind)) {
       case ReadStatus::ok: break;
       case ReadStatus::missing:
         fail(directive.where, "cannot open include file '" + name + "' (looked for " + absolute_text(actual) + ")");
       case ReadStatus::directory:
         fail(directive.where, "cannot include '" + name + "': " + absolute_text(actual) + " is a directory");
+      case ReadStatus::not_regular:
+        fail(directive.where, "cannot include '" + name + "': " + absolute_text(actual) + " is " +
+                                  special_file_kind(kind) + ", not a regular file");
       case ReadStatus::unreadable:
         fail(directive.where, "cannot read include file '" + name + "' (" + absolute_text(actual) + ")");
     }
     files_.push_back(std::move(file));
     Lexer sub(std::move(text), std::make_shared<const std::string>(display));
+    // The included file is a source of its own, in the default mode until it says otherwise.
+    const int includer_source = source_;
+    const bool includer_overwrite = overwrite_;
+    source_ = sources_++;
+    overwrite_ = false;
     parse_entries(sub, Level::included_file, nullptr);
+    source_ = includer_source;
+    overwrite_ = includer_overwrite;
     files_.pop_back();
   }
 
   std::vector<Scope> scopes_;
   std::vector<OpenFile> files_;
+  int source_ = 0;         // the source of entries written now (the file being read)
+  int sources_ = 1;        // the next unused source number
+  bool overwrite_ = false; // '#inputMode overwrite' (or merge) in force in the file being read
   int depth_ = 0;
   std::size_t expanded_ = 0;
 };
@@ -1378,12 +1478,16 @@ Dictionary Dictionary::read_file(const fs::path& path, std::optional<std::string
   std::string display = display_name ? std::move(*display_name) : path.string();
   std::string text;
   const SourceLocation where{std::make_shared<const std::string>(display), 0, 0};
-  switch (read_text(path, text)) {
+  fs::file_type kind = fs::file_type::unknown;
+  switch (read_text(path, text, kind)) {
     case ReadStatus::ok: break;
     case ReadStatus::missing:
       throw InputError(where, "cannot open file '" + display + "' (looked for " + absolute_text(path) + ")");
     case ReadStatus::directory:
       throw InputError(where, "cannot read '" + display + "': " + absolute_text(path) + " is a directory");
+    case ReadStatus::not_regular:
+      throw InputError(where, "cannot read '" + display + "': " + absolute_text(path) + " is " +
+                                  special_file_kind(kind) + ", not a regular file");
     case ReadStatus::unreadable:
       throw InputError(where, "cannot read file '" + display + "' (" + absolute_text(path) + ")");
   }

@@ -104,6 +104,9 @@ void PluginRuntime::load(const std::string& name, const SourceLocation& where, c
   }
   path = fs::weakly_canonical(path);
   if (std::find(impl_->paths.begin(), impl_->paths.end(), path.string()) != impl_->paths.end()) return;
+  // dlopen reads the file: a named pipe or a device in its place would block or never end.
+  if (std::error_code ec; !fs::is_regular_file(path, ec))
+    throw InputError(where, "cannot load plugin library '" + name + "': " + path.string() + " is not a regular file");
 
   boost::dll::shared_library lib;
   try {

@@ -2,6 +2,7 @@
 #include "scree/solver/case.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "../porous/porous_media.hpp"
@@ -10,6 +11,27 @@
 namespace fs = std::filesystem;
 
 namespace scree {
+
+namespace {
+
+/// An interval counted in steps (`control` names the setting that makes it so) must be a
+/// whole number of at least 1: `writeInterval 0.4` with `writeControl timeStep` was
+/// rounded to every step without a word.
+void check_step_count(const Entry& e, const std::string& control, const std::string& in_seconds,
+                      std::vector<InputError>& errors) {
+  double v = 0;
+  try {
+    v = e.as_scalar();
+  } catch (const InputError&) {
+    return;  // the spec reports a value that is no number
+  }
+  if (v >= 1 && v == std::floor(v) && v < 9.2e18) return;
+  errors.emplace_back(e.where(), e.key() + ": with " + control + " it counts steps: expected a whole number of "
+                                 "steps, at least 1, found " + e.value_string() +
+                                 " (for an interval in seconds use " + in_seconds + ")");
+}
+
+}  // namespace
 
 const CoreSpecs& CoreSpecs::get() {
   static const CoreSpecs specs = [] {
@@ -38,6 +60,23 @@ const CoreSpecs& CoreSpecs::get() {
         .default_value(0.0)
         .non_negative();
     c->allow_keys({"FoamFile"});
+    c->check([spec = c.get()](const Dictionary& d, std::vector<InputError>& errors) {
+      const ParamReader r(*spec, d);
+      // The largest step: deltaT, or with adjustTimeStep maxDeltaT (which defaults to
+      // deltaT). A step the clock cannot add at endTime ran forever without a word.
+      const bool adaptive = r.boolean("adjustTimeStep");
+      const char* key = adaptive && d.has("maxDeltaT") ? "maxDeltaT" : "deltaT";
+      std::string problem = TimeControl::step_problem(r.scalar("startTime"), r.scalar("endTime"), r.scalar(key));
+      if (!problem.empty()) {
+        if (adaptive && !d.has("maxDeltaT"))
+          problem += "; with adjustTimeStep, deltaT is also the largest step unless maxDeltaT is given";
+        errors.emplace_back(d.at(key).where(), std::string(key) + ": " + problem);
+      }
+      // writeInterval 0.4 with writeControl timeStep was rounded to "every step".
+      if (r.word("writeControl") == "timeStep")
+        check_step_count(d.at("writeInterval"), "writeControl timeStep", "writeControl runTime or adjustableRunTime",
+                         errors);
+    });
     s.control = c;
 
     // ---- system/mpmSchemes ----
@@ -161,6 +200,9 @@ const CoreSpecs& CoreSpecs::get() {
     b->dict("twoPhase", "a porous body with a pore liquid (the two-phase formulation, porous/two_phase.hpp)")
         .sub_spec(two_phase_spec())
         .optional();
+    b->boolean("allowOverlap", "yes: this body may share space with other bodies (particles of one inside the "
+                               "other's region, doubling the mass there); no: an overlap is an error")
+        .default_value("no");
     s.body = b;
     return s;
   }();
@@ -172,18 +214,21 @@ namespace {
 /// Entries named _name are variables for $macros, not bodies, materials or plugins.
 bool is_variable(const Entry& e) { return !e.key().empty() && e.key()[0] == '_'; }
 
-/// Read a case file; a parse error is recorded and an empty dictionary returned (whose
-/// name is marked so that its contents are not validated: no cascade of "missing" errors).
+/// Read a case file; a parse error, or a required file that is missing, is recorded and
+/// an empty dictionary returned whose name is marked, so that neither its contents nor
+/// what other files refer to in it are checked: the cause is reported once, without a
+/// cascade of "missing" or "not defined" errors. An optional file that is absent is an
+/// empty dictionary (its defaults apply).
 constexpr const char* kUnreadable = "<unreadable>";
 Dictionary read_or_record(const fs::path& dir, const std::string& rel, std::vector<InputError>& errors,
                           bool required = true) {
   const fs::path p = dir / rel;
   std::error_code ec;
   if (!fs::exists(p, ec)) {
-    if (required) errors.emplace_back(SourceLocation{std::make_shared<std::string>(rel), 0, 0},
-                                      "missing case file (expected " + p.string() + ")");
-    Dictionary d(rel, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
-    return d;
+    if (!required) return Dictionary(rel, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
+    errors.emplace_back(SourceLocation{std::make_shared<std::string>(rel), 0, 0},
+                        "missing case file (expected " + p.string() + ")");
+    return Dictionary(kUnreadable, SourceLocation{std::make_shared<std::string>(rel), 0, 0});
   }
   try {
     return Dictionary::read_file(p, rel);
@@ -257,13 +302,18 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   }
 
   const CoreSpecs& cs = CoreSpecs::get();
+  bool dimension_known = false;
   if (const Entry* d = c.grid_.find("dimension")) {
     try {
       c.dimension_ = static_cast<int>(d->as_integer());
+      dimension_known = c.dimension_ == 2 || c.dimension_ == 3;
     } catch (const InputError&) {
     }
   }
-  const int dim = (c.dimension_ == 3) ? 3 : 2;
+  // Without a valid dimension (gridDict unreadable, or its dimension wrong, which is
+  // reported there), vectors are not checked for their number of components: a 3D case
+  // would otherwise get an error for every vector of every file.
+  const int dim = dimension_known ? c.dimension_ : 0;
   if (readable(c.control_)) validate(*cs.control, c.control_, errors, dim);
   if (readable(c.schemes_)) validate(*cs.schemes, c.schemes_, errors, dim);
   if (readable(c.grid_)) validate(*cs.grid, c.grid_, errors, dim);
@@ -274,8 +324,19 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   validate_plugin_entries(c.boundaries_, PluginKind::boundaryCondition, reg, errors, dim);
   if (const Entry* w = c.control_.find("writers"); w && w->is_dict())
     validate_plugin_entries(w->dict(), PluginKind::writer, reg, errors, dim);
-  if (const Entry* f = c.control_.find("functions"); f && f->is_dict())
+  if (const Entry* f = c.control_.find("functions"); f && f->is_dict()) {
+    const std::size_t before = errors.size();
     validate_plugin_entries(f->dict(), PluginKind::functionObject, reg, errors, dim);
+    // executeInterval counts steps with executeControl timeStep, as writeInterval does.
+    if (errors.size() == before)
+      for (const Entry& e : f->dict().entries()) {
+        if (!e.is_dict() || is_variable(e)) continue;
+        const Entry* control = e.dict().find("executeControl");
+        const Entry* interval = e.dict().find("executeInterval");
+        if (control && interval && control->as_word() == "timeStep")
+          check_step_count(*interval, "executeControl timeStep", "executeControl runTime", errors);
+      }
+  }
 
   // `fields (...)` of writers and function objects: every name must be a field some body
   // of this case will have (the standard ones or its material's), so that a typo is an
@@ -320,10 +381,12 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     }
   }
 
-  // Bodies: the core spec, and the material must exist.
+  // Bodies: the core spec, and the material must exist. A material whose own entry is
+  // wrong (reported above) is still defined; when materialProperties is missing or could
+  // not be read, that is the one error (no "material 'soil' is not defined" besides).
   std::vector<std::string> materials;
   for (const Entry& e : c.materials_.entries())
-    if (e.is_dict() && e.key() != "FoamFile" && !is_variable(e)) materials.push_back(e.key());
+    if (e.key() != "FoamFile" && !is_variable(e)) materials.push_back(e.key());
   int nbodies = 0;
   for (const Entry& e : c.bodies_.entries()) {
     if (e.key() == "FoamFile" || is_variable(e)) continue;
@@ -347,15 +410,19 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
           errors.push_back(err);
         }
       }
-    if (const Entry* m = b.find("material")) {
+    if (const Entry* m = b.find("material"); m && readable(c.materials_)) {
       try {
         const std::string name = m->as_word();
         if (std::find(materials.begin(), materials.end(), name) == materials.end()) {
           std::string msg = "material: '" + name + "' is not defined in constant/materialProperties";
           const std::string near = nearest_name(name, materials);
           if (!near.empty()) msg += "; did you mean '" + near + "'?";
-          msg += " Defined: ";
-          for (std::size_t i = 0; i < materials.size(); ++i) msg += (i ? ", " : "") + materials[i];
+          if (materials.empty()) {
+            msg += " (it defines no material)";
+          } else {
+            msg += "; defined: ";
+            for (std::size_t i = 0; i < materials.size(); ++i) msg += (i ? ", " : "") + materials[i];
+          }
           errors.emplace_back(m->where(), msg);
         }
       } catch (const InputError& err) {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "scree/solver/case.hpp"
 
@@ -21,67 +23,85 @@ bool inside_polygon(const std::vector<std::array<Real, 2>>& poly, Real x, Real y
   return in;
 }
 
-}  // namespace
+std::string point_text(const Real* x, int dim) {
+  std::string s = "(";
+  char buf[32];
+  for (int d = 0; d < dim; ++d) {
+    std::snprintf(buf, sizeof buf, "%s%g", d ? " " : "", x[d]);
+    s += buf;
+  }
+  return s + ")";
+}
 
+/// A body's region (rectangle/box or polygon) read from its validated dictionary.
 template <int D>
-GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& g, Real density,
-                                         const Vec<D>& gravity) {
-  GeneratedParticles<D> out;
-  const Dictionary& region = body.sub("region");
-  const std::string type = region.get_word("type");
-  const int n = BodySettings::read(body).particles_per_cell;
-
-  // Bounding box of the region and the inside test.
-  Vec<D> lo, hi;
+struct Shape {
+  const Dictionary* dict = nullptr;  ///< the region { } dictionary
+  Vec<D> lo, hi;                     ///< bounding box
   std::vector<std::array<Real, 2>> poly;
+
+  bool contains(const Vec<D>& x) const {
+    if (!poly.empty()) return inside_polygon(poly, x[0], x[1]);
+    for (int d = 0; d < D; ++d)
+      if (x[d] < lo[d] || x[d] > hi[d]) return false;
+    return true;
+  }
+};
+
+/// Throws InputError for a region that does not fit the case: a polygon in 3D or with
+/// fewer than 3 vertices, a rectangle in 3D or a box in 2D.
+template <int D>
+Shape<D> read_shape(const Dictionary& region) {
+  Shape<D> s;
+  s.dict = &region;
+  const std::string type = region.get_word("type");
   if (type == "polygon") {
-    if (D != 2) throw InputError(region.at("type").where(), "polygon regions are 2D only; use box in 3D");
+    if (D != 2) throw InputError(region.at("type").where(), "type: polygon regions are 2D only; use box in 3D");
     const Entry& pts = region.at("points");
     const Item& list = pts.single_item();
     for (const Item& p : list.list) {
       if (p.kind != Item::Kind::list || p.list.size() != 2 || p.list[0].kind != Item::Kind::number ||
           p.list[1].kind != Item::Kind::number)
         throw InputError(p.where, "points: each vertex must be (x y), found " + p.to_string());
-      poly.push_back({p.list[0].number, p.list[1].number});
+      s.poly.push_back({p.list[0].number, p.list[1].number});
     }
-    if (poly.size() < 3) throw InputError(pts.where(), "points: a polygon needs at least 3 vertices");
+    if (s.poly.size() < 3)
+      throw InputError(pts.where(), "points: a polygon needs at least 3 vertices, found " +
+                                        std::to_string(s.poly.size()));
     for (int d = 0; d < D; ++d) {
-      lo[d] = 1e300;
-      hi[d] = -1e300;
+      s.lo[d] = 1e300;
+      s.hi[d] = -1e300;
     }
-    for (auto& p : poly)
+    for (auto& p : s.poly)
       for (int d = 0; d < 2; ++d) {
-        lo[d] = std::min(lo[d], p[d]);
-        hi[d] = std::max(hi[d], p[d]);
+        s.lo[d] = std::min(s.lo[d], p[d]);
+        s.hi[d] = std::max(s.hi[d], p[d]);
       }
   } else {
     if ((type == "rectangle" && D != 2) || (type == "box" && D != 3))
       throw InputError(region.at("type").where(),
-                       "region type " + type + " does not fit a " + std::to_string(D) + "D case (use " +
+                       "type: region type " + type + " does not fit a " + std::to_string(D) + "D case (use " +
                            (D == 2 ? "rectangle" : "box") + ")");
     const auto l = region.at("lower").as_scalar_list(), u = region.at("upper").as_scalar_list();
     for (int d = 0; d < D; ++d) {
-      lo[d] = l[d];
-      hi[d] = u[d];
+      s.lo[d] = l[d];
+      s.hi[d] = u[d];
     }
   }
-  auto inside = [&](const Vec<D>& x) {
-    if (!poly.empty()) return inside_polygon(poly, x[0], x[1]);
-    for (int d = 0; d < D; ++d)
-      if (x[d] < lo[d] || x[d] > hi[d]) return false;
-    return true;
-  };
+  return s;
+}
 
+/// Calls f(x) for every particle position of `shape`: the centres of the n^D sub-cells
+/// of the background cells that lie inside the region.
+template <int D, class F>
+void for_each_position(const Shape<D>& shape, const GridGeometry<D>& g, int n, F&& f) {
   // Cells of the background lattice overlapping the bounding box.
   const Real h = g.h, sub = h / n;
   int c0[D], c1[D];
   for (int d = 0; d < D; ++d) {
-    c0[d] = static_cast<int>(std::floor((lo[d] - g.origin[d]) / h + 1e-9));
-    c1[d] = static_cast<int>(std::ceil((hi[d] - g.origin[d]) / h - 1e-9));
+    c0[d] = static_cast<int>(std::floor((shape.lo[d] - g.origin[d]) / h + 1e-9));
+    c1[d] = static_cast<int>(std::ceil((shape.hi[d] - g.origin[d]) / h - 1e-9));
   }
-  Real vol = 1;
-  for (int d = 0; d < D; ++d) vol *= sub;
-  // Iterate sub-cell centres.
   long long counts[D], total = 1;
   for (int d = 0; d < D; ++d) {
     counts[d] = static_cast<long long>(c1[d] - c0[d]) * n;
@@ -95,18 +115,56 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
       r /= counts[d];
       x[d] = g.origin[d] + c0[d] * h + (static_cast<Real>(i) + Real(0.5)) * sub;
     }
-    if (!inside(x)) continue;
+    if (shape.contains(x)) f(x);
+  }
+}
+
+template <int D>
+bool outside_domain(const Vec<D>& x, const GridGeometry<D>& g) {
+  for (int d = 0; d < D; ++d)
+    if (x[d] < g.lower[d] || x[d] > g.upper[d]) return true;
+  return false;
+}
+
+/// The errors of a region with no particle position, or with one outside the domain
+/// (`outside` is the first such position).
+template <int D>
+InputError empty_region(const Dictionary& region, int n) {
+  return InputError(region.where(), "region: no particle position lies inside it (particles sit at the centres of the " +
+                                        std::to_string(n) + " x " + std::to_string(n) +
+                                        (D == 3 ? " x " + std::to_string(n) : std::string()) +
+                                        " sub-cells of each grid cell); expected a region at least one sub-cell wide "
+                                        "inside the domain of system/gridDict");
+}
+
+template <int D>
+InputError region_outside(const Dictionary& region, const Vec<D>& outside, const GridGeometry<D>& g) {
+  Real lo[D], hi[D], x[D];
+  for (int d = 0; d < D; ++d) lo[d] = g.lower[d], hi[d] = g.upper[d], x[d] = outside[d];
+  return InputError(region.where(), "region: extends outside the domain of system/gridDict: a particle at " +
+                                        point_text(x, D) + " lies beyond lower " + point_text(lo, D) + " / upper " +
+                                        point_text(hi, D) + "; expected a region inside the domain");
+}
+
+}  // namespace
+
+template <int D>
+GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& g, Real density,
+                                         const Vec<D>& gravity) {
+  GeneratedParticles<D> out;
+  const Dictionary& region = body.sub("region");
+  const int n = BodySettings::read(body).particles_per_cell;
+  const Shape<D> shape = read_shape<D>(region);
+  const Real sub = g.h / n;
+  Real vol = 1;
+  for (int d = 0; d < D; ++d) vol *= sub;
+  for_each_position(shape, g, n, [&](const Vec<D>& x) {
     out.x.push_back(x);
     out.volume.push_back(vol);
-  }
-  if (out.x.empty())
-    throw InputError(region.where(), "region '" + region.name() + "' contains no particle position (is it "
-                                     "smaller than a cell, or outside the grid?)");
+  });
+  if (out.x.empty()) throw empty_region<D>(region, n);
   for (auto& x : out.x)
-    for (int d = 0; d < D; ++d)
-      if (x[d] < g.lower[d] || x[d] > g.upper[d])
-        throw InputError(region.where(), "region '" + region.name() + "' extends outside the domain of "
-                                         "system/gridDict (lower/upper)");
+    if (outside_domain(x, g)) throw region_outside(region, x, g);
 
   // Initial velocity.
   Vec<D> v0 = Vec<D>::zero();
@@ -185,9 +243,72 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   return out;
 }
 
+template <int D>
+void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vector<InputError>& errors) {
+  struct Placed {
+    std::string name;
+    Shape<D> shape;
+    int n = 0;
+    bool allow_overlap = false;
+  };
+  std::vector<Placed> placed;
+  const ParamSpec& spec = *CoreSpecs::get().body;
+  for (const Entry& e : bodies.entries()) {
+    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
+    const Dictionary& body = e.dict();
+    try {
+      const Dictionary& region = body.sub("region");
+      Placed p{e.key(), read_shape<D>(region), BodySettings::read(body).particles_per_cell,
+               ParamReader(spec, body).boolean("allowOverlap")};
+      bool any = false, outside = false;
+      for_each_position(p.shape, g, p.n, [&](const Vec<D>& x) {
+        any = true;
+        if (!outside && outside_domain(x, g)) {
+          outside = true;
+          errors.push_back(region_outside(region, x, g));
+        }
+      });
+      if (!any) errors.push_back(empty_region<D>(region, p.n));
+      if (any && !outside) placed.push_back(std::move(p));
+    } catch (const InputError& err) {
+      errors.push_back(err);
+    }
+  }
+
+  // Two bodies in one place: each point of the one inside the other's region doubles
+  // the mass there. Checked both ways (a small region inside a large one, and points of
+  // a coarse body that fall inside a polygon).
+  for (std::size_t a = 0; a < placed.size(); ++a)
+    for (std::size_t b = a + 1; b < placed.size(); ++b) {
+      const Placed& A = placed[a];
+      const Placed& B = placed[b];
+      if (A.allow_overlap || B.allow_overlap) continue;
+      long long a_in_b = 0, b_in_a = 0, b_total = 0;
+      for_each_position(A.shape, g, A.n, [&](const Vec<D>& x) { a_in_b += B.shape.contains(x); });
+      for_each_position(B.shape, g, B.n, [&](const Vec<D>& x) {
+        ++b_total;
+        b_in_a += A.shape.contains(x);
+      });
+      if (a_in_b == 0 && b_in_a == 0) continue;
+      std::string msg = "region: body '" + B.name + "' overlaps body '" + A.name + "' (region at " +
+                        A.shape.dict->where().str() + "): ";
+      if (b_in_a > 0)
+        msg += std::to_string(b_in_a) + " of its " + std::to_string(b_total) + " particles lie inside the region of '" +
+               A.name + "'";
+      if (a_in_b > 0)
+        msg += std::string(b_in_a > 0 ? ", and " : "") + std::to_string(a_in_b) + " particles of '" + A.name +
+               "' lie inside its region";
+      msg += "; expected bodies in separate places (two bodies in one place double the mass there). If they are "
+             "meant to share space, set allowOverlap yes in one of them";
+      errors.emplace_back(B.shape.dict->where(), msg);
+    }
+}
+
 template GeneratedParticles<2> generate_particles<2>(const Dictionary&, const GridGeometry<2>&, Real,
                                                      const Vec<2>&);
 template GeneratedParticles<3> generate_particles<3>(const Dictionary&, const GridGeometry<3>&, Real,
                                                      const Vec<3>&);
+template void check_bodies<2>(const Dictionary&, const GridGeometry<2>&, std::vector<InputError>&);
+template void check_bodies<3>(const Dictionary&, const GridGeometry<3>&, std::vector<InputError>&);
 
 }  // namespace scree

@@ -11,6 +11,9 @@ namespace scree {
 
 std::string format_duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "--:--";
+  // An ETA of a run that barely advances can be any huge number, which a conversion to
+  // an integer overflows: beyond 100 days the figure only says "never", so it saturates.
+  if (seconds >= kLongestDuration) return ">100 days";
   const long s = static_cast<long>(seconds + 0.5);
   char buf[32];
   if (s >= 3600)

@@ -9,11 +9,13 @@
 #include <utility>
 #include <vector>
 
+#include "scree/core/config.hpp"
+
 namespace scree {
 
 /// The progress line: time, step, steps per second, percentage, elapsed time and ETA. On a
 /// terminal it is rewritten in place about 5 times a second; in a log a line every 10 s.
-class Progress {
+class SCREE_API Progress {
  public:
   Progress(std::ostream& log, bool tty, double start_time, double end_time);
   void start();  ///< the run's wall clock starts now
@@ -26,8 +28,11 @@ class Progress {
   std::chrono::steady_clock::time_point run_start_, last_report_;
 };
 
-/// Seconds as m:ss or h:mm:ss ("--:--" when unknown).
-std::string format_duration(double seconds);
+/// Durations from here on are shown as ">100 days" [s].
+inline constexpr double kLongestDuration = 100 * 86400.0;
+
+/// Seconds as m:ss or h:mm:ss ("--:--" when unknown, ">100 days" from kLongestDuration).
+SCREE_API std::string format_duration(double seconds);
 
 /// Wall time per named phase of a step (synchronised around each), and the table of it.
 class PhaseProfile {

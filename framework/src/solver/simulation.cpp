@@ -1,8 +1,10 @@
 // Simulation: dispatches to Solver<2> or Solver<3> by the case's dimension.
 #include "scree/solver/simulation.hpp"
 
+#include <iostream>
 #include <variant>
 
+#include "scree/solver/setup_check.hpp"
 #include "solver.hpp"
 
 namespace scree {
@@ -16,6 +18,14 @@ struct Simulation::Impl {
 };
 
 Simulation::Simulation(const Case& c, PluginRuntime& rt, const RunOptions& o) : impl_(std::make_unique<Impl>()) {
+  if (o.check_setup) {
+    // What the setup below would reject, all of it with file:line, before it allocates
+    // or writes anything (the same checks as scree --check).
+    SetupReport report = check_setup(c, rt, o.output);
+    std::ostream& log = o.log ? *o.log : std::cout;
+    for (const InputError& w : report.warnings) log << "warning: " << w.what() << "\n";
+    if (!report.errors.empty()) throw InputErrors(std::move(report.errors));
+  }
   if (c.dimension() == 3)
     impl_->solver = std::make_unique<Solver<3>>(c, rt, o);
   else

@@ -3,11 +3,52 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ostream>
+#include <stdexcept>
+#include <string>
 
 namespace scree {
 
-TimeControl::TimeControl(const TimeSettings& s, Real cell_size) : s_(s), h_(cell_size) {}
+namespace {
+std::string seconds_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g s", v);
+  return buf;
+}
+}  // namespace
+
+TimeControl::TimeControl(const TimeSettings& s, Real cell_size) : s_(s), h_(cell_size) {
+  const std::string problem =
+      step_problem(s.start_time, s.end_time, s.adjust_time_step ? s.max_delta_t : s.delta_t);
+  if (!problem.empty()) throw std::invalid_argument("time step: " + problem);
+}
+
+std::string TimeControl::step_problem(double start_time, double end_time, double max_step) {
+  if (!(max_step > 0) || !(end_time > start_time)) return {};  // the specs' ranges report these
+  const double span = end_time - start_time;
+  // The smallest step that stays within kMaxSteps and that the clock can add at endTime.
+  double smallest = span / kMaxSteps;
+  const double t = std::max(std::fabs(start_time), std::fabs(end_time));
+  const double half_ulp = 0.5 * (std::nextafter(t, HUGE_VAL) - t);
+  smallest = std::max(smallest, 2 * half_ulp);
+  const std::string valid = "; expected a step of at least " + seconds_text(smallest) +
+                            " (at most 1e12 steps from startTime to endTime)";
+  if (end_time + max_step == end_time || start_time + max_step == start_time)
+    return "a step of " + seconds_text(max_step) + " cannot advance the clock: at t = " +
+           seconds_text(start_time + max_step == start_time ? start_time : end_time) +
+           ", t + " + seconds_text(max_step) + " rounds back to t in double precision, so the run would never end" +
+           valid;
+  const double steps = span / max_step;
+  if (steps > kMaxSteps) {
+    char n[32];
+    std::snprintf(n, sizeof n, "%.3g", steps);
+    return "a step of " + seconds_text(max_step) + " needs " + n + " steps to reach endTime " + seconds_text(end_time) +
+           ", more than the limit of 1e12 (months of wall time, and a clock that can no longer add the step "
+           "exactly)" + valid;
+  }
+  return {};
+}
 
 StepControl TimeControl::initial() const {
   StepControl c{};

@@ -3,7 +3,10 @@
 #include <cstdio>
 #include <fstream>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "scree_test.hpp"
 
@@ -16,8 +19,10 @@ struct Result {
 };
 
 Result run_scree(const std::string& args) {
+  // Named after this process: test runs of other build trees may run beside this one.
   const auto dir = std::filesystem::temp_directory_path();
-  const auto out = dir / "scree_test_stdout.txt", err = dir / "scree_test_stderr.txt";
+  const std::string tag = std::to_string(::getpid());
+  const auto out = dir / ("scree_test_stdout_" + tag + ".txt"), err = dir / ("scree_test_stderr_" + tag + ".txt");
   const std::string cmd = std::string(SCREE_BINARY_DIR) + "/bin/scree " + args + " >" + out.string() + " 2>" + err.string();
   const int rc = std::system(cmd.c_str());
   auto slurp = [](const std::filesystem::path& p) {
@@ -26,7 +31,11 @@ Result run_scree(const std::string& args) {
     s << f.rdbuf();
     return s.str();
   };
-  return {WEXITSTATUS(rc), slurp(out), slurp(err)};
+  Result r{WEXITSTATUS(rc), slurp(out), slurp(err)};
+  std::error_code ec;
+  std::filesystem::remove(out, ec);
+  std::filesystem::remove(err, ec);
+  return r;
 }
 
 void write_valid_case(const TempCase& tc) {
@@ -106,6 +115,105 @@ TEST(CaseErrors, UnknownOutputFieldIsAnErrorWithItsLine) {
   EXPECT_NE(r.err.find("system/controlDict:6:38: fields: no body of this case has a field 'presure'; did you mean "
                        "'pressure'?"),
             std::string::npos)
+      << r.err;
+}
+
+/// The lines of `text` that report an error (file:line: ... or file: ...), without the
+/// summary line.
+std::vector<std::string> error_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty() && l.rfind("scree:", 0) != 0) lines.push_back(l);
+  return lines;
+}
+
+// A missing or unreadable constant/materialProperties also gave "constant/bodies:
+// material 'soil' is not defined ... Defined: " (with an empty list) for every body. The
+// cause is reported once.
+TEST(CaseErrors, AMissingOrBrokenMaterialPropertiesIsReportedOnce) {
+  TempCase tc("materials");
+  write_valid_case(tc);
+  std::filesystem::remove(tc.dir() / "constant/materialProperties");
+  Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("constant/materialProperties: missing case file"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("is not defined"), std::string::npos) << r.err;
+
+  tc.write("constant/materialProperties", "soil\n{\n    type linearElastic;\n    E 1e6\n    nu 0.3;\n}\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("constant/materialProperties:4:10: expected ';' after the value of 'E'"), std::string::npos)
+      << r.err;
+
+  // A material entry that is not a dictionary is one error, not two.
+  tc.write("constant/materialProperties", "soil 5;\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("constant/materialProperties:1:1: 'soil': expected a dictionary"), std::string::npos) << r.err;
+
+  // A material that is really not defined is still reported, with the defined ones.
+  tc.write("constant/materialProperties", "sand { type linearElastic; E 1e6; nu 0.3; rho 1000; }\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_NE(r.err.find("constant/bodies:3:5: material: 'soil' is not defined in constant/materialProperties; "
+                       "defined: sand"),
+            std::string::npos)
+      << r.err;
+}
+
+// Without a readable gridDict the dimension is unknown: a 3D case's vectors are not
+// reported as "expected 2 components" one by one.
+TEST(CaseErrors, AMissingGridDictIsReportedOnce) {
+  TempCase tc("grid");
+  write_valid_case(tc);
+  tc.write("constant/g", "value (0 0 -9.81);\n");
+  std::filesystem::remove(tc.dir() / "system/gridDict");
+  const Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("system/gridDict: missing case file"), std::string::npos) << r.err;
+}
+
+// writeControl timeStep with writeInterval 0.4 silently became "every step".
+TEST(CaseErrors, AnIntervalInStepsMustBeAWholeNumber) {
+  TempCase tc("steps");
+  write_valid_case(tc);
+  tc.write("system/controlDict",
+           "endTime 0.01;\ndeltaT 1e-3;\nwriteControl timeStep;\nwriteInterval 0.4;\n"
+           "writers { vtk { type vtk; } }\n"
+           "functions\n{\n    e { type energies; executeControl timeStep; executeInterval 2.5; }\n"
+           "    f { type energies; executeControl runTime; executeInterval 2.5e-3; }\n}\n");
+  const Result r = run_scree("--case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:4:1: writeInterval: with writeControl timeStep it counts steps: expected a "
+                       "whole number of steps, at least 1, found 0.4"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("system/controlDict:8:49: executeInterval: with executeControl timeStep it counts steps"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(error_lines(r.err).size(), 2u) << r.err;  // runTime counts seconds: 2.5e-3 is fine
+  EXPECT_FALSE(std::filesystem::exists(tc.dir() / "VTK"));
+  tc.write("system/controlDict", "endTime 0.01;\ndeltaT 1e-3;\nwriteControl timeStep;\nwriteInterval 4;\n");
+  EXPECT_EQ(run_scree("--check --case " + tc.dir().string()).status, 0);
+}
+
+// deltaT 1e-30 ran forever: the clock cannot add it to endTime.
+TEST(CaseErrors, ATimeStepThatCannotEndTheRunIsAnError) {
+  TempCase tc("deltaT");
+  write_valid_case(tc);
+  tc.write("system/controlDict", "endTime 3;\ndeltaT 1e-30;\nwriteInterval 0.5;\n");
+  Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:2:1: deltaT: a step of 1e-30 s cannot advance the clock"),
+            std::string::npos)
+      << r.err;
+  tc.write("system/controlDict", "endTime 3;\ndeltaT 1e-4;\nadjustTimeStep yes;\nmaxDeltaT 1e-14;\nwriteInterval 0.5;\n");
+  r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("system/controlDict:4:1: maxDeltaT: a step of 1e-14 s needs 3e+14 steps"), std::string::npos)
       << r.err;
 }
 

@@ -4,9 +4,12 @@
 // exact file, line and column; hostile input (deep nesting, NUL bytes, exponential
 // macros, huge files); and a deterministic fuzz test.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +22,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "scree/io/dictionary.hpp"
@@ -444,19 +448,60 @@ TEST(DictionaryParse, LineEndingsEmptyInputAndEncoding) {
   expect_at(parse("\ta\t1;").at("a").single_item().where, "test.dict", 1, 4);
 }
 
-TEST(DictionaryParse, DuplicateKeysReplaceKeepingFirstPosition) {
-  Dictionary d = parse("a 1;\nb 2;\na 3;\nb { x 1; }\n");
-  EXPECT_EQ(d.keys(), (std::vector<std::string>{"a", "b"}));
-  EXPECT_EQ(d.get_integer("a"), 3);
-  expect_at(d.at("a").where(), "test.dict", 3, 1);  // the location of the winner
-  EXPECT_TRUE(d.at("b").is_dict());
-  expect_at(d.at("b").where(), "test.dict", 4, 1);
+// A key set twice by one file is a mistake (a value appended to a controlDict that
+// already sets it, a line copied and not renamed): the second used to replace the first
+// silently. The error is at the second and names the first.
+TEST(DictionaryParse, DuplicateKeyIsAnErrorNamingBothLines) {
+  check_error(parse_error("endTime 3;\ndeltaT 1e-3;\nendTime 1e9;\n", "system/controlDict"), "system/controlDict", 3,
+              1, "endTime: duplicate entry, already set at system/controlDict:1:1");
+  // In a sub-dictionary, and between a dictionary and a value.
+  check_error(parse_error("w\n{\n    p { type vtk; }\n    p { type vtk; }\n}\n"), "test.dict", 4, 5,
+              "p: duplicate entry, already set at test.dict:3:5");
+  check_error(parse_error("b 2;\nb { x 1; }\n"), "test.dict", 2, 1, "b: duplicate entry, already set at test.dict:1:1");
+  // The same key in different dictionaries is no duplicate.
+  Dictionary d = parse("a 1;\ns { a 2; t { a 3; } }\n");
+  EXPECT_EQ(d.sub("s").sub("t").get_integer("a"), 3);
 }
 
-TEST(DictionaryParse, InputModeDirectiveIsAcceptedAndIgnored) {
-  Dictionary d = parse("#inputMode merge\na 1;\n#inputMode overwrite;\na 2;");
-  EXPECT_EQ(d.get_integer("a"), 2);
-  EXPECT_EQ(d.entries().size(), 1u);
+TEST(DictionaryParse, InputModeOverwriteReplacesKeepingFirstPosition) {
+  Dictionary d = parse("a 1;\nb 2;\n#inputMode overwrite\na 3;\nb { x 1; }\n");
+  EXPECT_EQ(d.keys(), (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(d.get_integer("a"), 3);
+  expect_at(d.at("a").where(), "test.dict", 4, 1);  // the location of the winner
+  EXPECT_TRUE(d.at("b").is_dict());
+  expect_at(d.at("b").where(), "test.dict", 5, 1);
+  // merge replaces too (sub-dictionaries whole); error is the default again.
+  EXPECT_EQ(parse("#inputMode merge\na 1;\n#inputMode overwrite;\na 2;").get_integer("a"), 2);
+  check_error(parse_error("#inputMode overwrite\na 1;\na 2;\n#inputMode error\na 3;"), "test.dict", 5, 1,
+              "a: duplicate entry, already set at test.dict:3:1");
+}
+
+// A variant case includes its base case's file and changes a few entries (the case
+// variants under cases/ do: `#include "../../../system/gridDict"` then `cellSize 0.01;`).
+// An included or merged entry may be replaced; a key repeated inside one included file
+// is still an error, reported in that file.
+TEST(DictionaryInclude, AnIncludedOrMergedEntryMayBeReplaced) {
+  TempDir dir;
+  dir.write("base/gridDict", "dimension 2;\ncellSize 0.02;\n");
+  const fs::path variant = dir.write("variant/gridDict", "#include \"../base/gridDict\"\ncellSize 0.01;\n");
+  Dictionary d = Dictionary::read_file(variant, "variant/gridDict");
+  EXPECT_DOUBLE_EQ(d.get_scalar("cellSize"), 0.01);
+  expect_at(d.at("cellSize").where(), "variant/gridDict", 2, 1);
+  // Twice after the include is still twice in one file.
+  const fs::path twice = dir.write("twice/gridDict", "#include \"../base/gridDict\"\ncellSize 0.01;\ncellSize 0.005;\n");
+  check_error(error_of([&] { Dictionary::read_file(twice, "twice/gridDict"); }), "twice/gridDict", 3, 1,
+              "cellSize: duplicate entry, already set at twice/gridDict:2:1");
+  // Inside the included file.
+  dir.write("bad/base", "a 1;\na 2;\n");
+  const fs::path includer = dir.write("bad/includer", "#include \"base\"\n");
+  check_error(error_of([&] { Dictionary::read_file(includer, "bad/includer"); }), "bad/base", 2, 1,
+              "a: duplicate entry, already set at bad/base:1:1");
+  // '#inputMode overwrite' of an includer does not reach into the included file.
+  const fs::path quiet = dir.write("bad/quiet", "#inputMode overwrite\n#include \"base\"\n");
+  EXPECT_THROW(Dictionary::read_file(quiet, "bad/quiet"), InputError);
+  // `$name;` merges defaults that the dictionary then changes.
+  Dictionary m = parse("sand { rho 2650; E 1e7; }\nwet { $sand; rho 2000; }\n");
+  EXPECT_EQ(m.sub("wet").get_integer("rho"), 2000);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -549,7 +594,8 @@ TEST(DictionaryMacros, DictionaryCopyAndMerge) {
 }
 
 TEST(DictionaryMacros, ValuesContainingMacrosWereAlreadyExpanded) {
-  Dictionary d = parse("a 1;\nb $a;\nc $b;\nd { x $c; y ($a $b); }\ne $d;\nf $e.y;\na 99;\ng $c;");
+  Dictionary d =
+      parse("a 1;\nb $a;\nc $b;\nd { x $c; y ($a $b); }\ne $d;\nf $e.y;\n#inputMode overwrite\na 99;\ng $c;");
   EXPECT_EQ(d.get_integer("c"), 1);
   EXPECT_EQ(d.sub("e").get_integer("x"), 1);
   EXPECT_EQ(d.at("f").as_scalar_list(), (std::vector<double>{1, 1}));
@@ -649,6 +695,53 @@ TEST(DictionaryInclude, Errors) {
   ASSERT_TRUE(top.where().file);
   EXPECT_EQ(*top.where().file, "system/absent");
   EXPECT_NE(top.message().find("cannot open file 'system/absent'"), std::string::npos) << top.message();
+}
+
+/// Runs `read`, which must throw an InputError without blocking on the named pipe `fifo`:
+/// should it block in open() or read(), a watchdog writes to the pipe after 3 s, which
+/// releases it, and the test fails (instead of hanging until CTest's timeout).
+InputError error_without_blocking(const fs::path& fifo, const std::function<void()>& read) {
+  std::atomic<bool> done{false}, released{false};
+  std::thread watchdog([&] {
+    for (int i = 0; i < 60 && !done; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (done) return;
+    const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // succeeds only with a reader waiting
+    if (fd >= 0) {
+      released = true;
+      const char text[] = "released 1;\n";
+      [[maybe_unused]] const auto n = ::write(fd, text, sizeof text - 1);
+      ::close(fd);
+    }
+  });
+  InputError e = error_of(read);
+  done = true;
+  watchdog.join();
+  EXPECT_FALSE(released) << "reading blocked on the named pipe " << fifo;
+  return e;
+}
+
+// Reading a named pipe blocks until something writes to it: a FIFO in place of
+// constant/g hung `scree --check` forever. Anything but a regular file is refused, naming
+// the path, before it is opened.
+TEST(DictionaryInclude, FilesThatAreNotRegularFilesAreRefusedWithoutBlocking) {
+  TempDir dir;
+  const fs::path fifo = dir.path() / "g";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const InputError top = error_without_blocking(fifo, [&] { Dictionary::read_file(fifo, "constant/g"); });
+  ASSERT_TRUE(top.where().file);
+  EXPECT_EQ(*top.where().file, "constant/g");
+  EXPECT_NE(top.message().find(fifo.string() + " is a named pipe (FIFO), not a regular file"), std::string::npos)
+      << top.message();
+  const fs::path includer = dir.write("controlDict", "a 1;\n#include \"g\"\n");
+  check_error(error_without_blocking(fifo, [&] { Dictionary::read_file(includer, "system/controlDict"); }),
+              "system/controlDict", 2, 1, "cannot include 'g': " + fifo.string() + " is a named pipe (FIFO), not a regular file");
+  const fs::path device = dir.write("dev", "#include \"/dev/null\"\n");
+  check_error(error_of([&] { Dictionary::read_file(device, "dev"); }), "dev", 1, 1,
+              "/dev/null is a character device, not a regular file");
+  // A symbolic link to a regular file is read as that file.
+  dir.write("real", "x 1;\n");
+  fs::create_symlink(dir.path() / "real", dir.path() / "link");
+  EXPECT_EQ(Dictionary::read_file(dir.path() / "link", "link").get_integer("x"), 1);
 }
 
 TEST(DictionaryInclude, LongIncludeChainsAreLimited) {
@@ -838,10 +931,10 @@ TEST(DictionaryErrors, Directives) {
   EXPECT_PARSE_ERROR("#include", 1, 1, "expected a quoted file name after '#include', found the end of the file");
   EXPECT_PARSE_ERROR("#include \"\"", 1, 10, "empty file name after '#include'");
   EXPECT_PARSE_ERROR("a 1;\n  #includeEtc \"x\"", 2, 3,
-                     "unknown directive '#includeEtc' (supported: #include \"file\"; #inputMode merge|overwrite");
+                     "unknown directive '#includeEtc' (supported: #include \"file\"; #inputMode overwrite|merge|error)");
   EXPECT_PARSE_ERROR("#remove a;", 1, 1, "unknown directive '#remove'");
   EXPECT_PARSE_ERROR("# include \"x\"", 1, 1, "expected a directive name after '#'");
-  EXPECT_PARSE_ERROR("#inputMode error", 1, 12, "expected 'merge' or 'overwrite' after '#inputMode'");
+  EXPECT_PARSE_ERROR("#inputMode protect", 1, 12, "expected 'overwrite', 'merge' or 'error' after '#inputMode'");
   EXPECT_PARSE_ERROR("l ( #include \"x\" );", 1, 5, "unexpected directive '#include' inside a list");
   EXPECT_PARSE_ERROR("a #include \"x\";", 1, 3, "unexpected directive '#include' in the value of 'a'");
 }
@@ -997,18 +1090,30 @@ class Generator {
     s += pick(gaps);
   }
 
+  /// A key not yet used in this dictionary, mostly: a key set twice in one file is an
+  /// error, which one key in ten exercises.
+  std::string key_for(std::vector<std::string>& used) {
+    std::vector<std::string> unused;
+    for (const auto& k : keys_)
+      if (std::find(used.begin(), used.end(), k) == used.end()) unused.push_back(k);
+    const std::string key = unused.empty() || chance(10) ? pick(keys_) : pick(unused);
+    used.push_back(key);
+    return key;
+  }
+
   void entries(std::string& s, int depth) {
+    std::vector<std::string> used;
     for (int n = static_cast<int>(rng_() % 6); n > 0; --n) {
       const int what = static_cast<int>(rng_() % 100);
       if (what < 60) {
-        const std::string key = pick(keys_);
+        const std::string key = key_for(used);
         s += key;
         space(s);
         value(s, depth);
         s += ';';
         if (depth == 0) values_.push_back(key);
       } else if (what < 80 && depth < 4) {
-        const std::string key = pick(keys_);
+        const std::string key = key_for(used);
         s += key;
         space(s);
         s += '{';

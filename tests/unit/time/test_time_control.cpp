@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "scree/time/time_control.hpp"
 
@@ -130,6 +132,26 @@ TEST(TimeControl, TheWatchWarnsOnceWhenAFixedStepBecomesUnstable) {
   const auto once = log.str();
   tc.watch(20.0, 0.4, 4000, speed, log);
   EXPECT_EQ(log.str(), once) << "warned once";
+}
+
+// deltaT 1e-30 with endTime 3: t + dt == t in double, and the run went on forever with
+// no warning. A step the clock cannot add, or one needing more than 1e12 steps, is
+// refused; the reason says which step would do.
+TEST(TimeControl, AStepTheClockCannotAddOrThatNeedsMoreThan1e12StepsIsRefused) {
+  const std::string never = TimeControl::step_problem(0, 3, 1e-30);
+  EXPECT_NE(never.find("cannot advance the clock"), std::string::npos) << never;
+  EXPECT_NE(never.find("at least 3e-12 s"), std::string::npos) << never;
+  const std::string months = TimeControl::step_problem(0, 3, 1e-15);
+  EXPECT_NE(months.find("needs 3e+15 steps"), std::string::npos) << months;
+  EXPECT_EQ(TimeControl::step_problem(0, 3, 3e-12), "");  // exactly 1e12 steps
+  EXPECT_NE(TimeControl::step_problem(0, 3, 2.9e-12), "");
+  EXPECT_EQ(TimeControl::step_problem(0, 3, 2e-4), "");
+  // Late in a long run the clock's resolution is what limits the step.
+  EXPECT_NE(TimeControl::step_problem(1e9, 1e9 + 1, 1e-8).find("cannot advance the clock"), std::string::npos);
+  // Settings built in code are checked too (a validated case never gets here).
+  EXPECT_THROW(TimeControl(fixed_step(1e-30, 3.0), 0.01), std::invalid_argument);
+  EXPECT_THROW(TimeControl(adaptive_step(1e-4, 3.0, 1e-30, 0.5), 0.01), std::invalid_argument);
+  EXPECT_NO_THROW(TimeControl(adaptive_step(1e-30, 3.0, 1e-4, 0.5), 0.01)) << "only the first step is tiny";
 }
 
 }  // namespace

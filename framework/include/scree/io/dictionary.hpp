@@ -16,10 +16,18 @@
 //                                 a sub-dictionary's entries are merged in.
 //                                 `${name}` is the same as `$name`.
 //   #include "file"               file relative to the including file's directory
-//   #inputMode merge|overwrite    accepted for OpenFOAM compatibility and ignored
+//   #inputMode overwrite|merge|error   how the rest of this file treats a repeated key
 //
-// Later entries with the same key replace earlier ones (OpenFOAM semantics); the
-// location kept is the one of the entry that wins.
+// A key may be set once per dictionary by the file that writes it: a second `endTime`
+// in the same controlDict (a value appended, a line copied and edited) is an error that
+// names both lines. A key may replace one that came from an `#include` or a `$name;`
+// merge: a variant that includes its base case's file and then sets `cellSize 0.01;`
+// changes that entry, as in OpenFOAM. `#inputMode overwrite` (or `merge`) makes later
+// entries of the rest of the current file replace earlier ones silently; `#inputMode
+// error` is the default. (`merge` does not merge sub-dictionaries: the later one
+// replaces the earlier one whole.) A replacement keeps the position of the first entry
+// and the location of the one that wins. A file must be a regular file: a named pipe, a
+// device or a socket is an error naming the path, reported without opening it.
 //
 // Every entry, item and dictionary keeps file, line and column (1-based). Every error
 // is an InputError whose what() reads `file:line:col: message`.
@@ -140,8 +148,9 @@ class SCREE_API Dictionary {
   Dictionary(std::string name, SourceLocation where);
 
   /// Read a file. `display_name` is the path used in messages (defaults to `path` as
-  /// given). Throws InputError for any syntax error, a missing file, an unknown macro,
-  /// an include cycle or a missing include; never hangs or crashes on malformed input.
+  /// given). Throws InputError for any syntax error, a missing file or one that is not a
+  /// regular file (a named pipe would block), a key set twice, an unknown macro, an
+  /// include cycle or a missing include; never hangs or crashes on malformed input.
   static Dictionary read_file(const std::filesystem::path& path,
                               std::optional<std::string> display_name = std::nullopt);
   /// Parse text; `name` is used as the file name in locations.

@@ -5,6 +5,12 @@
 // half-written file in the output directory: write to a temporary name and rename
 // (write_file_atomically below).
 //
+// Where: a writer that writes files declares a word parameter `directory` (relative to
+// the case directory) and names its files after itself, <name>.* and <name>_* (the vtk
+// writer: VTK/particles.pvd, VTK/particles_3.vtp). The core relies on both: it checks
+// before a run that the directory can be created, and `scree` refuses to run over the
+// files of an earlier run there unless given --overwrite (solver/setup_check.hpp).
+//
 //   struct MyWriter : Writer {
 //     static constexpr const char* type_name = "myWriter";
 //     static ParamSpec spec();

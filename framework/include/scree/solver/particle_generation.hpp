@@ -9,6 +9,7 @@
 //   sigma_v = -rho |g| (s - z),  sigma_h = K0 sigma_v  (tension positive)
 // with z the elevation along -g and s the free-surface elevation (default: the top of
 // the body), so a column of height H starts with sigma_v = -rho g H at its base.
+// Bodies may not overlap unless one of them says `allowOverlap yes` (check_bodies).
 #pragma once
 
 #include <vector>
@@ -28,9 +29,23 @@ struct GeneratedParticles {
 };
 
 /// Generate the particles of one body dictionary (validated against CoreSpecs::body).
-/// `density` is the material's initial mass density (for the geostatic stress).
+/// `density` is the material's initial mass density (for the geostatic stress). Throws
+/// InputError, at the region's file:line, for a region that does not fit the case or
+/// the grid (see check_bodies).
 template <int D>
 SCREE_API GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& grid,
                                                    Real density, const Vec<D>& gravity);
+
+/// The checks of every body of constant/bodies against the grid, without keeping any
+/// particle (scree --check runs them, and every run before it allocates anything):
+///   - each region fits the case (rectangle in 2D, box in 3D, a polygon of 3 or more
+///     vertices in 2D) and holds at least one particle position;
+///   - no particle lies outside the domain of system/gridDict;
+///   - no body has particles inside another body's region (both ways): two bodies in
+///     one place double the mass there. A body with `allowOverlap yes` may overlap.
+/// Each problem is appended to `errors` at the region's file:line; an overlap names the
+/// other body's region and its file:line.
+template <int D>
+SCREE_API void check_bodies(const Dictionary& bodies, const GridGeometry<D>& grid, std::vector<InputError>& errors);
 
 }  // namespace scree

@@ -32,14 +32,19 @@ struct RunOptions {
   /// How the kernels run (exec/kernel_policy.hpp): the fast kernels by default.
   KernelPolicy kernels;
   std::ostream* log = nullptr; ///< messages (default std::cout)
+  /// Run check_setup (setup_check.hpp) first: every problem of the setup is then thrown
+  /// together as InputErrors before anything is allocated or written, and its warnings
+  /// go to `log`. Off only for a caller that ran it itself (the scree executable).
+  bool check_setup = true;
 };
 
 struct RunStats {
   std::int64_t split_steps = 0;  ///< steps whose stress pass ran split (KernelPolicy::split)
   std::int64_t steps = 0;
   double simulated_time = 0;   ///< [s]
-  double wall_seconds = 0;     ///< time-loop wall time, setup excluded [s]
-  double output_seconds = 0;   ///< of which spent waiting for snapshots/output [s]
+  double wall_seconds = 0;     ///< wall time of the steps (the chunks of steps), setup and output excluded [s]
+  double output_seconds = 0;   ///< wall time the loop spent taking snapshots and handing them to the output
+                               ///< thread, besides wall_seconds [s]
   std::int64_t particles = 0;
   std::int64_t nodes = 0;
   std::size_t bytes_per_particle = 0;

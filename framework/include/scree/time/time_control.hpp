@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <string>
 
 #include "scree/core/config.hpp"
 #include "scree/time/step_control.hpp"
@@ -33,7 +34,23 @@ class SCREE_API TimeControl {
   /// The largest signal speed c + |v| over the material points now [m/s].
   using SignalSpeed = std::function<Real()>;
 
+  /// Throws std::invalid_argument when step_problem() finds the settings unusable (a
+  /// validated case never is: Case::read reports it with the key's file:line).
   TimeControl(const TimeSettings& s, Real cell_size);
+
+  /// The most steps a run may take from startTime to endTime at its largest step.
+  /// Beyond it (a) the run cannot end in any useful time: 1e12 steps are more than three
+  /// months at 1e5 steps/s, about the rate of the smallest cases on one GPU; and (b) the
+  /// clock itself degrades: every t += dt is rounded by up to half an ulp of t, about
+  /// 1.1e-16 endTime, which at 1e12 steps is 1e-4 of each step, so that the time a step
+  /// reports drifts from the steps taken.
+  static constexpr double kMaxSteps = 1e12;
+
+  /// Why a run from `start_time` to `end_time` with steps of at most `max_step` cannot
+  /// work, or "" when it can: the step is too small for the clock to advance at end_time
+  /// (t + dt == t in double precision: the run would never end), or the run would need
+  /// more than kMaxSteps steps. The text says what is valid: the smallest usable step.
+  static std::string step_problem(double start_time, double end_time, double max_step);
 
   /// The clock at the start: t = startTime, dt = deltaT, aimed at endTime.
   StepControl initial() const;

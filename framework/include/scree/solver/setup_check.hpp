@@ -1,0 +1,69 @@
+// The checks of a case that need its parts together: the grid with the bodies and the
+// boundary conditions, and the places the output goes. Case::read checks every
+// dictionary on its own; check_setup runs what the run's setup would reject, without
+// allocating the run, stepping or writing anything. `scree --check` runs it, and so
+// does every Simulation before it builds the run, so that the run and --check accept
+// the same cases and every problem is reported together with its file:line.
+//
+//   Case c = Case::read(dir, rt);
+//   SetupReport r = check_setup(c, rt);      // r.errors: the run would fail
+//   for (auto& w : r.warnings) ...           // the run goes on, probably not as meant
+//
+// It also knows where the writers and function objects of a case write
+// (output_places), so that `scree` can refuse to replace the results of an earlier run
+// (existing_results) unless told to (--overwrite).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scree/io/dictionary.hpp"
+#include "scree/mpm/grid.hpp"
+#include "scree/plugin/loader.hpp"
+#include "scree/solver/case.hpp"
+
+namespace scree {
+
+/// The background grid of a case: the domain of system/gridDict extended to whole
+/// cells, with its ghost layers (the run's setup builds the same grid).
+template <int D>
+SCREE_API GridGeometry<D> grid_geometry(const GridSettings& grid);
+
+struct SetupReport {
+  std::vector<InputError> errors;    ///< what the run would reject (file:line each)
+  std::vector<InputError> warnings;  ///< what the run accepts but is probably a mistake
+};
+
+/// For a case Case::read accepted:
+///   bodies       each region fits the case and the grid, holds particles, and does not
+///                overlap another body (check_bodies, particle_generation.hpp);
+///   boundaries   each boundary condition builds on this grid (a face zMin in 2D, a
+///                region that selects nothing it can use, ...): the plugins are
+///                constructed on the host and constrain a scratch set of walls;
+///   output       (with_output) every writer's and function object's directory can be
+///                created and written (nothing is created); one outside the case
+///                directory is a warning.
+SCREE_API SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output = true);
+
+/// Where a writer or function object writes.
+struct OutputPlace {
+  std::string owner;          ///< "writer 'particles'", "function object 'front'"
+  std::filesystem::path dir;  ///< its directory (relative to the working directory, like the case's)
+  SourceLocation where;       ///< its `directory` entry, or its dictionary when defaulted
+  /// Which files in `dir` are its own: those named <prefix>.* or <prefix>_* (a writer
+  /// names its files after itself: VTK/particles.pvd, VTK/particles_3.vtp). Empty: every
+  /// file (the directory is its own: postProcessing/<name>/ of a function object).
+  std::string prefix;
+};
+
+/// The places of the writers (those whose plugin declares a `directory` parameter) and
+/// of the function objects (postProcessing/<name>/) of a validated case.
+SCREE_API std::vector<OutputPlace> output_places(const Case& c, const Registry& reg);
+
+/// The results an earlier run left where this case's writers and function objects
+/// write (hidden temporaries aside), which a run from t = 0 replaces: their files, in
+/// order of the places.
+SCREE_API std::vector<std::filesystem::path> existing_results(const Case& c, const Registry& reg);
+
+}  // namespace scree

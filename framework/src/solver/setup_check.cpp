@@ -1,0 +1,212 @@
+// check_setup, output_places and existing_results (see setup_check.hpp).
+#include "scree/solver/setup_check.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <exception>
+#include <system_error>
+
+#include "scree/boundary/boundary_condition.hpp"
+#include "scree/plugin/context.hpp"
+#include "scree/solver/particle_generation.hpp"
+
+namespace fs = std::filesystem;
+
+namespace scree {
+
+template <int D>
+GridGeometry<D> grid_geometry(const GridSettings& gs) {
+  GridGeometry<D> g{};
+  g.h = gs.cell_size;
+  g.ghost = gs.ghost_layers;
+  for (int d = 0; d < D; ++d) {
+    const Real lo = gs.lower[d], hi = gs.upper[d];
+    const int nc = static_cast<int>(std::ceil((hi - lo) / g.h - 1e-9));
+    g.lower[d] = lo;
+    g.upper[d] = lo + nc * g.h;
+    g.n[d] = nc + 1 + 2 * gs.ghost_layers;
+    g.origin[d] = lo - gs.ghost_layers * g.h;
+    g.offset[d] = 0;
+  }
+  return g;
+}
+
+template GridGeometry<2> grid_geometry<2>(const GridSettings&);
+template GridGeometry<3> grid_geometry<3>(const GridSettings&);
+
+namespace {
+
+bool is_plugin_entry(const Entry& e) { return e.is_dict() && !e.key().empty() && e.key()[0] != '_'; }
+
+/// Why `dir` cannot be created and written to, or "" if it can; nothing is created.
+std::string unwritable(const fs::path& dir) {
+  std::error_code ec;
+  fs::path target = fs::absolute(dir, ec);
+  if (ec) target = dir;
+  target = target.lexically_normal();
+  // The deepest part of the path that exists decides.
+  fs::path p = target;
+  while (!fs::exists(p, ec) && p.has_relative_path()) p = p.parent_path();
+  if (!fs::is_directory(p, ec))
+    return p == target ? p.string() + " exists and is not a directory"
+                       : "it cannot be created: " + p.string() + " is not a directory";
+  if (::access(p.c_str(), W_OK | X_OK) != 0) {
+    const std::string why = std::system_category().message(errno);
+    return p == target ? "it is not writable (" + why + ")"
+                       : "it cannot be created: " + p.string() + " is not writable (" + why + ")";
+  }
+  return {};
+}
+
+/// Whether `dir` lies inside `case_dir` (after resolving links, "..", and so on).
+bool inside(const fs::path& dir, const fs::path& case_dir) {
+  std::error_code ec;
+  const fs::path d = fs::weakly_canonical(fs::absolute(dir, ec), ec);
+  const fs::path c = fs::weakly_canonical(fs::absolute(case_dir, ec), ec);
+  auto di = d.begin();
+  for (auto ci = c.begin(); ci != c.end(); ++ci, ++di) {
+    if (ci->empty()) continue;  // a trailing separator
+    if (di == d.end() || *di != *ci) return false;
+  }
+  return true;
+}
+
+template <int D>
+void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
+  const CaseSettings& s = c.settings();
+  const GridGeometry<D> grid = grid_geometry<D>(s.grid);
+  check_bodies<D>(c.bodies(), grid, report.errors);
+
+  // Boundary conditions: built on the host against this grid, as the run builds them.
+  SolverContext ctx;
+  ctx.case_dir = c.dir();
+  ctx.dimension = D;
+  ctx.device = Device::cpu;
+  ctx.cell_size = grid.h;
+  for (int d = 0; d < D; ++d) {
+    ctx.grid_origin.push_back(grid.origin[d]);
+    ctx.domain_lower.push_back(grid.lower[d]);
+    ctx.domain_upper.push_back(grid.upper[d]);
+    ctx.grid_nodes.push_back(grid.n[d]);
+    ctx.gravity.push_back(s.gravity[d]);
+  }
+  ctx.start_time = s.control.time.start_time;
+  ctx.end_time = s.control.time.end_time;
+  ctx.delta_t = s.control.time.delta_t;
+  for (const Entry& e : c.bodies().entries())
+    if (is_plugin_entry(e) && e.key() != "FoamFile") ctx.body_names.push_back(e.key());
+
+  WallSet walls(NodeLattice::of(ctx));
+  const Registry& reg = rt.registry();
+  for (const Entry& e : c.boundaries().entries()) {
+    if (!is_plugin_entry(e) || e.key() == "FoamFile") continue;
+    const Dictionary& d = e.dict();
+    try {
+      const Entry& type = d.at("type");
+      const PluginEntry& pe = reg.get(PluginKind::boundaryCondition, type.as_word(), type.where());
+      SolverContext bc_ctx = ctx;
+      bc_ctx.name = e.key();
+      pe.boundary(d, bc_ctx)->constrain(walls);
+    } catch (const InputError& err) {
+      report.errors.push_back(err);
+    } catch (const std::exception& err) {
+      report.errors.emplace_back(d.where(), "boundary condition '" + e.key() + "': " + err.what());
+    }
+  }
+}
+
+void check_output(const Case& c, const Registry& reg, SetupReport& report) {
+  for (const OutputPlace& place : output_places(c, reg)) {
+    if (!place.dir.has_filename()) {  // `directory "";` would write into the case directory itself
+      report.errors.emplace_back(place.where, "directory: must not be empty; expected a directory name, e.g. VTK");
+      continue;
+    }
+    const std::string why = unwritable(place.dir);
+    if (!why.empty()) {
+      report.errors.emplace_back(place.where, "directory: the output directory " + place.dir.string() + " of " +
+                                                  place.owner + " cannot be used: " + why +
+                                                  "; expected a directory that can be created and written");
+      continue;
+    }
+    if (!inside(place.dir, c.dir())) {
+      std::error_code ec;
+      report.warnings.emplace_back(
+          place.where, "directory: the output directory of " + place.owner + ", " +
+                           fs::weakly_canonical(fs::absolute(place.dir, ec), ec).string() +
+                           ", is outside the case directory " +
+                           fs::weakly_canonical(fs::absolute(c.dir(), ec), ec).string() +
+                           ": the results will not be with the case, and another case writing there replaces them "
+                           "(a directory relative to the case, such as VTK, keeps them inside)");
+    }
+  }
+}
+
+}  // namespace
+
+SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output) {
+  SetupReport report;
+  if (c.dimension() == 3)
+    check_geometry<3>(c, rt, report);
+  else
+    check_geometry<2>(c, rt, report);
+  if (with_output) check_output(c, rt.registry(), report);
+  return report;
+}
+
+std::vector<OutputPlace> output_places(const Case& c, const Registry& reg) {
+  std::vector<OutputPlace> places;
+  auto visit = [&](const char* group, PluginKind kind) {
+    const Entry* g = c.control().find(group);
+    if (!g || !g->is_dict()) return;
+    for (const Entry& e : g->dict().entries()) {
+      if (!is_plugin_entry(e)) continue;
+      const Dictionary& d = e.dict();
+      const Entry* type = d.find("type");
+      const PluginEntry* pe = type ? reg.find(kind, type->as_word()) : nullptr;
+      if (!pe) continue;  // Case::read has reported it
+      const std::string owner = std::string(kind == PluginKind::writer ? "writer" : "function object") + " '" +
+                                e.key() + "'";
+      const Param* dir = pe->spec->find("directory");
+      if (dir && dir->type() == ParamType::word) {
+        const ParamReader r(*pe->spec, d);
+        const std::string text = r.word("directory");
+        const Entry* given = d.find("directory");
+        places.push_back({owner, c.dir() / text, given ? given->where() : d.where(),
+                          kind == PluginKind::writer ? e.key() : std::string()});
+      } else if (kind == PluginKind::functionObject) {
+        SolverContext ctx;
+        ctx.case_dir = c.dir();
+        ctx.name = e.key();
+        places.push_back({owner, ctx.post_processing_dir(), d.where(), std::string()});
+      }
+    }
+  };
+  visit("writers", PluginKind::writer);
+  visit("functions", PluginKind::functionObject);
+  return places;
+}
+
+std::vector<fs::path> existing_results(const Case& c, const Registry& reg) {
+  std::vector<fs::path> found;
+  for (const OutputPlace& place : output_places(c, reg)) {
+    std::error_code ec;
+    if (!fs::is_directory(place.dir, ec)) continue;
+    std::vector<fs::path> here;
+    for (const auto& de : fs::directory_iterator(place.dir, ec)) {
+      const std::string name = de.path().filename().string();
+      if (name.empty() || name[0] == '.') continue;  // temporaries of a killed run
+      const std::string& p = place.prefix;
+      if (!p.empty() && name.rfind(p + ".", 0) != 0 && name.rfind(p + "_", 0) != 0) continue;
+      here.push_back(de.path());
+    }
+    std::sort(here.begin(), here.end());
+    for (auto& f : here)
+      if (std::find(found.begin(), found.end(), f) == found.end()) found.push_back(f);
+  }
+  return found;
+}
+
+}  // namespace scree

@@ -1,0 +1,1 @@
+sed -i 's/^deltaT .*/deltaT          1e-30;/' system/controlDict

@@ -1,0 +1,1 @@
+sed -i 's/^deltaT .*/deltaT          1e-15;/' system/controlDict

@@ -1,0 +1,1 @@
+echo "endTime 1e9;" >> system/controlDict

@@ -1,0 +1,1 @@
+sed -i 's/face yMin;/face zMin;/' constant/boundaryConditions

@@ -1,0 +1,2 @@
+rm constant/g
+mkfifo constant/g

@@ -1,0 +1,2 @@
+echo "#include \"extra\"" >> system/controlDict
+mkfifo system/extra

@@ -1,0 +1,1 @@
+sed -i 's/^endTime .*/endTime         1000;/' system/controlDict

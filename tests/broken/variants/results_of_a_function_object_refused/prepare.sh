@@ -1,0 +1,2 @@
+mkdir -p postProcessing/front
+echo "time [s],runout [m]" > postProcessing/front/runOut.csv
