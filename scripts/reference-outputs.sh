@@ -53,7 +53,7 @@ for dir in "$repo"/cases/elementTests/fig*/; do
 done
 # The logs carry wall times: keep only what the run computed.
 for l in "$out"/*.log; do
-  grep -v -E 'wall|steps/s|elapsed|ETA|threads' "$l" > "$l.tmp" || true
+  grep -v -E 'wall|steps/s|elapsed|ETA|thread' "$l" > "$l.tmp" || true
   mv "$l.tmp" "$l"
 done
 echo "reference-outputs: $(find "$out" -type f | wc -l) files in $out"

@@ -322,12 +322,17 @@ RunStats Solver<D>::run() {
   log_ << "Running " << case_.dir().string() << ": " << D << "D, " << bodies_.size() << " bod"
        << (bodies_.size() == 1 ? "y" : "ies") << ", " << stats().particles << " particles, " << grid_.num_nodes()
        << " grid nodes, backend " << to_string(exec_.device)
-       << (exec_.device == Device::cpu ? " (" + std::to_string(exec_.threads) + " threads)" : "") << "\n";
+       << (exec_.device == Device::cpu
+               ? " (" + std::to_string(exec_.threads) + (exec_.threads == 1 ? " thread)" : " threads)")
+               : "")
+       << std::endl;  // flushed: a run killed early still leaves its header in the log
   if (opt_.output) output_due(false);  // the initial state
   advance_chunked(time_.end_time(), opt_.max_steps, opt_.output);
   if (opt_.output) {
     output_due(true);  // the final state (also when endTime is not on the write grid)
-    output_->finish();
+    const auto t0 = std::chrono::steady_clock::now();
+    output_->finish();  // waits for the output thread: output time too
+    output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   if (opt_.progress) progress_.report(time(), step_, true);
   profile_.report(log_, step_);
