@@ -20,7 +20,9 @@
 // part of what the correction replaces, the same at convergence of the flux).
 //
 // Surface nodes are found at every step: nodes with mass that touch both an empty cell and
-// a cell holding points, inside the condition's region and time window.
+// a cell holding points, inside the condition's region and time window. There the surface
+// is open while it rains (a two-phase body's surface is closed elsewhere, porous/
+// two_phase.hpp): p_w = 0, the natural condition, takes in what the soil can take.
 //
 //   rain { type rainfall; box { min (0 1.0); max (0.1 1.2); } intensity 1800; unit mm/h; }
 #pragma once
@@ -35,30 +37,12 @@
 
 namespace scree::boundary {
 
-/// The correction (A)-(E) at one node; returns whether it was applied.
+/// The correction (A)-(E) at one node (seepage_correction, porous/two_phase.hpp), applied
+/// only where (B) holds; returns whether it was applied.
 template <int D>
 SCREE_HD inline bool rainfall_correction(const Real* grad, Real ms, Real ml, Real mlm, const Real* w, Real* vs,
                                          Real* vl) {
-  Real g2 = 0;
-  for (int d = 0; d < D; ++d) g2 += grad[d] * grad[d];
-  if (!(g2 > 0) || !(ml > 0) || !(mlm > 0) || !(ms > 0)) return false;
-  const Real inv = 1 / sqrt(g2);
-  Real n[D];
-  for (int d = 0; d < D; ++d) n[d] = grad[d] * inv;  // (A)
-  const Real nS = mlm / ml;
-  Real rel = 0, wn = 0;
-  for (int d = 0; d < D; ++d) {
-    rel += (vl[d] - vs[d]) * n[d];
-    wn += w[d] * n[d];
-  }
-  if (nS * rel - wn > 0) return false;  // (B): the soil takes less than the rain: ponding
-  const Real r = wn / nS - rel;         // (C)
-  const Real dl = r * ms / (ms + mlm), ds = -r * mlm / (ms + mlm);  // (D)
-  for (int d = 0; d < D; ++d) {  // (E)
-    vl[d] += dl * n[d];
-    vs[d] += ds * n[d];
-  }
-  return true;
+  return seepage_correction<D>(grad, ms, ml, mlm, w, vs, vl, true);
 }
 
 namespace detail {
@@ -74,23 +58,7 @@ struct RainfallKernel {
     if (t < t_start || t >= t_end) return;
     const Real ms = g.solid.mass[I];
     if (!(ms > g.mass_eps)) return;
-    // A surface node: among the cells around it, one empty and one with points.
-    int idx[D];
-    g.grid.unflat(I, idx);
-    bool empty = false, full = false;
-    for (int c = 0; c < (1 << D); ++c) {
-      Index cell = 0, stride = 1;
-      bool ok = true;
-      for (int d = 0; d < D; ++d) {
-        const int j = idx[d] - 1 + ((c >> d) & 1);
-        ok = ok && j >= 0 && j < g.grid.n[d] - 1;
-        cell += j * stride;
-        stride *= g.grid.n[d];
-      }
-      if (!ok) continue;
-      (g.cells[cell] > 0 ? full : empty) = true;
-    }
-    if (!(empty && full)) return;
+    if (!surface_node<D>(g.grid, g.cells, I)) return;
     Real grad[D], vs[D], vl[D];
     for (int d = 0; d < D; ++d) {
       grad[d] = g.liquid.gradient[d][I];
@@ -138,6 +106,11 @@ class Rainfall final : public BoundaryCondition {
   }
   bool hydraulic() const override { return true; }
   bool has_hydraulic_law() const override { return true; }
+  /// Under the rain the surface is open (p_w = 0, the weak form's natural condition): the
+  /// soil takes what it can, and (B) clips it to the rain.
+  void open_surfaces(std::vector<OpenSurface>& out) const override {
+    out.push_back({[this](const Real* x) { return region_.contains(x); }, t_start_, t_end_});
+  }
   void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<2>& g) const override { run(ex, g); }
   void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<3>& g) const override { run(ex, g); }
 

@@ -85,6 +85,9 @@ PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, co
     for (int d = 0; d < D; ++d) f.velocity[d] = next();
     for (int d = 0; d < D; ++d) f.velocity_new[d] = next();
     for (int d = 0; d < D; ++d) f.gradient[d] = next();
+    for (int d = 0; d < D; ++d) f.area[d] = next();
+    f.pressure = next();
+    f.volume = next();
     cells_[s].resize(static_cast<std::size_t>(nn), exec_.device);
   }
 }
@@ -215,6 +218,24 @@ void PorousMedia<D>::add_condition(const BoundaryCondition* bc) {
     throw std::runtime_error("too many pore-pressure conditions (at most " + std::to_string(kMaxPorePressureLaws) +
                              " per case)");
   if (bc->has_hydraulic_law()) node_laws_.push_back(bc);
+  std::vector<OpenSurface> open;
+  bc->open_surfaces(open);
+  for (const OpenSurface& o : open) {
+    const int bit = static_cast<int>(open_windows_.size());
+    if (bit >= kMaxOpenSurfaces)
+      throw std::runtime_error("too many open surfaces (ponding, rainfall: at most " +
+                               std::to_string(kMaxOpenSurfaces) + " per case)");
+    open_windows_.push_back(OpenSurfaceWindow{o.t_start, o.t_end});
+    if (host_open_.empty()) host_open_.assign(static_cast<std::size_t>(grid_.num_nodes()), 0u);
+    for (Index I = 0; I < grid_.num_nodes(); ++I) {
+      const Vec<D> x = grid_.node_position(I);
+      Real xs[3] = {0, 0, 0};
+      for (int d = 0; d < D; ++d) xs[d] = x[d];
+      if (o.select(xs)) host_open_[static_cast<std::size_t>(I)] |= std::uint32_t(1) << bit;
+    }
+    open_masks_.resize(host_open_.size(), exec_.device);
+    open_masks_.copy_from_host(host_open_);
+  }
 }
 
 template <int D>
@@ -289,6 +310,9 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.walls = walls_;
   u.masks = masks_;
   u.liquid_masks = has_liquid_walls_ ? liquid_masks_.data() : nullptr;
+  u.cells = cells_[set].data();
+  u.open_masks = open_masks_.size() ? open_masks_.data() : nullptr;
+  for (std::size_t i = 0; i < open_windows_.size(); ++i) u.open[i] = open_windows_[i];
   u.mass_eps = mass_eps;
   u.damping = damping;
   u.damping_start = damping_start;

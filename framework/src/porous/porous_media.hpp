@@ -84,6 +84,9 @@ class PorousMedia {
   const Wall* walls_ = nullptr;
   const WallMask* masks_ = nullptr;
   Buffer<WallMask> liquid_masks_;
+  std::vector<OpenSurfaceWindow> open_windows_;  // open surfaces (ponding, rain): windows
+  std::vector<std::uint32_t> host_open_;         // ... and per node the ones selecting it
+  Buffer<std::uint32_t> open_masks_;
   bool has_liquid_walls_ = false;
 };
 

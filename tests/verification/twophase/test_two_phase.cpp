@@ -44,7 +44,8 @@ void write_column(const TempCase& tc, double w, double H, double top, double h, 
 }
 
 // ---------------------------------------------------------------------------------
-// A saturated column with its water table at the surface, started in the equilibrium of
+// A saturated column with its water table at the surface (ponded: the surface is open), started
+// in the equilibrium of
 // its own weight (geostatic effective stress, hydrostatic pore pressure), stays there:
 // p_w = rho_l g depth within 1% (the acceptance bound; the discrete equilibrium of a
 // uniform column is exact up to round-off), and both phases at rest.
@@ -53,7 +54,8 @@ TEST(TwoPhase, HydrostaticSaturatedColumn) {
   const double H = 1.0;
   write_column(tc, 0.1, H, H, 0.05,
                "porosity 0.4; liquidBulkModulus 2e8; hydraulicConductivity 1e-3; "
-               "initialPorePressure { type hydrostatic; waterTable 1.0; }");
+               "initialPorePressure { type hydrostatic; waterTable 1.0; }",
+               "", "pond { type ponding; face yMax; }");
   Case cs = Case::read(tc.dir(), runtime());
   Simulation sim(cs, runtime(), options());
   sim.advance_to(0.05);
@@ -74,7 +76,7 @@ TEST(TwoPhase, HydrostaticSaturatedColumn) {
 
 // ---------------------------------------------------------------------------------
 // Terzaghi's 1D consolidation: a saturated elastic column (E_oed = E, nu = 0) of height H on
-// an impermeable base, drained at its top, loaded at t = 0 by a stiff plate of weight q per
+// an impermeable base, drained at its top (`ponding`: the surface open), loaded at t = 0 by a stiff plate of weight q per
 // unit width. The excess pore pressure u = p_w - rho_l g (H - y) follows (Terzaghi 1943;
 // Verruijt, Soil Mechanics, ch. 15, with the liquid's compressibility in the storage):
 //   u(z, t) = B q sum_m (2/M) sin(M z/H) exp(-M^2 T_v),  M = (2m+1) pi/2,  z = H - y,
@@ -98,7 +100,7 @@ TEST(TwoPhase, TerzaghiConsolidation) {
                "initialPorePressure { type hydrostatic; waterTable 1.0; }",
                "load { material plate; region { type rectangle; lower (0 1.0); upper (0.05 1.1); } "
                "initialStress { type geostatic; K0 0; } }",
-               "", "soil { type linearElastic; E 1e6; nu 0; rho 2650; } plate { type linearElastic; E 1e8; nu 0; rho 10194; }",
+               "drainedTop { type ponding; box { min (-1 0.99); max (1 1.01); } }", "soil { type linearElastic; E 1e6; nu 0; rho 2650; } plate { type linearElastic; E 1e8; nu 0; rho 10194; }",
                "gimp");
   const double mv = 1 / E, storage = mv + n / Kl, cv = K / (gw * storage), B = mv / storage;
   auto excess = [&](double z, double Tv) {

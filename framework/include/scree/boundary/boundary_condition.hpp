@@ -52,6 +52,11 @@ struct SolverContext;  // what plugins learn about the case (scree/plugin/contex
 template <int D>
 struct TwoPhaseNodes;   // the two-phase grid after its update (scree/porous/two_phase.hpp)
 struct PorePressureLaw;
+/// A stretch of a two-phase body's surface that a hydraulic condition opens (ponding, rain).
+struct OpenSurface {
+  std::function<bool(const Real* x)> select;  ///< the surface nodes it opens, by position
+  Real t_start = -1e300, t_end = 1e300;
+};
 
 /// The grid's nodes as WallSet and select_nodes visit them.
 struct NodeLattice {
@@ -148,6 +153,9 @@ class SCREE_API BoundaryCondition {
   /// Prescribed pore pressures on points (the water table, ponding, a drained layer):
   /// applied after each step's pore-pressure update.
   virtual void constrain_pores(std::vector<PorePressureLaw>& laws) const { (void)laws; }
+  /// Stretches of surface the condition opens (the liquid's natural condition p_w = 0 there:
+  /// ponding, rain); a two-phase body's surface is closed elsewhere.
+  virtual void open_surfaces(std::vector<OpenSurface>& out) const { (void)out; }
   /// A law on both phases' nodal velocities after the two-phase grid update (rainfall).
   virtual bool has_hydraulic_law() const { return false; }
   virtual void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<2>& g) const {

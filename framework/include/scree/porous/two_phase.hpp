@@ -34,6 +34,8 @@
 // as k_rel -> 0), no longer constrains the step, which the acoustic limit alone sets.
 #pragma once
 
+#include <cstdint>
+
 #include "scree/core/config.hpp"
 #include "scree/core/tensor.hpp"
 #include "scree/exec/parallel.hpp"
@@ -74,9 +76,74 @@ struct LiquidFields {
   Real* velocity[D];      ///< v_l^k [m/s]
   Real* velocity_new[D];  ///< v_l^{k+1} [m/s]
   Real* gradient[D];      ///< sum (m_s + m_lm) grad N [kg/m], the mixture density's (eq. A)
+  Real* area[D];          ///< sum V grad N [m^2 per unit thickness]: the surface's share, int N n dGamma
+  Real* pressure;         ///< sum N V p_w [Pa m^3]; over `volume`: the nodal pore pressure
+  Real* volume;           ///< sum N V [m^3]
 };
 template <int D>
-inline constexpr int kLiquidFieldCount = 3 + 5 * D;
+inline constexpr int kLiquidFieldCount = 5 + 6 * D;
+
+/// Whether node I of a grid is on a surface of the points: among the cells around it, one
+/// is empty and one holds points (`cells`: points per cell, cell (i, j) at i + j n_x).
+template <int D>
+SCREE_INLINE bool surface_node(const GridGeometry<D>& grid, const Real* cells, Index I) {
+  int idx[D];
+  grid.unflat(I, idx);
+  bool empty = false, full = false;
+  for (int c = 0; c < (1 << D); ++c) {
+    Index cell = 0, stride = 1;
+    bool ok = true;
+    for (int d = 0; d < D; ++d) {
+      const int j = idx[d] - 1 + ((c >> d) & 1);
+      ok = ok && j >= 0 && j < grid.n[d] - 1;
+      cell += j * stride;
+      stride *= grid.n[d];
+    }
+    if (!ok) {
+      empty = true;  // beyond the grid: nothing there
+      continue;
+    }
+    (cells[cell] > 0 ? full : empty) = true;
+  }
+  return empty && full;
+}
+
+/// The seepage through a surface node set to w . n (w: a prescribed seepage velocity, e.g.
+/// rain; n the outward normal from the mixture's density, eq. A of the rainfall paper's
+/// supplement), keeping the mixture's momentum (its eqs. C-E; boundary/rainfall). With
+/// `only_if_more` the correction applies only where the soil would take at least w (eq. B).
+/// Returns whether it was applied.
+template <int D>
+SCREE_HD inline bool seepage_correction(const Real* grad, Real ms, Real ml, Real mlm, const Real* w, Real* vs,
+                                        Real* vl, bool only_if_more) {
+  Real g2 = 0;
+  for (int d = 0; d < D; ++d) g2 += grad[d] * grad[d];
+  if (!(g2 > 0) || !(ml > 0) || !(mlm > 0) || !(ms > 0)) return false;
+  const Real inv = 1 / sqrt(g2);
+  Real n[D];
+  for (int d = 0; d < D; ++d) n[d] = grad[d] * inv;  // (A)
+  const Real nS = mlm / ml;
+  Real rel = 0, wn = 0;
+  for (int d = 0; d < D; ++d) {
+    rel += (vl[d] - vs[d]) * n[d];
+    wn += w[d] * n[d];
+  }
+  if (only_if_more && nS * rel - wn > 0) return false;  // (B): the soil takes less than w
+  const Real r = wn / nS - rel;                          // (C)
+  const Real dl = r * ms / (ms + mlm), ds = -r * mlm / (ms + mlm);  // (D)
+  for (int d = 0; d < D; ++d) {  // (E)
+    vl[d] += dl * n[d];
+    vs[d] += ds * n[d];
+  }
+  return true;
+}
+
+/// An open stretch of surface (ponding, rain): the pore liquid there has the natural
+/// condition of the weak form, p_w = 0. Elsewhere a surface is closed (OpenSurfaces below).
+inline constexpr int kMaxOpenSurfaces = 16;
+struct OpenSurfaceWindow {
+  Real t_start = -1e300, t_end = 1e300;
+};
 
 /// A prescribed pore pressure on the points inside a box (porePressure condition):
 /// p_w = value, or hydrostatic below the level z_w along -g, p_w = rho_l |g| (z_w - z)
@@ -236,7 +303,10 @@ struct PoreScatter {
         atomic_add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d], serial);
         atomic_add(pp.scatter.force[d] + I, V * S * pw * gradN[d] + N * m_lm * pp.gravity[d], serial);
         atomic_add(lp.scatter.gradient[d] + I, (m_s + m_lm) * gradN[d], serial);
+        atomic_add(lp.scatter.area[d] + I, V * gradN[d], serial);
       }
+      atomic_add(lp.scatter.pressure + I, N * V * pw, serial);
+      atomic_add(lp.scatter.volume + I, N * V, serial);
     }
     // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
     // (C rho_mix) with the storage C = n S_l / K_l + n dS_l/dp (K_l / (n rho_mix) when
@@ -266,6 +336,9 @@ struct TwoPhaseGridUpdate {
   const Wall* walls = nullptr;
   const WallMask* masks = nullptr;
   const WallMask* liquid_masks = nullptr;  ///< the walls the liquid cannot cross
+  const Real* cells = nullptr;             ///< this step's points per cell (surface nodes)
+  const std::uint32_t* open_masks = nullptr;  ///< per node: the open surfaces selecting it
+  OpenSurfaceWindow open[kMaxOpenSurfaces];   ///< their time windows
   Real mass_eps = 0;
   Real damping = 0, damping_start = 0, damping_end = 0;
 
@@ -294,8 +367,34 @@ struct TwoPhaseGridUpdate {
     Real ws[D], wl[D], fls[D];
     const bool damp = damping > 0 && t >= damping_start && t < damping_end;
     const Real Q = liquid.drag[I];
+    // The liquid's boundary term. The weak form of -grad p_w on the points' domain carries
+    // -int N p_b n dGamma; left out, it makes every surface p_b = 0: open, the liquid enters
+    // or leaves as the pore pressure drives it (ponding, a drained face). A surface is closed
+    // unless a condition opens it: there p_b is the nodal pore pressure itself, with
+    // int N n dGamma = sum V grad N (the divergence theorem), so that no flow is driven
+    // through it (the rainfall and ponding conditions open theirs). A closed node's seepage
+    // along the normal is then also set to zero after the integration.
+    Real boundary[D] = {};
+    bool closed = false;  // a closed surface node: no seepage through it (below)
+    if (cells && ml > 0 && surface_node<D>(grid, cells, I)) {
+      bool is_open = (mask & ~lmask) != 0;  // on a drained wall
+      for (std::uint32_t m = open_masks ? open_masks[I] : 0u; m; m &= m - 1) {
+#if defined(__CUDA_ARCH__)
+        const int b = __ffs(static_cast<int>(m)) - 1;
+#else
+        const int b = __builtin_ctz(m);
+#endif
+        is_open = is_open || (t >= open[b].t_start && t < open[b].t_end);
+      }
+      const Real vol = liquid.volume[I];
+      closed = !is_open;
+      if (!is_open && vol > 0) {
+        const Real pb = liquid.pressure[I] / vol;
+        for (int d = 0; d < D; ++d) boundary[d] = -pb * liquid.area[d][I];
+      }
+    }
     for (int d = 0; d < D; ++d) {
-      Real fm = solid.force[d][I], fl = liquid.force[d][I];
+      Real fm = solid.force[d][I], fl = liquid.force[d][I] + boundary[d];
       fls[d] = 0;
       if (damp) {
         if (vs[d] != 0) fm -= damping * fabs(fm) * (vs[d] > 0 ? Real(1) : Real(-1));
@@ -323,6 +422,17 @@ struct TwoPhaseGridUpdate {
         for (int d = 0; d < D; ++d) wl[d] = vl[d] + dt * (fls[d] - Q * (vl[d] - ws[d])) / (ml + dt * Q);
     }
     if (lmask) apply_walls<D>(walls, lmask, wl, x, t);
+    if (closed && ms > mass_eps) {
+      // A closed surface node: no flow through it: the seepage along the outward normal set to zero,
+      // the mixture's momentum kept (seepage_correction with w = 0, unconditionally).
+      Real grad[D];
+      const Real w0[D] = {};
+      for (int d = 0; d < D; ++d) grad[d] = liquid.gradient[d][I];
+      if (seepage_correction<D>(grad, ms, ml, mlm, w0, ws, wl, false)) {
+        if (mask) apply_walls<D>(walls, mask, ws, x, t);  // the walls have the last word
+        if (lmask) apply_walls<D>(walls, lmask, wl, x, t);
+      }
+    }
     for (int d = 0; d < D; ++d) {
       solid.velocity_new[d][I] = ws[d];
       liquid.velocity_new[d][I] = wl[d];
@@ -338,7 +448,10 @@ struct TwoPhaseGridUpdate {
       liquid_other.momentum[d][I] = 0;
       liquid_other.force[d][I] = 0;
       liquid_other.gradient[d][I] = 0;
+      liquid_other.area[d][I] = 0;
     }
+    liquid_other.pressure[I] = 0;
+    liquid_other.volume[I] = 0;
   }
 };
 
