@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The four readings of the seed's 1D infiltration (two permeabilities x two top conditions),
+# run with scree (two-phase MPM) and with scree-richards (the 1D Richards reference), then
+# compared: profiles of pore pressure at the Richards output times, and the wetting front.
+#
+#   cases/infiltration1D/run-comparison.sh [BUILD_DIR [WORK_DIR]] [-- scree options]
+#
+# Writes WORK_DIR/<variant>/{mpm,richards}/ and WORK_DIR/comparison.csv; the figure
+# cases/infiltration1D/comparison.png comes from compare.py.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:-$root/build}
+work=${2:-/tmp/scree-infiltration1D}
+shift $(( $# > 2 ? 2 : $# )) || true
+[ "${1:-}" = "--" ] && shift
+mkdir -p "$work"
+conf="$root/utilities/richards1d/infiltration1D"
+# variant: permeability line, top condition, end time [s], write interval [s]
+variants=(
+  "kappa_ponding|intrinsicPermeability   2e-10;|pond|1|0.1"
+  "kappa_rain|intrinsicPermeability   2e-10;|rain|5|0.5"
+  "Ksat2e-4_ponding|hydraulicConductivity   2e-4;|pond|5|0.5"
+  "Ksat2e-4_rain|hydraulicConductivity   2e-4;|rain|10|1"
+)
+for v in "${variants[@]}"; do
+  IFS='|' read -r name perm top end every <<<"$v"
+  d="$work/$name"
+  rm -rf "$d"; mkdir -p "$d"; cp -r "$here/system" "$here/constant" "$d/"
+  mv "$d/system" "$d/mpm_system"; mkdir -p "$d/mpm"; mv "$d/mpm_system" "$d/mpm/system"; mv "$d/constant" "$d/mpm/"
+  sed -i "s|^        intrinsicPermeability   2e-10;|        $perm|" "$d/mpm/constant/bodies"
+  if [ "$top" = pond ]; then
+    sed -i 's|^rain |// rain |; s|^// pond |pond |' "$d/mpm/constant/boundaryConditions"
+  fi
+  sed -i "s|^endTime .*|endTime         $end;|; s|^writeInterval .*|writeInterval   $every;|" "$d/mpm/system/controlDict"
+  times=$(awk -v e="$end" -v s="$every" 'BEGIN{for(t=s;t<=e+1e-9;t+=s) printf "%g ", t}')
+  echo "== $name: scree to $end s"
+  /usr/bin/time -f "$name mpm wall %e s" "$build/bin/scree" --case "$d/mpm" --overwrite "$@" > "$d/mpm.log" 2>&1 || { tail "$d/mpm.log"; exit 1; }
+  tail -1 "$d/mpm.log"
+  "$build/bin/scree-richards" --config "$conf/$name.conf" --out "$d/richards" --set "profileTimes=$times" \
+    --set "endTime=$end" --quiet
+done
+/usr/bin/python3 "$here/compare.py" "$work" "$here/comparison.png"
