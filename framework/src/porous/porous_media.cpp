@@ -168,15 +168,21 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
       depth[p] = s.sigma[p][vertical_] / (-grain_density * g);
       top = std::max(top, s.x[p][vertical_] + depth[p]);
     }
+    // sigma_v(depth) = -g int_0^depth rho_mix dz, tabulated once below the top by the
+    // midpoint rule in steps of at most 1 mm, and interpolated at each point's depth.
+    Real deepest = 0;
+    for (std::size_t p = 0; p < n; ++p) deepest = std::max(deepest, depth[p]);
+    const int steps = std::max(1, static_cast<int>(std::ceil(deepest / 1e-3)));
+    const Real dz = deepest > 0 ? deepest / steps : Real(1);
+    std::vector<Real> sv_table(static_cast<std::size_t>(steps) + 1, 0);
+    for (int i = 0; i < steps; ++i) {
+      const Real z = top - (i + Real(0.5)) * dz;
+      sv_table[i + 1] = sv_table[i] - g * dz * ((1 - P.n0) * grain_density + P.n0 * saturation(pore_pressure(z)) * P.rho_l);
+    }
     for (std::size_t p = 0; p < n; ++p) {
-      // sigma_v = -g int_0^depth rho_mix(z) dz, by the midpoint rule in steps of at most 1 mm.
-      const int steps = std::max(1, static_cast<int>(std::ceil(depth[p] / 1e-3)));
-      const Real dz = depth[p] / steps;
-      Real sv = 0;
-      for (int i = 0; i < steps; ++i) {
-        const Real z = top - (i + Real(0.5)) * dz;
-        sv -= g * dz * ((1 - P.n0) * grain_density + P.n0 * saturation(pore_pressure(z)) * P.rho_l);
-      }
+      const Real u = std::min(Real(steps), std::max(Real(0), depth[p] / dz));
+      const int i = std::min(steps - 1, static_cast<int>(u));
+      const Real sv = sv_table[i] + (u - i) * (sv_table[i + 1] - sv_table[i]);
       const Real sv_eff = sv + sat[p] * pw[p], sh_eff = K0 * sv_eff;
       Sym3 sig{{sh_eff, sh_eff, sh_eff, 0, 0, 0}};
       sig[vertical_] = sv_eff;
