@@ -271,6 +271,7 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   lp.n_laws = static_cast<int>(laws_.size());
   for (int i = 0; i < lp.n_laws; ++i) lp.laws[i] = laws_[i];
   lp.vertical = vertical_;
+  lp.g = norm(gravity_);
   return lp;
 }
 

@@ -63,6 +63,10 @@ struct PoreParams {
   Real viscosity = 1e-3;  ///< dynamic viscosity mu_l [Pa s]
   Real kappa = 1e-12;     ///< intrinsic permeability [m^2]
   HydraulicTable table;
+
+  /// The liquid's storage C = n S_l / K_l + n dS_l/dp [1/Pa] at porosity n, saturation S
+  /// and pore pressure p: (C) dp/dt = -(S_l div v_s + div q) (the mass balance, top of file).
+  SCREE_INLINE Real storage(Real n, Real S, Real p) const { return n * S / bulk_l + n * table.dsaturation_dp(p); }
 };
 
 /// One set of the liquid's nodal fields (two sets alternate, as the solid's).
@@ -168,6 +172,7 @@ struct PorePassParams {
   int n_laws = 0;
   PorePressureLaw laws[kMaxPorePressureLaws];
   int vertical = 1;         ///< the axis opposite to gravity
+  Real g = 0;               ///< |g| [m/s^2]
 };
 
 namespace detail {
@@ -222,8 +227,7 @@ struct PoreGather {
         for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
         // The liquid mass balance (top of this file), explicit in p_w.
         const Real n = col(kPorosity, p), S = col(kSaturation, p);
-        const Real storage = n * S / lp.pore.bulk_l + n * lp.pore.table.dsaturation_dp(pw);
-        pw -= dt * (S * div_s + div_q) / storage;
+        pw -= dt * (S * div_s + div_q) / lp.pore.storage(n, S, pw);
       }
     }
     // Prescribed pore pressures (water table, ponding, drained boundaries).
@@ -233,9 +237,7 @@ struct PoreGather {
       bool in = true;
       for (int d = 0; d < D; ++d) in = in && x[d] >= L.lo[d] && x[d] <= L.hi[d];
       if (!in) continue;
-      Real g = 0;
-      for (int d = 0; d < D; ++d) g += pp.gravity[d] * pp.gravity[d];
-      pw = L.hydrostatic ? lp.pore.rho_l * sqrt(g) * (L.level - x[lp.vertical]) : L.value;
+      pw = L.hydrostatic ? lp.pore.rho_l * lp.g * (L.level - x[lp.vertical]) : L.value;
     }
     col(kPorePressure, p) = pw;
     col(kSaturation, p) = lp.pore.table.saturation(pw);
@@ -312,7 +314,7 @@ struct PoreScatter {
     // (C rho_mix) with the storage C = n S_l / K_l + n dS_l/dp (K_l / (n rho_mix) when
     // saturated), plus |v_l|. The step takes the larger of it and the skeleton's.
     if (pp.need_speed && V > 0) {
-      const Real C = n * S / lp.pore.bulk_l + n * lp.pore.table.dsaturation_dp(pw);
+      const Real C = lp.pore.storage(n, S, pw);
       const Real rho_mix = (m_s + m_lm) / V;
       const Real c = sqrt(S * S / (C * rho_mix)) + norm(vl);
       atomic_max_nonneg(&pp.control->max_speed[pp.parity], c, serial);
