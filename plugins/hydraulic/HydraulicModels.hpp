@@ -75,10 +75,13 @@ class MualemVanGenuchten final : public PermeabilityModel {
   }
   explicit MualemVanGenuchten(const ParamReader& r)
       : m_(r.has("m") ? r.scalar("m") : std::nan("")), floor_(r.scalar("floor")) {}
+  std::string incompatible(const RetentionModel& ret) const override {
+    if (std::isnan(m_) && std::isnan(ret.vg_exponent()))
+      return "m: the retention curve has no van Genuchten exponent to take it from; give m";
+    return {};
+  }
   double relative(double se, const RetentionModel& ret) const override {
-    double m = m_;
-    if (std::isnan(m)) m = ret.vg_exponent();
-    if (std::isnan(m)) m = 0.5;  // unreachable after the check in the constructor of the body
+    const double m = std::isnan(m_) ? ret.vg_exponent() : m_;  // incompatible() rules out NaN
     if (se <= 0) return floor_;
     if (se >= 1) return 1;
     const double k = std::sqrt(se) * std::pow(1 - std::pow(1 - std::pow(se, 1 / m), m), 2);

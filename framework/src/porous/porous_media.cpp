@@ -131,6 +131,9 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
     throw InputError(tp.at("permeability").where(),
                      "permeability: a relative permeability needs a retention curve (retention { type ...; }); a "
                      "saturated body has k_rel = 1");
+  if (b.permeability)
+    if (const std::string why = b.permeability->incompatible(*b.retention); !why.empty())
+      throw InputError(tp.at("permeability").where(), "permeability: " + why);
   b.table = std::make_unique<HydraulicTableStorage>(b.retention.get(), b.permeability.get(), exec_.device);
   P.table = b.table->table();
 

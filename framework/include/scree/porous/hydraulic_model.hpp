@@ -21,6 +21,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "scree/core/config.hpp"
 #include "scree/exec/memory.hpp"
@@ -48,6 +49,12 @@ class SCREE_API PermeabilityModel {
   /// Relative permeability at effective saturation Se in [0, 1], given the retention
   /// curve (a model may take its shape from it).
   virtual double relative(double se, const RetentionModel& retention) const = 0;
+  /// Empty if the model works with this retention curve, else what is missing (reported
+  /// at the permeability's entry before anything runs).
+  virtual std::string incompatible(const RetentionModel& retention) const {
+    (void)retention;
+    return {};
+  }
 };
 
 /// The retention and permeability curves tabulated for the kernels (device pointers).
