@@ -39,6 +39,22 @@ struct BodySnapshot {
   std::vector<Real> position;      ///< 3 per particle (z = 0 in 2D) [m]
   std::vector<std::int64_t> id;    ///< particle ids (unique over the case, stable)
   std::vector<FieldData> fields;   ///< velocity, displacement, stress, ... and material fields
+  /// Per-body scalars at this time: constants a post-processor needs and cumulative
+  /// quantities since t = 0. A two-phase body (porous/) gives liquidDensity [kg/m^3],
+  /// liquidBulkModulus [Pa], liquidInflowSurface [kg] (the pore liquid's net mass that
+  /// entered through the body's surfaces, rain and ponding included) and
+  /// liquidInflowPrescribed [kg] (the net mass that prescribed pore pressures added);
+  /// masses per metre of thickness in 2D.
+  struct Scalar {
+    std::string name, unit, doc;
+    Real value = 0;
+  };
+  std::vector<Scalar> scalars;
+  const Scalar* scalar(const std::string& nm) const {
+    for (auto& s : scalars)
+      if (s.name == nm) return &s;
+    return nullptr;
+  }
   const FieldData* find(const std::string& name) const {
     for (auto& f : fields)
       if (f.name == name) return &f;
