@@ -90,6 +90,10 @@ PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, co
     f.volume = next();
     cells_[s].resize(static_cast<std::size_t>(nn), exec_.device);
   }
+  balance_.resize(static_cast<std::size_t>(2 * nn), exec_.device);
+  balance_.copy_from_host(std::vector<Real>(static_cast<std::size_t>(2 * nn), Real(0)));
+  totals_.resize(2, exec_.device);
+  totals_.copy_from_host(std::vector<Real>(2, Real(0)));
 }
 
 template <int D>
@@ -275,27 +279,44 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   for (int i = 0; i < lp.n_laws; ++i) lp.laws[i] = laws_[i];
   lp.vertical = vertical_;
   lp.g = norm(gravity_);
+  const Index nn = grid_.num_nodes();
+  lp.inflow = const_cast<Real*>(balance_.data());
+  lp.capacity = lp.inflow + nn;
+  lp.totals = const_cast<Real*>(totals_.data());
   return lp;
 }
 
 template <int D>
 void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter_set) {
-  for (const PorousBody& b : bodies_) run_pass<true>(pp, pass_params(b, gather_set, scatter_set), b.body->arrays());
+  // Every body's rates into the nodes first (PoreRate), then every body's pressures.
+  const Real inv_h = 1 / grid_.h;
+  auto go = [&](const auto& sh) {
+    using Shape = std::decay_t<decltype(sh)>;
+    for (const PorousBody& b : bodies_)
+      parallel_for(exec_, b.body->arrays().n, PoreRate<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
+                                                                 b.body->arrays(), sh});
+    for (const PorousBody& b : bodies_)
+      parallel_for(exec_, b.body->arrays().n, PorePressure<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
+                                                                     b.body->arrays(), sh});
+  };
+  switch (shape_) {
+    case ShapeKind::linear: go(ShapeLinear{inv_h}); break;
+    case ShapeKind::gimp: go(ShapeGimp{inv_h, gimp_half_length_}); break;
+    case ShapeKind::bspline2: go(ShapeBspline2{inv_h}); break;
+  }
 }
 
 template <int D>
 void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatter_set) {
-  for (const PorousBody& b : bodies_) run_pass<false>(pp, pass_params(b, gather_set, scatter_set), b.body->arrays());
+  for (const PorousBody& b : bodies_) run_scatter(pp, pass_params(b, gather_set, scatter_set), b.body->arrays());
 }
 
 template <int D>
-template <bool Gather>
-void PorousMedia<D>::run_pass(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa) {
+void PorousMedia<D>::run_scatter(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa) {
   const Real inv_h = 1 / grid_.h;
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
-    if constexpr (Gather) parallel_for(exec_, pa.n, PoreGather<D, Shape>{pp, lp, pa, sh});
-    else parallel_for(exec_, pa.n, PoreScatter<D, Shape>{pp, lp, pa, sh});
+    parallel_for(exec_, pa.n, PoreScatter<D, Shape>{pp, lp, pa, sh});
   };
   switch (shape_) {
     case ShapeKind::linear: go(ShapeLinear{inv_h}); break;
@@ -314,6 +335,8 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.liquid = sets_[set];
   u.liquid_other = sets_[1 - set];
   u.cells_other = cells_[1 - set].data();
+  u.inflow = balance_.data();
+  u.capacity = balance_.data() + grid_.num_nodes();
   u.n_cells = n_cells_;
   u.control = control;
   u.parity = parity;
@@ -328,7 +351,6 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.damping_start = damping_start;
   u.damping_end = damping_end;
   parallel_for(exec_, grid_.num_nodes(), u);
-  if (node_laws_.empty()) return;
   TwoPhaseNodes<D> g;
   g.grid = grid_;
   g.solid = solid_sets[set];
@@ -338,6 +360,37 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.parity = parity;
   g.mass_eps = mass_eps;
   for (const BoundaryCondition* bc : node_laws_) bc->apply_hydraulic(exec_, g);
+  SurfaceInflow<D> f;
+  f.grid = grid_;
+  f.solid = solid_sets[set];
+  f.liquid = sets_[set];
+  f.cells = cells_[set].data();
+  f.control = control;
+  f.parity = parity;
+  f.totals = totals_.data();
+  f.serial = exec_.device == Device::cpu && exec_.threads == 1;
+  parallel_for(exec_, grid_.num_nodes(), f);
+}
+
+template <int D>
+void PorousMedia<D>::scalars(const Body<D>* body, std::vector<BodySnapshot::Scalar>& out) const {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (bodies_[i].body != body) continue;
+    const PoreParams& P = bodies_[i].params;
+    out.push_back({"liquidDensity", "kg/m^3", "the pore liquid's density rho_l", P.rho_l});
+    out.push_back({"liquidBulkModulus", "Pa", "the pore liquid's bulk modulus K_l", P.bulk_l});
+    if (i != 0) return;  // the case's liquid totals go with its first two-phase body
+    std::vector<Real> t(2);
+    mem::synchronize(exec_.device);
+    totals_.copy_to_host(t.data());
+    const char* per = D == 2 ? " (per metre of thickness), all two-phase bodies of the case" : ", all two-phase bodies";
+    out.push_back({"liquidInflowSurface", "kg",
+                   std::string("the pore liquid's net mass that entered through the surfaces since t = 0") + per, t[0]});
+    out.push_back({"liquidInflowPrescribed", "kg",
+                   std::string("the pore liquid's net mass that prescribed pore pressures added since t = 0") + per,
+                   t[1]});
+    return;
+  }
 }
 
 template <int D>

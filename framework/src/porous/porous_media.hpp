@@ -12,6 +12,7 @@
 #include "scree/exec/memory.hpp"
 #include "scree/mpm/body.hpp"
 #include "scree/mpm/schemes.hpp"
+#include "scree/output/snapshot.hpp"
 #include "scree/plugin/registry.hpp"
 #include "scree/porous/two_phase.hpp"
 
@@ -52,6 +53,10 @@ class PorousMedia {
   /// Largest signal speed of the pore liquid over the points (host; the first step).
   Real max_signal_speed() const;
   bool empty() const { return bodies_.empty(); }
+  /// The scalars of a two-phase body's snapshot (BodySnapshot::scalars): its liquid's
+  /// constants, and on the first two-phase body the case's cumulative liquid inflows
+  /// (synchronises with the device).
+  void scalars(const Body<D>* body, std::vector<BodySnapshot::Scalar>& out) const;
 
  private:
   struct PorousBody {
@@ -63,8 +68,7 @@ class PorousMedia {
     std::unique_ptr<PermeabilityModel> permeability;
   };
   PorePassParams<D> pass_params(const PorousBody& b, int gather_set, int scatter_set) const;
-  template <bool Gather>
-  void run_pass(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa);
+  void run_scatter(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa);
 
   const Registry& reg_;
   GridGeometry<D> grid_;
@@ -78,6 +82,8 @@ class PorousMedia {
   Buffer<Real> liquid_data_[2];
   LiquidFields<D> sets_[2]{};
   Buffer<Real> cells_[2];
+  Buffer<Real> balance_;  // per node: the liquid mass balance's inflow, then its capacity
+  Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals)
   Index n_cells_ = 0;
   std::vector<PorePressureLaw> laws_;
   std::vector<const BoundaryCondition*> node_laws_;

@@ -285,7 +285,14 @@ void Solver<D>::output_due(bool force_all) {
     // builds the fields and writes. The run stops only for the flush's pass.
     flush();
     snap = std::make_shared<Snapshot>(snapshot_header());
-    for (auto& b : bodies_) finish.push_back(b->snapshot_async(copy_stream_));
+    for (auto& b : bodies_) {
+      std::vector<BodySnapshot::Scalar> scalars;  // taken now, at this time
+      if (porous_) porous_->scalars(b.get(), scalars);
+      finish.push_back([fill = b->snapshot_async(copy_stream_), scalars](BodySnapshot& out) {
+        fill(out);
+        out.scalars = scalars;
+      });
+    }
   } else {
     snap = std::make_shared<Snapshot>(snapshot(due.with_grid));
   }
@@ -370,6 +377,7 @@ Snapshot Solver<D>::snapshot(bool with_grid) {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const std::string material = s.bodies[i].material;
     bodies_[i]->snapshot(s.bodies[i]);
+    if (porous_) porous_->scalars(bodies_[i].get(), s.bodies[i].scalars);
     s.bodies[i].material = material;
   }
   if (with_grid) {

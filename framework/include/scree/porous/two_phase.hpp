@@ -173,19 +173,94 @@ struct PorePassParams {
   PorePressureLaw laws[kMaxPorePressureLaws];
   int vertical = 1;         ///< the axis opposite to gravity
   Real g = 0;               ///< |g| [m/s^2]
+  /// The nodal liquid mass balance (PoreRate, PorePressure): sum N V r_p [m^3/s] and
+  /// sum N V C_p [m^3/Pa]; not alternating: the grid update clears them.
+  Real* inflow = nullptr;
+  Real* capacity = nullptr;
+  /// Cumulative liquid mass [kg] since t = 0: [0] through the surfaces (SurfaceInflow),
+  /// [1] added by the prescribed pore pressures. Null: not counted.
+  Real* totals = nullptr;
 };
 
 namespace detail {
 SCREE_INLINE Real clamp01(Real x, Real lo, Real hi) { return x < lo ? lo : (x > hi ? hi : x); }
 }  // namespace detail
 
-/// The liquid's gather (before the solid pass moves the points; weights at x_p^k): the
-/// liquid velocity (FLIP/PIC, as the solid's), and the pore pressure from the liquid mass
-/// balance with the velocities of the step just integrated. Then the prescribed pore
-/// pressures, and S_l(p_w).
+/// The pore pressure. The liquid mass balance (top of file) holds per node, not per point:
+///   C_I dp_I/dt = sum_p N_Ip V_p r_p,   C_I = sum_p N_Ip V_p C_p,
+///   r_p = -(S_l div v_s + div q) at the point,
+/// and each point takes the nodal rate, dp_p = dt sum_I N_Ip dp_I/dt. Integrated per point,
+/// the pressure has a null mode: equal and opposite values between the rows of points of a
+/// cell give no nodal force (V p grad N cancels), so nothing resists them, and where the
+/// soil is saturated (C smallest) they grow into an odd-even pattern of the seepage. The
+/// nodal balance removes it: a point's pressure changes only by what the nodes carry. The
+/// rate is projected, not p itself, so the answer does not depend on the number of steps,
+/// and sum_p V_p C_p dp_p = dt sum_p V_p r_p: the liquid's volume is kept.
+///
+/// Two passes at the points' positions x^k, before the solid pass moves them: PoreRate (the
+/// liquid velocity's G2P and r_p into the nodes), then PorePressure (p_w, the prescribed
+/// pore pressures, S_l(p_w)).
 template <int D, class Shape>
-struct PoreGather {
+struct PoreRate {
   PassParams<D> pp;        ///< the solid pass's (grid, sets, control, PIC fraction)
+  PorePassParams<D> lp;
+  ParticleArrays<D> pa;
+  Shape shape;
+
+  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+
+  SCREE_HD void operator()(Index p) const {
+    if (!(pa.volume0[p] >= 0)) return;  // frozen
+    const Real dt = pp.control->dt[pp.gather_parity];
+    if (!(dt > 0)) return;
+    Vec<D> x;
+    for (int d = 0; d < D; ++d) x[d] = pa.x[d][p];
+    const detail::Stencil<D, Shape> st(shape, pp.grid, x);
+    if (!st.inside) return;
+    Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
+    for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
+    Real div_s = 0, div_q = 0;
+    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I;
+      Real N;
+      Vec<D> gradN, dx;
+      st.node(k, pp.grid, x, I, N, gradN, dx);
+      const Real ml = lp.gather.mass[I];
+      if (!(ml > 0)) continue;
+      const Real rm = 1 / ml;
+      const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
+      for (int d = 0; d < D; ++d) {
+        const Real vln = lp.gather.velocity_new[d][I];
+        const Real vsn = pp.gather.velocity_new[d][I];
+        vpic[d] += N * vln;
+        dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
+        div_s += vsn * gradN[d];
+        div_q += nS * (vln - vsn) * gradN[d];
+      }
+    }
+    const Real a = pp.pic_fraction;
+    for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
+    const Real n = col(kPorosity, p), S = col(kSaturation, p), pw = col(kPorePressure, p);
+    // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).
+    const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
+    const Real r = -(S * div_s + div_q) * V, c = lp.pore.storage(n, S, pw) * V;
+    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I;
+      Real N;
+      Vec<D> gradN, dx;
+      st.node(k, pp.grid, x, I, N, gradN, dx);
+      if (N == 0) continue;
+      atomic_add(lp.inflow + I, N * r, pp.serial);
+      atomic_add(lp.capacity + I, N * c, pp.serial);
+    }
+  }
+};
+
+/// The pore pressure from the nodal rates (PoreRate), then the prescribed pore pressures,
+/// and S_l(p_w).
+template <int D, class Shape>
+struct PorePressure {
+  PassParams<D> pp;
   PorePassParams<D> lp;
   ParticleArrays<D> pa;
   Shape shape;
@@ -202,35 +277,20 @@ struct PoreGather {
     if (dt > 0) {
       const detail::Stencil<D, Shape> st(shape, pp.grid, x);
       if (st.inside) {
-        Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
-        for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
-        Real div_s = 0, div_q = 0;
+        Real rate = 0;
         for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
           Index I;
           Real N;
           Vec<D> gradN, dx;
           st.node(k, pp.grid, x, I, N, gradN, dx);
-          const Real ml = lp.gather.mass[I];
-          if (!(ml > 0)) continue;
-          const Real rm = 1 / ml;
-          const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
-          for (int d = 0; d < D; ++d) {
-            const Real vln = lp.gather.velocity_new[d][I];
-            const Real vsn = pp.gather.velocity_new[d][I];
-            vpic[d] += N * vln;
-            dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
-            div_s += vsn * gradN[d];
-            div_q += nS * (vln - vsn) * gradN[d];
-          }
+          const Real c = lp.capacity[I];
+          if (N != 0 && c > 0) rate += N * lp.inflow[I] / c;
         }
-        const Real a = pp.pic_fraction;
-        for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
-        // The liquid mass balance (top of this file), explicit in p_w.
-        const Real n = col(kPorosity, p), S = col(kSaturation, p);
-        pw -= dt * (S * div_s + div_q) / lp.pore.storage(n, S, pw);
+        pw += dt * rate;
       }
     }
     // Prescribed pore pressures (water table, ponding, drained boundaries).
+    const Real p_free = pw;
     for (int i = 0; i < lp.n_laws; ++i) {
       const PorePressureLaw& L = lp.laws[i];
       if (t < L.t_start || t >= L.t_end) continue;
@@ -239,8 +299,16 @@ struct PoreGather {
       if (!in) continue;
       pw = L.hydrostatic ? lp.pore.rho_l * lp.g * (L.level - x[lp.vertical]) : L.value;
     }
+    const Real S = lp.pore.table.saturation(pw);
+    if (lp.totals && pw != p_free) {
+      // The liquid mass the prescription added: rho_l (1 + p/K_l) n S_l V after minus before.
+      const Real n = col(kPorosity, p);
+      const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
+      const Real K = lp.pore.bulk_l, S0 = lp.pore.table.saturation(p_free);
+      atomic_add(lp.totals + 1, lp.pore.rho_l * n * V * (S * (1 + pw / K) - S0 * (1 + p_free / K)), pp.serial);
+    }
     col(kPorePressure, p) = pw;
-    col(kSaturation, p) = lp.pore.table.saturation(pw);
+    col(kSaturation, p) = S;
     col(kSuction, p) = pw < 0 ? -pw : Real(0);
   }
 };
@@ -332,6 +400,8 @@ struct TwoPhaseGridUpdate {
   GridFields<D> solid, solid_other;
   LiquidFields<D> liquid, liquid_other;
   Real* cells_other = nullptr;  ///< the other parity's cell counts (cleared)
+  Real* inflow = nullptr;       ///< the nodal liquid mass balance (PorePassParams; cleared)
+  Real* capacity = nullptr;
   Index n_cells = 0;
   StepControl* control = nullptr;
   int parity = 0;
@@ -347,6 +417,10 @@ struct TwoPhaseGridUpdate {
   SCREE_HD void operator()(Index I) const {
     if (I == 0) advance_clock(control, parity);
     if (I < n_cells && cells_other) cells_other[I] = 0;
+    if (inflow) {
+      inflow[I] = 0;
+      capacity[I] = 0;
+    }
     const Real t = control->t[parity], dt = control->dt[parity];
     const Real ms = solid.mass[I], ml = liquid.mass[I], mlm = liquid.mass_mix[I];
     Real x[D] = {};
@@ -454,6 +528,35 @@ struct TwoPhaseGridUpdate {
     }
     liquid_other.pressure[I] = 0;
     liquid_other.volume[I] = 0;
+  }
+};
+
+/// The liquid mass that entered through the surfaces in the step just integrated (after the
+/// hydraulic node laws), added to totals[0]: at a surface node I, -dt rho_l q_I . a_I with
+/// q_I = (M_lm / M_l)(v_l - v_s) the nodal seepage and a_I = sum V grad N = int N n dGamma
+/// (outward n, the divergence theorem), rho_l = M_l / sum N V. Interior nodes carry no
+/// boundary, so what the points' storage gains beyond this sum is the discretisation's
+/// imbalance (the water-balance function object reports it).
+template <int D>
+struct SurfaceInflow {
+  GridGeometry<D> grid;
+  GridFields<D> solid;
+  LiquidFields<D> liquid;
+  const Real* cells = nullptr;
+  const StepControl* control = nullptr;
+  int parity = 0;
+  Real* totals = nullptr;
+  bool serial = false;
+
+  SCREE_HD void operator()(Index I) const {
+    const Real ml = liquid.mass[I], vol = liquid.volume[I];
+    if (!(ml > 0) || !(vol > 0) || !(solid.mass[I] > 0) || !surface_node<D>(grid, cells, I)) return;
+    const Real nS = liquid.mass_mix[I] / ml;
+    Real qa = 0;
+    for (int d = 0; d < D; ++d)
+      qa += nS * (liquid.velocity_new[d][I] - solid.velocity_new[d][I]) * liquid.area[d][I];
+    const Real dt = control->dt[parity];
+    if (qa != 0) atomic_add(totals, -dt * (ml / vol) * qa, serial);
   }
 };
 
