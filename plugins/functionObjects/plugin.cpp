@@ -1,6 +1,7 @@
 // The function-object plugin (libfunctionObjects.so): run-time post-processing usable by
 // any case. See README.md.
 #include "Energies.hpp"
+#include "LineProfile.hpp"
 #include "ParticleProbes.hpp"
 #include "RunOut.hpp"
 #include "SurfaceProfile.hpp"
@@ -11,4 +12,5 @@ SCREE_PLUGIN(registry) {
   registry.add_function_object<scree::fo::ParticleProbes>();
   registry.add_function_object<scree::fo::Energies>();
   registry.add_function_object<scree::fo::SurfaceProfile>();
+  registry.add_function_object<scree::fo::LineProfile>();
 }
