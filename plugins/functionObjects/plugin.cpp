@@ -5,6 +5,7 @@
 #include "ParticleProbes.hpp"
 #include "RunOut.hpp"
 #include "SurfaceProfile.hpp"
+#include "WaterBalance.hpp"
 #include "scree/plugin/plugin_api.hpp"
 
 SCREE_PLUGIN(registry) {
@@ -13,4 +14,5 @@ SCREE_PLUGIN(registry) {
   registry.add_function_object<scree::fo::Energies>();
   registry.add_function_object<scree::fo::SurfaceProfile>();
   registry.add_function_object<scree::fo::LineProfile>();
+  registry.add_function_object<scree::fo::WaterBalance>();
 }
