@@ -13,7 +13,9 @@
 //
 // Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message),
 // 2 bad command line, 3 a failure while running, 4 the case has results of an earlier run
-// that this run would replace (nothing was run: move them, or give --overwrite).
+// that this run would replace (nothing was run: move them, or give --overwrite), 5 the run
+// went wrong (a non-finite field, particles leaving the grid en masse, an unstable step) and
+// was stopped with a diagnosis, its last state written.
 #include <omp.h>
 
 #include <algorithm>
@@ -217,6 +219,12 @@ int main(int argc, char** argv) {
                 << " steps\n";
     if (st.lost_particles)
       std::cout << "scree: warning: " << st.lost_particles << " particle(s) left the grid during the run\n";
+  } catch (const scree::RunFailure& e) {
+    // The health checks stopped a run gone wrong (non-finite fields, points leaving the
+    // grid, an unstable step); its last state was written for a look.
+    std::cout << std::flush;
+    std::cerr << "scree: error: " << e.what() << "\nscree: the state it stopped in was written; the run failed\n";
+    return 5;
   } catch (const scree::InputErrors& e) {
     for (const auto& err : e.errors()) std::cerr << err.what() << "\n";
     std::cerr << "scree: " << e.errors().size() << " error(s) in case " << dir.string() << "; nothing was run\n";

@@ -58,6 +58,7 @@ StepControl TimeControl::initial() const {
   c.dt_max = adaptive() ? s_.max_delta_t : s_.delta_t;
   c.cfl = adaptive() ? s_.max_co : 0;
   c.h = h_;
+  c.stop_co = s_.stop_co;
   return c;
 }
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,14 @@
 #include "scree/solver/case.hpp"
 
 namespace scree {
+
+/// A run that went wrong (a non-finite field, particles leaving the grid en masse, an
+/// unstable step: time/step_control.hpp) and was stopped; what() is the diagnosis. The
+/// state it stopped in has been written by the case's writers (Simulation::run).
+class SCREE_API RunFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct RunOptions {
   Device device = Device::cpu;
