@@ -11,6 +11,9 @@ A variant is a directory under variants/ holding
 
 variant.json:
   "doc":        the defect it guards against (one line)
+  "base":       optional: the valid case to break, relative to the repository root
+                (default: tests/broken/base), e.g. "cases/elasticColumn"; a copy of it
+                without its results (VTK/, postProcessing/)
   "args":       scree's arguments besides --case (e.g. ["--check"])
   "exit":       the expected exit status
   "stderr", "stdout":          regular expressions that must each match (re.MULTILINE)
@@ -25,6 +28,8 @@ variant.json:
                 is as it was, and no file or directory was added; "replaced": the
                 planted VTK/particles.pvd was replaced; "any": not checked
   "timeout":    seconds before the run counts as hung (default 20)
+  "written":    paths (glob patterns) that must exist after the run, e.g. the last
+                frame a failed run writes
   "kill_when_stdout": a regular expression: once stdout (a file, as when a log is
                 redirected) matches it within "timeout" seconds, scree is killed (SIGKILL)
                 and the variant passes; if it never does, it fails. For output that must
@@ -35,6 +40,7 @@ Exit status 0 when every variant behaves as expected; otherwise each difference 
 printed with scree's output.
 """
 import argparse
+import glob
 import hashlib
 import json
 import os
@@ -48,6 +54,7 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
 PLANTED = {
     "VTK/particles.pvd": "<?xml version=\"1.0\"?>\n<!-- results of an earlier run -->\n",
     "VTK/particles_0.vtp": "earlier run, t = 0\n",
@@ -73,8 +80,9 @@ def snapshot(root):
     return files
 
 
-def prepare_case(variant_dir, case):
-    shutil.copytree(os.path.join(HERE, "base"), case)
+def prepare_case(variant_dir, case, base=None):
+    src = os.path.join(ROOT, base) if base else os.path.join(HERE, "base")
+    shutil.copytree(src, case, ignore=shutil.ignore_patterns("VTK", "postProcessing") if base else None)
     for dirpath, _, filenames in os.walk(variant_dir):
         for name in filenames:
             src = os.path.join(dirpath, name)
@@ -124,7 +132,7 @@ def check_variant(scree, variant_dir):
     work = tempfile.mkdtemp(prefix="scree-broken-%s-" % name)
     try:
         case = os.path.join(work, "case")
-        prepare_case(variant_dir, case)
+        prepare_case(variant_dir, case, spec.get("base"))
         if spec.get("results", "planted") == "planted":
             for rel, text in PLANTED.items():
                 path = os.path.join(case, rel)
@@ -157,6 +165,9 @@ def check_variant(scree, variant_dir):
             for p in spec.get("not_" + stream, []):
                 if re.search(pattern(p), text, re.MULTILINE):
                     problems.append("%s matches %r, which it must not" % (stream, p))
+        for p in spec.get("written", []):
+            if not glob.glob(os.path.join(case, p)):
+                problems.append("nothing written at %s" % p)
         if "errors" in spec:
             lines = [l for l in err.splitlines() if l and not l.startswith("scree:") and not l.startswith("    ")]
             if len(lines) != spec["errors"]:
