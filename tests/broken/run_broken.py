@@ -30,6 +30,10 @@ variant.json:
   "timeout":    seconds before the run counts as hung (default 20)
   "written":    paths (glob patterns) that must exist after the run, e.g. the last
                 frame a failed run writes
+  "signal_when_stdout": {"pattern": regex, "signal": "SIGTERM"}: once stdout matches,
+                scree is sent that signal and must then exit with "exit" by itself
+  "pvd_last_time": {"file": a .pvd, "stderr": a regex with one group}: the newest frame
+                listed in the .pvd has the time the group captures (relative 1e-6)
   "kill_when_stdout": a regular expression: once stdout (a file, as when a log is
                 redirected) matches it within "timeout" seconds, scree is killed (SIGKILL)
                 and the variant passes; if it never does, it fails. For output that must
@@ -102,6 +106,8 @@ def run_scree(scree, case, spec, out_path, err_path):
     cmd = [scree, "--case", case] + spec.get("args", [])
     timeout = spec.get("timeout", 20)
     kill_pattern = spec.get("kill_when_stdout")
+    sig = spec.get("signal_when_stdout")
+    signalled = False
     start = time.monotonic()
     with open(out_path, "wb") as out, open(err_path, "wb") as err:
         proc = subprocess.Popen(cmd, stdout=out, stderr=err, start_new_session=True)
@@ -114,7 +120,14 @@ def run_scree(scree, case, spec, out_path, err_path):
                         os.killpg(proc.pid, signal.SIGKILL)
                         proc.wait()
                         return "killed", elapsed, "stdout matched %r after %.1f s" % (kill_pattern, elapsed)
+            if sig and not signalled and rc is None:
+                with open(out_path, "r", errors="replace") as f:
+                    if re.search(sig["pattern"], f.read(), re.MULTILINE):
+                        proc.send_signal(getattr(signal, sig["signal"]))
+                        signalled = True
             if rc is not None:
+                if sig and not signalled:
+                    return rc, elapsed, "exited before stdout matched %r" % sig["pattern"]
                 return rc, elapsed, ""
             if elapsed > timeout:
                 os.killpg(proc.pid, signal.SIGKILL)
@@ -165,6 +178,18 @@ def check_variant(scree, variant_dir):
             for p in spec.get("not_" + stream, []):
                 if re.search(pattern(p), text, re.MULTILINE):
                     problems.append("%s matches %r, which it must not" % (stream, p))
+        if "pvd_last_time" in spec:
+            want = re.search(spec["pvd_last_time"]["stderr"], err, re.MULTILINE)
+            pvd = os.path.join(case, spec["pvd_last_time"]["file"])
+            times = []
+            if os.path.exists(pvd):
+                with open(pvd) as f:
+                    times = [float(t) for t in re.findall(r'timestep="([^"]+)"', f.read())]
+            if not want:
+                problems.append("stderr does not match %r" % spec["pvd_last_time"]["stderr"])
+            elif not times or abs(times[-1] - float(want.group(1))) > 1e-6 * max(1.0, abs(times[-1])):
+                problems.append("the newest frame of %s is at %s, expected %s" % (
+                    spec["pvd_last_time"]["file"], times[-1] if times else "(none)", want.group(1)))
         for p in spec.get("written", []):
             if not glob.glob(os.path.join(case, p)):
                 problems.append("nothing written at %s" % p)

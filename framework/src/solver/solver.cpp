@@ -224,6 +224,12 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     run_chunk(n);
     if (budget > 0) budget -= n;
     after_chunk(with_output);
+    if (const int sig = stop_requested(); sig != 0) {  // SIGINT/SIGTERM (scree's handler)
+      std::ostringstream m;
+      m << "stopped by signal " << sig << " at t = " << time() << " s (step " << step_ << ", " << steps_done()
+        << " steps advanced the clock)";
+      throw RunInterrupted(m.str(), sig);
+    }
   }
 }
 
@@ -460,10 +466,10 @@ RunStats Solver<D>::run() {
   } catch (const RunFailure&) {
     // The state the run stopped in, written for the diagnosis (frozen on the device since
     // the failing step: step_control.hpp), then the failure goes to the caller.
-    if (opt_.output) {
-      output_due(true);
-      output_->finish();
-    }
+    finish_output();
+    throw;
+  } catch (const RunInterrupted&) {
+    finish_output();  // the state at the stop: a run interrupted keeps its last time
     throw;
   }
   if (opt_.output) {
@@ -475,6 +481,13 @@ RunStats Solver<D>::run() {
   if (opt_.progress) progress_.report(time(), step_, true);
   profile_.report(log_, step_);
   return stats();
+}
+
+template <int D>
+void Solver<D>::finish_output() {
+  if (!opt_.output) return;
+  output_due(true);
+  output_->finish();
 }
 
 template <int D>

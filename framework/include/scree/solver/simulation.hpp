@@ -31,6 +31,24 @@ class SCREE_API RunFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A run stopped on request (request_stop: scree's SIGINT/SIGTERM handler) at the end of a
+/// chunk of steps, its state written (Simulation::run); `signal` is the request's number.
+class SCREE_API RunInterrupted : public std::runtime_error {
+ public:
+  RunInterrupted(const std::string& what, int signal) : std::runtime_error(what), signal_(signal) {}
+  int signal() const noexcept { return signal_; }
+
+ private:
+  int signal_;
+};
+
+/// Ask a running Simulation to stop after its current chunk of steps (at most about 0.5 s
+/// of wall time): async-signal-safe (a lock-free atomic store), for a signal handler.
+/// `signal` is reported in RunInterrupted; 0 clears the request.
+SCREE_API void request_stop(int signal) noexcept;
+/// The pending request's signal number, or 0.
+SCREE_API int stop_requested() noexcept;
+
 struct RunOptions {
   Device device = Device::cpu;
   int threads = 1;             ///< CPU threads (OpenMP)
