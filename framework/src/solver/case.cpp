@@ -62,8 +62,8 @@ const CoreSpecs& CoreSpecs::get() {
     // Health: a run gone wrong stops non-zero with a diagnosis instead of writing garbage
     // (step_control.hpp; non-finite positions, velocities and stresses always stop it).
     c->scalar("stopCo", "-",
-              "a step whose Courant number dt (c + |v|)_max / h exceeds this stops the run as unstable "
-              "(the explicit scheme's limit is about 1)")
+              "with a fixed deltaT, a step whose Courant number dt (c + |v|)_max / h exceeds this stops the "
+              "run as unstable (the explicit scheme's limit is about 1; adjustTimeStep follows c + |v|)")
         .default_value(2.0)
         .positive();
     c->scalar("maxLostFraction", "-",

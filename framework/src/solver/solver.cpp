@@ -378,15 +378,10 @@ std::string Solver<D>::diagnosis() {
       << "): a material's parameters out of range, or a blown-up state";
   }
   if (c.failure & kFailUnstable) {
-    const bool adaptive = time_.adaptive();
     m << "\n  the step's Courant number dt (c + |v|)_max / h = " << c.failed_co << " is above stopCo "
       << host_ctl_.stop_co << " (" << where(case_.control(), "stopCo") << "): the step is unstable";
     m << "\n  " << fastest();
-    if (adaptive)
-      m << "\n  the adaptive step could not follow the signal speed: lower " << where(case_.control(), "maxCo")
-        << " or " << where(case_.control(), "maxDeltaT");
-    else
-      m << "\n  the fixed step " << where(case_.control(), "deltaT") << " " << settings_.control.time.delta_t
+    m << "\n  the fixed step " << where(case_.control(), "deltaT") << " " << settings_.control.time.delta_t
         << " s exceeds the stable step h / (c + |v|) = " << settings_.control.time.delta_t / c.failed_co
         << " s: reduce it, or use adjustTimeStep yes";
   }
