@@ -11,6 +11,9 @@ A variant is a directory under variants/ holding
 
 variant.json:
   "doc":        the defect it guards against (one line)
+  "base":       optional: the valid case to break, relative to the repository root
+                (default: tests/broken/base), e.g. "cases/elasticColumn"; a copy of it
+                without its results (VTK/, postProcessing/)
   "args":       scree's arguments besides --case (e.g. ["--check"])
   "exit":       the expected exit status
   "stderr", "stdout":          regular expressions that must each match (re.MULTILINE)
@@ -25,6 +28,12 @@ variant.json:
                 is as it was, and no file or directory was added; "replaced": the
                 planted VTK/particles.pvd was replaced; "any": not checked
   "timeout":    seconds before the run counts as hung (default 20)
+  "written":    paths (glob patterns) that must exist after the run, e.g. the last
+                frame a failed run writes
+  "signal_when_stdout": {"pattern": regex, "signal": "SIGTERM"}: once stdout matches,
+                scree is sent that signal and must then exit with "exit" by itself
+  "pvd_last_time": {"file": a .pvd, "stderr": a regex with one group}: the newest frame
+                listed in the .pvd has the time the group captures (relative 1e-6)
   "kill_when_stdout": a regular expression: once stdout (a file, as when a log is
                 redirected) matches it within "timeout" seconds, scree is killed (SIGKILL)
                 and the variant passes; if it never does, it fails. For output that must
@@ -35,6 +44,7 @@ Exit status 0 when every variant behaves as expected; otherwise each difference 
 printed with scree's output.
 """
 import argparse
+import glob
 import hashlib
 import json
 import os
@@ -48,6 +58,7 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
 PLANTED = {
     "VTK/particles.pvd": "<?xml version=\"1.0\"?>\n<!-- results of an earlier run -->\n",
     "VTK/particles_0.vtp": "earlier run, t = 0\n",
@@ -73,8 +84,9 @@ def snapshot(root):
     return files
 
 
-def prepare_case(variant_dir, case):
-    shutil.copytree(os.path.join(HERE, "base"), case)
+def prepare_case(variant_dir, case, base=None):
+    src = os.path.join(ROOT, base) if base else os.path.join(HERE, "base")
+    shutil.copytree(src, case, ignore=shutil.ignore_patterns("VTK", "postProcessing") if base else None)
     for dirpath, _, filenames in os.walk(variant_dir):
         for name in filenames:
             src = os.path.join(dirpath, name)
@@ -94,6 +106,8 @@ def run_scree(scree, case, spec, out_path, err_path):
     cmd = [scree, "--case", case] + spec.get("args", [])
     timeout = spec.get("timeout", 20)
     kill_pattern = spec.get("kill_when_stdout")
+    sig = spec.get("signal_when_stdout")
+    signalled = False
     start = time.monotonic()
     with open(out_path, "wb") as out, open(err_path, "wb") as err:
         proc = subprocess.Popen(cmd, stdout=out, stderr=err, start_new_session=True)
@@ -106,7 +120,14 @@ def run_scree(scree, case, spec, out_path, err_path):
                         os.killpg(proc.pid, signal.SIGKILL)
                         proc.wait()
                         return "killed", elapsed, "stdout matched %r after %.1f s" % (kill_pattern, elapsed)
+            if sig and not signalled and rc is None:
+                with open(out_path, "r", errors="replace") as f:
+                    if re.search(sig["pattern"], f.read(), re.MULTILINE):
+                        proc.send_signal(getattr(signal, sig["signal"]))
+                        signalled = True
             if rc is not None:
+                if sig and not signalled:
+                    return rc, elapsed, "exited before stdout matched %r" % sig["pattern"]
                 return rc, elapsed, ""
             if elapsed > timeout:
                 os.killpg(proc.pid, signal.SIGKILL)
@@ -124,7 +145,7 @@ def check_variant(scree, variant_dir):
     work = tempfile.mkdtemp(prefix="scree-broken-%s-" % name)
     try:
         case = os.path.join(work, "case")
-        prepare_case(variant_dir, case)
+        prepare_case(variant_dir, case, spec.get("base"))
         if spec.get("results", "planted") == "planted":
             for rel, text in PLANTED.items():
                 path = os.path.join(case, rel)
@@ -157,6 +178,21 @@ def check_variant(scree, variant_dir):
             for p in spec.get("not_" + stream, []):
                 if re.search(pattern(p), text, re.MULTILINE):
                     problems.append("%s matches %r, which it must not" % (stream, p))
+        if "pvd_last_time" in spec:
+            want = re.search(spec["pvd_last_time"]["stderr"], err, re.MULTILINE)
+            pvd = os.path.join(case, spec["pvd_last_time"]["file"])
+            times = []
+            if os.path.exists(pvd):
+                with open(pvd) as f:
+                    times = [float(t) for t in re.findall(r'timestep="([^"]+)"', f.read())]
+            if not want:
+                problems.append("stderr does not match %r" % spec["pvd_last_time"]["stderr"])
+            elif not times or abs(times[-1] - float(want.group(1))) > 1e-6 * max(1.0, abs(times[-1])):
+                problems.append("the newest frame of %s is at %s, expected %s" % (
+                    spec["pvd_last_time"]["file"], times[-1] if times else "(none)", want.group(1)))
+        for p in spec.get("written", []):
+            if not glob.glob(os.path.join(case, p)):
+                problems.append("nothing written at %s" % p)
         if "errors" in spec:
             lines = [l for l in err.splitlines() if l and not l.startswith("scree:") and not l.startswith("    ")]
             if len(lines) != spec["errors"]:

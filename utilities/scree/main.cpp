@@ -13,8 +13,12 @@
 //
 // Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message),
 // 2 bad command line, 3 a failure while running, 4 the case has results of an earlier run
-// that this run would replace (nothing was run: move them, or give --overwrite).
+// that this run would replace (nothing was run: move them, or give --overwrite), 5 the run
+// went wrong (a non-finite field, particles leaving the grid en masse, an unstable step) and
+// was stopped with a diagnosis, its last state written; 128 + N stopped by signal N
+// (SIGINT 130, SIGTERM 143) after writing the state it reached.
 #include <omp.h>
+#include <signal.h>
 
 #include <algorithm>
 #include <boost/program_options.hpp>
@@ -202,6 +206,15 @@ int main(int argc, char** argv) {
     }
 
     opt.check_setup = false;  // done above
+    // SIGINT (Ctrl-C) and SIGTERM (a batch system's stop): the run finishes its chunk of
+    // steps (about 0.5 s at most), writes the state it reached and exits 128 + signal.
+    // A second signal ends it at once (the default action, restored by SA_RESETHAND).
+    struct sigaction sa {};
+    sa.sa_handler = [](int sig) { scree::request_stop(sig); };
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
     scree::Simulation sim(c, rt, opt);
     const auto t0 = std::chrono::steady_clock::now();
     const scree::RunStats st = sim.run();
@@ -217,6 +230,16 @@ int main(int argc, char** argv) {
                 << " steps\n";
     if (st.lost_particles)
       std::cout << "scree: warning: " << st.lost_particles << " particle(s) left the grid during the run\n";
+  } catch (const scree::RunInterrupted& e) {
+    std::cout << std::flush;
+    std::cerr << "scree: " << e.what() << "; the state at that time was written; the run did not reach endTime\n";
+    return 128 + e.signal();
+  } catch (const scree::RunFailure& e) {
+    // The health checks stopped a run gone wrong (non-finite fields, points leaving the
+    // grid, an unstable step); its last state was written for a look.
+    std::cout << std::flush;
+    std::cerr << "scree: error: " << e.what() << "\nscree: the state it stopped in was written; the run failed\n";
+    return 5;
   } catch (const scree::InputErrors& e) {
     for (const auto& err : e.errors()) std::cerr << err.what() << "\n";
     std::cerr << "scree: " << e.errors().size() << " error(s) in case " << dir.string() << "; nothing was run\n";

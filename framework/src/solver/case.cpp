@@ -59,6 +59,17 @@ const CoreSpecs& CoreSpecs::get() {
     c->integer("progressInterval", "steps between progress reports (0: automatic, about 2 per second)")
         .default_value(0.0)
         .non_negative();
+    // Health: a run gone wrong stops non-zero with a diagnosis instead of writing garbage
+    // (step_control.hpp; non-finite positions, velocities and stresses always stop it).
+    c->scalar("stopCo", "-",
+              "with a fixed deltaT, a step whose Courant number dt (c + |v|)_max / h exceeds this stops the "
+              "run as unstable (the explicit scheme's limit is about 1; adjustTimeStep follows c + |v|)")
+        .default_value(2.0)
+        .positive();
+    c->scalar("maxLostFraction", "-",
+              "the run stops when more than this fraction of the particles has left the grid (1: never)")
+        .default_value(0.1)
+        .range(0, 1);
     c->allow_keys({"FoamFile"});
     c->check([spec = c.get()](const Dictionary& d, std::vector<InputError>& errors) {
       const ParamReader r(*spec, d);

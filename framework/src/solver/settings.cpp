@@ -17,10 +17,12 @@ ControlSettings read_control(const ParamSpec& spec, const Dictionary& d) {
                .delta_t = delta_t,
                .adjust_time_step = r.boolean("adjustTimeStep"),
                .max_co = r.scalar("maxCo"),
-               .max_delta_t = r.has("maxDeltaT") ? r.scalar("maxDeltaT") : delta_t},
+               .max_delta_t = r.has("maxDeltaT") ? r.scalar("maxDeltaT") : delta_t,
+               .stop_co = r.scalar("stopCo")},
       .write_control = r.word("writeControl") == "timeStep" ? WriteControl::timeStep : WriteControl::runTime,
       .write_interval = r.scalar("writeInterval"),
-      .progress_interval = r.integer("progressInterval")};
+      .progress_interval = r.integer("progressInterval"),
+      .max_lost_fraction = r.scalar("maxLostFraction")};
 }
 
 /// damping { type local; coefficient ...; } (none: no damping)

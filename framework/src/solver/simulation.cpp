@@ -1,6 +1,7 @@
 // Simulation: dispatches to Solver<2> or Solver<3> by the case's dimension.
 #include "scree/solver/simulation.hpp"
 
+#include <atomic>
 #include <iostream>
 #include <variant>
 
@@ -8,6 +9,14 @@
 #include "solver.hpp"
 
 namespace scree {
+
+namespace {
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "request_stop must be async-signal-safe");
+}  // namespace
+
+void request_stop(int signal) noexcept { g_stop_signal.store(signal, std::memory_order_relaxed); }
+int stop_requested() noexcept { return g_stop_signal.load(std::memory_order_relaxed); }
 
 struct Simulation::Impl {
   std::variant<std::unique_ptr<Solver<2>>, std::unique_ptr<Solver<3>>> solver;

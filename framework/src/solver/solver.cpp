@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 namespace scree {
 
@@ -117,7 +118,8 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.transfer = settings_.schemes.transfer;
   pp.serial = exec_.device == Device::cpu && exec_.threads == 1;
   pp.reference = policy_.reference;
-  pp.need_speed = time_.adaptive() || policy_.reference;
+  // The signal speed: for the adaptive step, and for the health check of a fixed one (stopCo).
+  pp.need_speed = time_.adaptive() || policy_.reference || host_ctl_.stop_co > 0;
   pp.tile_stamps = policy_.sparse() ? tile_stamps_[scatter_set].data() : nullptr;
   pp.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
   pp.split_elastic = split_;
@@ -222,6 +224,12 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     run_chunk(n);
     if (budget > 0) budget -= n;
     after_chunk(with_output);
+    if (const int sig = stop_requested(); sig != 0) {  // SIGINT/SIGTERM (scree's handler)
+      std::ostringstream m;
+      m << "stopped by signal " << sig << " at t = " << time() << " s (step " << step_ << ", " << steps_done()
+        << " steps advanced the clock)";
+      throw RunInterrupted(m.str(), sig);
+    }
   }
 }
 
@@ -240,6 +248,7 @@ void Solver<D>::run_chunk(std::int64_t n) {
 
 template <int D>
 void Solver<D>::after_chunk(bool with_output) {
+  check_health();  // before any output: the regular schedule does not write a failed state
   // Sorts happen after every sortInterval steps that advanced the clock: the steps that
   // idle on a target time (dt = 0, their number set by where a chunk of steps ended, which
   // depends on the wall time) do not count, so that a run reproduces itself bit for bit.
@@ -257,6 +266,126 @@ void Solver<D>::after_chunk(bool with_output) {
             "the run blew up, reduce deltaT\n";
     lost_warned_ = true;
   }
+}
+
+template <int D>
+void Solver<D>::check_health() {
+  if (host_ctl_.failure == 0 && time_.adaptive()) {
+    // The adaptive step collapsed (a material whose signal speed exploded): it cannot add
+    // to the clock, or the run would need more steps than any run can take. A step that
+    // lands on a target may be a sliver legitimately: only a step short of it counts.
+    const int p = parity();
+    const double t = host_ctl_.t[p], dt = host_ctl_.dt[p];
+    if (dt > 0 && !TimeControl::reached(t + dt, host_ctl_.t_target) &&
+        (t + dt == t || (time_.end_time() - t) / dt > TimeControl::kMaxSteps)) {
+      host_ctl_.failure = kFailStalled;
+      host_ctl_.failed_step = host_ctl_.step[p];
+    }
+  }
+  if (host_ctl_.failure == 0) return;
+  throw RunFailure(diagnosis());
+}
+
+namespace {
+std::string vec_str(const Real* v, int n) {
+  std::ostringstream o;
+  o << "(";
+  for (int i = 0; i < n; ++i) o << (i ? " " : "") << v[i];
+  o << ")";
+  return o.str();
+}
+std::string where(const Dictionary& d, const char* key) {
+  const Entry* e = d.find(key);
+  if (e) return e->where().str() + ": " + key;
+  const auto& file = d.where().file;
+  return (file ? *file + ": " : std::string()) + key + " (not set: the default)";
+}
+}  // namespace
+
+template <int D>
+std::string Solver<D>::diagnosis() {
+  const StepControl c = host_ctl_;
+  const Snapshot s = snapshot(false);  // the state the clock stopped in (a host copy)
+  std::ostringstream m;
+  m.precision(6);
+  m << "the run went wrong and was stopped in step " << c.failed_step << " (t = " << time() << " s):";
+  // Body, material and particle of a point the kernels recorded.
+  auto point = [&](const StepControl::BadPoint& b, std::size_t& body, Index& i) -> std::string {
+    body = s.bodies.size();
+    for (std::size_t k = 0; k < s.bodies.size(); ++k)
+      if (s.bodies[k].body_id == b.body) body = k;
+    if (body == s.bodies.size() || b.index < 0 || b.index >= s.bodies[body].n) return "a particle";
+    i = b.index;
+    const BodySnapshot& bs = s.bodies[body];
+    const Entry* mat = case_.materials().find(bs.material);
+    return "particle " + std::to_string(bs.id[i]) + " of body '" + bs.name + "' (material '" + bs.material + "', " +
+           bs.material_type + (mat ? ", " + mat->where().str() : std::string()) + ")";
+  };
+  if (c.failure & kFailNonFinite) {
+    static const char* fields[] = {"position", "velocity", "stress"};
+    static const char* axes[] = {"x", "y", "z"};
+    static const char* stress[] = {"xx", "yy", "zz", "xy", "yz", "zx"};
+    const int f = c.bad.field;
+    const char* comp = f == kBadStress ? stress[c.bad.component % 6] : axes[c.bad.component % 3];
+    std::size_t b = 0;
+    Index i = -1;
+    const std::string who = point(c.bad, b, i);
+    m << "\n  " << fields[f % 3] << " " << comp << " = " << c.bad.value << " (not finite) of " << who
+      << ", found in step " << c.bad.step << "; " << c.bad.count << " non-finite value(s) in that step";
+    if (i >= 0) m << "\n  its position " << vec_str(&s.bodies[b].position[3 * i], D);
+    m << "\n  the material's parameters, the time step (" << where(case_.control(), "deltaT")
+      << ") or the loads (constant/g, boundary conditions) drove it there";
+  }
+  if (c.failure & kFailLost) {
+    std::size_t b = 0;
+    Index i = -1;
+    const std::string who = point(c.first_lost, b, i);
+    m << "\n  " << c.lost << " of " << stats().particles << " particles have left the grid, more than "
+      << where(case_.control(), "maxLostFraction") << " = " << settings_.control.max_lost_fraction << " allows";
+    m << "\n  the first, in step " << c.first_lost.step << ": " << who;
+    if (i >= 0) {
+      const FieldData* v = s.bodies[b].find("velocity");
+      m << ", last inside at " << vec_str(&s.bodies[b].position[3 * i], D);
+      if (v) m << " with velocity " << vec_str(&v->values[3 * i], D) << " m/s";
+    }
+    m << "\n  the grid: " << where(case_.grid(), "lower") << " and " << where(case_.grid(), "upper")
+      << "; if the particles were flung out, look at the loads (constant/g) and the time step";
+  }
+  // The body with the largest signal speed c + |v| now (a host copy of each body).
+  auto fastest = [&] {
+    Real cmax = -1;
+    std::string who;
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      const Real ck = bodies_[k]->max_signal_speed(grid_.h);
+      if (!(ck <= cmax)) {
+        cmax = ck;
+        const BodySnapshot& bs = s.bodies[k];
+        const Entry* mat = case_.materials().find(bs.material);
+        who = "body '" + bs.name + "' (material '" + bs.material + "', " + bs.material_type +
+              (mat ? ", " + mat->where().str() : std::string()) + ")";
+      }
+    }
+    std::ostringstream o;
+    o.precision(6);
+    o << "the largest signal speed c + |v| = " << cmax << " m/s is in " << who;
+    return o.str();
+  };
+  if (c.failure & kFailStalled) {
+    const int p = parity();
+    m << "\n  the adaptive step has collapsed to dt = " << c.dt[p] << " s: reaching endTime " << time_.end_time()
+      << " s would take " << (time_.end_time() - c.t[p]) / c.dt[p] << " steps\n  " << fastest()
+      << "\n  the adaptive step follows it (" << where(case_.control(), "maxCo")
+      << "): a material's parameters out of range, or a blown-up state";
+  }
+  if (c.failure & kFailUnstable) {
+    m << "\n  the step's Courant number dt (c + |v|)_max / h = " << c.failed_co << " is above stopCo "
+      << host_ctl_.stop_co << " (" << where(case_.control(), "stopCo") << "): the step is unstable";
+    m << "\n  " << fastest();
+    m << "\n  the fixed step " << where(case_.control(), "deltaT") << " " << settings_.control.time.delta_t
+        << " s exceeds the stable step h / (c + |v|) = " << settings_.control.time.delta_t / c.failed_co
+        << " s: reduce it, or use adjustTimeStep yes";
+  }
+  return m.str();
 }
 
 template <int D>
@@ -334,7 +463,17 @@ RunStats Solver<D>::run() {
                : "")
        << std::endl;  // flushed: a run killed early still leaves its header in the log
   if (opt_.output) output_due(false);  // the initial state
-  advance_chunked(time_.end_time(), opt_.max_steps, opt_.output);
+  try {
+    advance_chunked(time_.end_time(), opt_.max_steps, opt_.output);
+  } catch (const RunFailure&) {
+    // The state the run stopped in, written for the diagnosis (frozen on the device since
+    // the failing step: step_control.hpp), then the failure goes to the caller.
+    finish_output();
+    throw;
+  } catch (const RunInterrupted&) {
+    finish_output();  // the state at the stop: a run interrupted keeps its last time
+    throw;
+  }
   if (opt_.output) {
     output_due(true);  // the final state (also when endTime is not on the write grid)
     const auto t0 = std::chrono::steady_clock::now();
@@ -344,6 +483,13 @@ RunStats Solver<D>::run() {
   if (opt_.progress) progress_.report(time(), step_, true);
   profile_.report(log_, step_);
   return stats();
+}
+
+template <int D>
+void Solver<D>::finish_output() {
+  if (!opt_.output) return;
+  output_due(true);
+  output_->finish();
 }
 
 template <int D>

@@ -88,7 +88,10 @@ class Solver {
   void advance_chunked(double target, std::int64_t step_limit, bool with_output);
   void run_chunk(std::int64_t n);
   void after_chunk(bool with_output);
+  void check_health();        ///< throws RunFailure when the device stopped the clock on a failure
+  std::string diagnosis();    ///< what went wrong, which particle, body, material, field, step
   void output_due(bool force_all);
+  void finish_output();  ///< write every writer's output of now and wait for the output thread
   Snapshot snapshot_header() const;  ///< time, step and the bodies' material names
   void set_split(bool on);
   Real max_signal_speed() const;

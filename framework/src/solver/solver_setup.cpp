@@ -39,6 +39,12 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   ctl_.resize(1, exec_.device);
   sync_control_to_device();
   setup_bodies();
+  {  // health: the run stops once more than maxLostFraction of the points left the grid
+    const double f = settings_.control.max_lost_fraction;
+    const double n = static_cast<double>(stats().particles);
+    host_ctl_.lost_stop = f < 1 ? static_cast<unsigned long long>(std::floor(f * n)) + 1 : 0;
+    sync_control_to_device();
+  }
   setup_split();
   setup_boundaries();
   if (opt_.output) setup_output();

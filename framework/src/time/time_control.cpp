@@ -58,6 +58,10 @@ StepControl TimeControl::initial() const {
   c.dt_max = adaptive() ? s_.max_delta_t : s_.delta_t;
   c.cfl = adaptive() ? s_.max_co : 0;
   c.h = h_;
+  // A fixed step only: an adaptive one follows the signal speed, and a spike of one step
+  // (a point whose speed jumps: TwoPhase.TerzaghiConsolidation read Courant 20 once) is
+  // corrected by the next step; its collapse is caught by the host (Solver::check_health).
+  c.stop_co = adaptive() ? 0 : s_.stop_co;
   return c;
 }
 

@@ -154,5 +154,64 @@ TEST(TimeControl, AStepTheClockCannotAddOrThatNeedsMoreThan1e12StepsIsRefused) {
   EXPECT_NO_THROW(TimeControl(adaptive_step(1e-30, 3.0, 1e-4, 0.5), 0.01)) << "only the first step is tiny";
 }
 
+
+// Health (step_control.hpp): a non-finite value, too many points off the grid or a step
+// above stopCo stops the clock on the device for good, recording why and when; a healthy
+// step is untouched.
+TEST(TimeControl, AFailureFoundInAStepStopsTheClockAfterItForGood) {
+  const double h = 0.01;
+  TimeSettings s = fixed_step(1e-4, 1.0);
+  s.stop_co = 2;
+  TimeControl tc(s, h);
+  // Healthy: Courant 1e-4 * 150 / 0.01 = 1.5 <= 2.
+  StepControl c = tc.initial();
+  c.max_speed[0] = 150;
+  advance_clock(&c, 0);
+  EXPECT_EQ(c.failure, 0u);
+  EXPECT_EQ(c.dt[1], 1e-4);
+  // Unstable: Courant 3 > 2 in step 1; the clock stops after it and stays stopped.
+  c.max_speed[1] = 300;
+  advance_clock(&c, 1);
+  EXPECT_EQ(c.failure, unsigned(kFailUnstable));
+  EXPECT_EQ(c.failed_step, 1u);
+  EXPECT_DOUBLE_EQ(c.failed_co, 3.0);
+  EXPECT_EQ(c.dt[0], 0) << "the clock stopped";
+  advance_clock(&c, 0);
+  EXPECT_EQ(c.dt[1], 0) << "and stays stopped";
+  EXPECT_EQ(c.failed_step, 1u) << "the first failure is kept";
+  EXPECT_EQ(c.steps_done, 2u);
+
+  // A non-finite value found by a kernel (bad.count), and stopCo 0 checks nothing.
+  s.stop_co = 0;
+  TimeControl off(s, h);
+  StepControl d = off.initial();
+  d.max_speed[0] = 1e9;
+  advance_clock(&d, 0);
+  EXPECT_EQ(d.failure, 0u) << "stopCo 0: no check";
+  d.bad.count = 1;
+  advance_clock(&d, 1);
+  EXPECT_EQ(d.failure, unsigned(kFailNonFinite));
+  EXPECT_EQ(d.dt[0], 0);
+
+  // Points off the grid: lost_stop of them stop it; 0 is no limit.
+  StepControl e = off.initial();
+  e.lost = 1000;
+  advance_clock(&e, 0);
+  EXPECT_EQ(e.failure, 0u) << "lost_stop 0: no limit";
+  e.lost_stop = 1001;
+  advance_clock(&e, 1);
+  EXPECT_EQ(e.failure, 0u);
+  e.lost = 1001;
+  advance_clock(&e, 0);
+  EXPECT_EQ(e.failure, unsigned(kFailLost));
+  // A NaN signal speed is a failure too (not a comparison that quietly passes).
+  s.stop_co = 2;
+  TimeControl on(s, h);
+  StepControl f = on.initial();
+  f.max_speed[0] = std::nan("");
+  advance_clock(&f, 0);
+  EXPECT_EQ(f.failure, unsigned(kFailUnstable));
+}
+
 }  // namespace
 }  // namespace scree

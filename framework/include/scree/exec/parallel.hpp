@@ -242,6 +242,17 @@ SCREE_INLINE void atomic_increment(unsigned long long* a, bool serial) {
 #endif
 }
 
+/// Atomic ++a on a counter, returning the value before (the one thread that sees 0 is first).
+SCREE_INLINE unsigned long long atomic_fetch_increment(unsigned long long* a, bool serial) {
+#if defined(__CUDA_ARCH__)
+  (void)serial;
+  return atomicAdd(a, 1ull);
+#else
+  if (serial) return (*a)++;
+  return __atomic_fetch_add(a, 1ull, __ATOMIC_RELAXED);
+#endif
+}
+
 /// Atomic a = max(a, v) for non-negative doubles (their bit patterns order like
 /// unsigned integers), used for the largest wave speed of a step.
 SCREE_INLINE void atomic_max_nonneg(Real* a, Real v, bool serial) {

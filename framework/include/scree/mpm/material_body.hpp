@@ -111,7 +111,9 @@ class MaterialBody final : public Body<D> {
   std::size_t bytes_per_particle() const override { return store_.bytes_per_particle(); }
   Real* extra_columns() const override { return store_.extra(); }
 
-  void pass(const PassParams<D>& pp) override {
+  void pass(const PassParams<D>& params) override {
+    PassParams<D> pp = params;
+    pp.body = body_id_;  // named by a point with a non-finite field (StepControl::bad)
     const Real inv_h = 1 / pp.grid.h;
     switch (shape_) {
       case ShapeKind::linear: launch(pp, ShapeLinear{inv_h}); break;

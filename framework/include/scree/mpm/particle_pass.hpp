@@ -110,6 +110,9 @@ struct PassParams {
   int elastic_blocks_per_sm = 0;
   Index* deferred = nullptr;
   unsigned* deferred_count = nullptr;
+  /// Body::body_id of the body the pass runs over (MaterialBody::launch sets it): a point
+  /// with a non-finite field records it in StepControl::bad.
+  int body = 0;
 };
 
 namespace detail {
@@ -188,6 +191,18 @@ struct Stencil {
 /// velocity fields exactly.
 template <class Shape>
 inline constexpr bool kApicFromInertia = Shape::kStencil == 3 && sizeof(Shape) == sizeof(Real);
+
+/// The first component of a[0..n) that is not finite, or -1. One sum and one test on the
+/// common path (a sum of finite values that overflows also counts: such a field is garbage).
+template <class A>
+SCREE_INLINE int first_nonfinite(const A& a, int n) {
+  Real s = 0;
+  for (int i = 0; i < n; ++i) s += a[i];
+  if (s - s == 0) [[likely]] return -1;
+  for (int i = 0; i < n; ++i)
+    if (!(a[i] - a[i] == 0)) return i;
+  return 0;  // each finite, the sum not: report the first
+}
 
 /// Whether the first lane of the warp (CUDA), or always (CPU).
 SCREE_INLINE bool first_lane() {
@@ -268,7 +283,7 @@ struct ParticlePass {
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
       if (!st.inside) {
-        lost(p);  // the stencil left the grid: freeze the particle (the solver warns)
+        lost(p, x);  // the stencil left the grid: freeze the particle (the solver warns)
         active = false;
       } else {
         Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero();
@@ -350,6 +365,11 @@ SCREE_UNROLL
     if (flags & kAnyScatter) scatter(p, flags, active, x, v, C, mass, fresh);
 
     if (active) {
+      if (flags & kAnyGather) {  // health: what this pass computed (StepControl::bad)
+        const int cx = detail::first_nonfinite(x, D), cv = detail::first_nonfinite(v, D);
+        if (cx >= 0) [[unlikely]] report_bad(p, kBadPosition, cx, x[cx]);
+        else if (cv >= 0) [[unlikely]] report_bad(p, kBadVelocity, cv, v[cv]);
+      }
       for (int d = 0; d < D; ++d) {
         pa.x[d][p] = x[d];
         pa.v[d][p] = v[d];
@@ -382,7 +402,7 @@ SCREE_UNROLL
     const GridGeometry<D>& g = pp.grid;
     const detail::Stencil<D, Shape> st(shape, g, x);
     if (active && !st.inside) {
-      lost(p);
+      lost(p, x);
       active = false;
     }
     Sym3 sig = Sym3::zero();
@@ -492,14 +512,20 @@ SCREE_UNROLL
     } else {
       M::update(mp, s, sigma, inc);
     }
+    {  // health: a stress update that returned a non-finite stress (StepControl::bad)
+      const int c = detail::first_nonfinite(sigma, kStressComponents<D>);
+      if (c >= 0) [[unlikely]] report_bad(p, kBadStress, c, sigma[c]);
+    }
     const Real vol = pa.volume0[p] * J;
     // The speed before the stores: with no memory access between them, the compiler shares
     // what the update and wave_speed() both compute (phaseTransition: the collisional
     // coefficients at the new void ratio).
     speed = 0;
     if (pp.need_speed) {
-      const Real rho = vol > 0 ? mass / vol : Real(0);
-      speed = M::wave_speed(mp, s, sigma, rho, pp.grid.h) + v_start;
+      // An inverted point (V <= 0) has no density and so no wave speed: its |v| alone. (Its
+      // density was taken as 0, c = inf for most models: the adaptive step became 0 for a
+      // step and then maxDeltaT, and the health check read an infinite Courant number.)
+      speed = vol > 0 ? M::wave_speed(mp, s, sigma, mass / vol, pp.grid.h) + v_start : v_start;
     }
     for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
     store_state<typename M::State, plane>(s, pa.state, pa.n, p);
@@ -510,9 +536,28 @@ SCREE_UNROLL
 
   /// Freeze a particle whose stencil left the grid (negative volume0 marks it) and
   /// count it once; the solver reports the count.
-  SCREE_INLINE void lost(Index p) const {
+  SCREE_INLINE void lost(Index p, const Vec<D>& x) const {
     pa.volume0[p] = -fabs(pa.volume0[p]);
-    atomic_increment(&pp.control->lost, pp.serial);
+    if (atomic_fetch_increment(&pp.control->lost, pp.serial) == 0) {
+      pp.control->first_lost.body = pp.body;
+      pp.control->first_lost.index = p;
+      pp.control->first_lost.step = pp.control->step[pp.parity];
+    }
+    const int c = detail::first_nonfinite(x, D);  // blown up rather than moved out
+    if (c >= 0) report_bad(p, kBadPosition, c, x[c]);
+  }
+
+  /// A non-finite value of point p: counted; the first one found records itself
+  /// (StepControl::bad), and the clock stops after this step (advance_clock).
+  SCREE_INLINE void report_bad(Index p, int field, int component, Real value) const {
+    StepControl* c = pp.control;
+    if (atomic_fetch_increment(&c->bad.count, pp.serial) != 0) return;
+    c->bad.body = pp.body;
+    c->bad.field = field;
+    c->bad.component = component;
+    c->bad.index = p;
+    c->bad.value = value;
+    c->bad.step = c->step[pp.parity];
   }
 };
 

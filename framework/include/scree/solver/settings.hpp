@@ -31,6 +31,7 @@ struct ControlSettings {
   WriteControl write_control = WriteControl::runTime;
   double write_interval = 0;    ///< writeInterval [s or steps]
   std::int64_t progress_interval = 0;  ///< progressInterval [steps] (0: automatic)
+  double max_lost_fraction = 1;        ///< maxLostFraction: more points off the grid stop the run [-]
 };
 
 /// mpmSchemes damping { type local; ... }: Cundall's local non-viscous damping.

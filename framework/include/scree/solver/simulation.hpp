@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,32 @@
 #include "scree/solver/case.hpp"
 
 namespace scree {
+
+/// A run that went wrong (a non-finite field, particles leaving the grid en masse, an
+/// unstable step: time/step_control.hpp) and was stopped; what() is the diagnosis. The
+/// state it stopped in has been written by the case's writers (Simulation::run).
+class SCREE_API RunFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A run stopped on request (request_stop: scree's SIGINT/SIGTERM handler) at the end of a
+/// chunk of steps, its state written (Simulation::run); `signal` is the request's number.
+class SCREE_API RunInterrupted : public std::runtime_error {
+ public:
+  RunInterrupted(const std::string& what, int signal) : std::runtime_error(what), signal_(signal) {}
+  int signal() const noexcept { return signal_; }
+
+ private:
+  int signal_;
+};
+
+/// Ask a running Simulation to stop after its current chunk of steps (at most about 0.5 s
+/// of wall time): async-signal-safe (a lock-free atomic store), for a signal handler.
+/// `signal` is reported in RunInterrupted; 0 clears the request.
+SCREE_API void request_stop(int signal) noexcept;
+/// The pending request's signal number, or 0.
+SCREE_API int stop_requested() noexcept;
 
 struct RunOptions {
   Device device = Device::cpu;

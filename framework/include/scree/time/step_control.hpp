@@ -7,6 +7,13 @@
 // end); after that dt is 0 and steps change nothing until the host sets the next target.
 // The host side (the stable step, the first step, a new target, the watch over a fixed
 // step) is TimeControl (time_control.hpp); the step-size rules shared by both are here.
+//
+// Health: the particle kernels count points whose position, velocity or stress is not
+// finite (the first one found records itself in `bad`), and the kernels' lost-point count
+// and the step's signal speed are here already. advance_clock turns them into `failure`
+// and then stops the clock (dt = 0): a run gone wrong freezes on the device in the step
+// it went wrong, at no cost to a healthy step (no host round trip), and the host finds
+// `failure` when it reads the clock between chunks of steps (Solver::check_health).
 #pragma once
 
 #include <cmath>
@@ -14,6 +21,17 @@
 #include "scree/core/config.hpp"
 
 namespace scree {
+
+/// Why the clock stopped (StepControl::failure, bits).
+enum StepFailure : unsigned {
+  kFailNonFinite = 1u << 0,  ///< a point's position, velocity or stress is not finite
+  kFailLost = 1u << 1,       ///< more points left the grid than lost_stop allows
+  kFailUnstable = 1u << 2,   ///< a step's Courant number dt (c + |v|)_max / h exceeded stop_co
+  kFailStalled = 1u << 3,    ///< (set by the host) the adaptive step became too small to reach the end
+};
+
+/// The field of the first non-finite value (StepControl::BadPoint::field).
+enum BadField : int { kBadPosition = 0, kBadVelocity = 1, kBadStress = 2 };
 
 struct StepControl {
   Real t[2];          ///< time at the start of the step [s]
@@ -26,6 +44,23 @@ struct StepControl {
   unsigned long long steps_done;  ///< steps that did work
   unsigned long long lost;        ///< particles whose stencil left the grid (frozen)
   unsigned long long step[2];     ///< index of the step (every step, also those with dt = 0)
+  // Health (see the top of this file); zero-initialised is "healthy, nothing checked".
+  unsigned long long lost_stop;   ///< the run stops once this many points have left the grid (0: never)
+  Real stop_co;                   ///< the run stops after a step of Courant number above this (0: never)
+  /// Points found with a non-finite field; the first (count 0 -> 1) records itself.
+  struct BadPoint {
+    unsigned long long count;
+    int body;          ///< Body::body_id
+    int field;         ///< BadField
+    int component;     ///< the component of the field
+    Index index;       ///< the point's index in its body's storage at the time
+    Real value;        ///< the non-finite value
+    unsigned long long step;  ///< the step in which it was found
+  } bad;
+  BadPoint first_lost;            ///< the first point that left the grid (count, field, value unused)
+  unsigned failure;               ///< StepFailure bits (0: healthy)
+  unsigned long long failed_step; ///< the step after which the clock stopped
+  Real failed_co;                 ///< that step's Courant number dt (c + |v|)_max / h
 };
 
 /// The step that lands on a target `remaining` seconds ahead: the remainder when dt would
@@ -51,6 +86,18 @@ SCREE_INLINE void advance_clock(StepControl* c, int par) {
   const Real remaining = c->t_target - t1;
   // On the target (within round-off): stop until the host sets the next one.
   dt1 = remaining <= Real(1e-9) * dt1 ? Real(0) : land_on_target(dt1, remaining);
+  // Health: a failure stops the clock for good (the host ends the run when it sees it).
+  unsigned fail = 0;
+  if (c->bad.count > 0) fail |= kFailNonFinite;
+  if (c->lost_stop > 0 && c->lost >= c->lost_stop) fail |= kFailLost;
+  const Real co = dt * c->max_speed[par] / c->h;
+  if (c->stop_co > 0 && dt > 0 && !(co <= c->stop_co)) fail |= kFailUnstable;
+  if (fail != 0 && c->failure == 0) {
+    c->failure = fail;
+    c->failed_step = c->step[par];
+    c->failed_co = co;
+  }
+  if (c->failure != 0) dt1 = 0;
   c->t[1 - par] = t1;
   c->dt[1 - par] = dt1;
   c->max_speed[par] = 0;

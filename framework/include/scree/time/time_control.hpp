@@ -27,6 +27,7 @@ struct TimeSettings {
   bool adjust_time_step = false;  ///< adjustTimeStep
   double max_co = 0;              ///< maxCo: CFL number of the adaptive step [-]
   double max_delta_t = 0;         ///< maxDeltaT [s] (deltaT when not given)
+  double stop_co = 0;             ///< stopCo: a fixed step of a larger Courant number stops the run (0: never)
 };
 
 class SCREE_API TimeControl {

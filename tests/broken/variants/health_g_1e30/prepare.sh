@@ -1,0 +1,2 @@
+sed -i 's/^value .*/value       (0 -1e30);/' constant/g
+grep -q -- '-1e30' constant/g
