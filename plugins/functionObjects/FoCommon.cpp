@@ -19,13 +19,14 @@ namespace fs = std::filesystem;
 
 namespace scree::fo {
 
-namespace {
-
+/// "a, b, c" (FoCommon.hpp).
 std::string join(const std::vector<std::string>& v) {
   std::string out;
   for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
   return out;
 }
+
+namespace {
 
 std::string header_line(const std::vector<std::string>& header) {
   std::string line;

@@ -22,6 +22,10 @@
 
 namespace scree::fo {
 
+/// The names joined as "a, b, c" (for messages).
+std::string join(const std::vector<std::string>& v);
+
+
 using Vec3 = std::array<double, 3>;
 
 /// A number as written in CSV files: %.12g, "nan", "inf", "-inf".

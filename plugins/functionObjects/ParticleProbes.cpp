@@ -16,12 +16,6 @@ namespace scree::fo {
 
 namespace {
 
-std::string join(const std::vector<std::string>& v) {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
-
 const char* kAxes[] = {"x", "y", "z"};
 
 }  // namespace

@@ -12,12 +12,6 @@ namespace scree::fo {
 
 namespace {
 
-std::string join(const std::vector<std::string>& v) {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
-
 const char* const kScalars[] = {"liquidDensity", "liquidBulkModulus", "liquidInflowSurface",
                                 "liquidInflowPrescribed"};
 const char* const kFields[] = {"porePressure", "saturation", "porosity", "volume"};
