@@ -4,7 +4,8 @@
 //
 //   (A) outward unit normal at node I from the mixture's density:
 //         n_I = sum_p rho_mix,p grad N_I(x_p) V_p / |...|,  rho_mix V = m_s + n S_l rho_l V
-//       (grad N_I(x_p) points from the points towards the node: outwards at a surface node);
+//       (grad N_I(x_p) points from the points towards the node: outwards at a surface node;
+//       at a node that slip or friction walls hold, in the walls' planes: project_on_walls);
 //   (B) if [n S_l (v~_l - v~_s) - w] . n_I <= 0, the surface would take at least the rain
 //       (w: the rain's velocity, intensity x its unit direction; w . n < 0 into the soil):
 //       correct, else the soil cannot take the rain, the surface keeps the natural
@@ -58,13 +59,14 @@ struct RainfallKernel {
     if (t < t_start || t >= t_end) return;
     const Real ms = g.solid.mass[I];
     if (!(ms > g.mass_eps)) return;
-    if (!surface_node<D>(g.grid, g.cells, I)) return;
+    if (!surface_node<D>(g.grid, g.cells, I, g.walls, g.masks ? g.masks[I] : 0u, t)) return;
     Real grad[D], vs[D], vl[D];
     for (int d = 0; d < D; ++d) {
       grad[d] = g.liquid.gradient[d][I];
       vs[d] = g.solid.velocity_new[d][I];
       vl[d] = g.liquid.velocity_new[d][I];
     }
+    if (g.masks && g.masks[I]) project_on_walls<D>(g.walls, g.masks[I], t, grad);  // the walls' planes
     if (!rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], w, vs, vl)) return;
     for (int d = 0; d < D; ++d) {
       g.solid.velocity_new[d][I] = vs[d];

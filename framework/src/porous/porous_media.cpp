@@ -356,6 +356,8 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.solid = solid_sets[set];
   g.liquid = sets_[set];
   g.cells = cells_[set].data();
+  g.walls = walls_;
+  g.masks = masks_;
   g.control = control;
   g.parity = parity;
   g.mass_eps = mass_eps;

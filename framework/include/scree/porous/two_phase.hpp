@@ -89,8 +89,13 @@ inline constexpr int kLiquidFieldCount = 5 + 6 * D;
 
 /// Whether node I of a grid is on a surface of the points: among the cells around it, one
 /// is empty and one holds points (`cells`: points per cell, cell (i, j) at i + j n_x).
+/// Cells beyond the grid are empty. With `walls`, the cells behind a contact wall acting at
+/// the node (on the side its normal points away from) count as neither: the wall is a
+/// plane of symmetry of the soil it holds, not a surface of it (the sides of a column
+/// between slip walls are no surface; its top nodes at the walls are).
 template <int D>
-SCREE_INLINE bool surface_node(const GridGeometry<D>& grid, const Real* cells, Index I) {
+SCREE_INLINE bool surface_node(const GridGeometry<D>& grid, const Real* cells, Index I, const Wall* walls = nullptr,
+                               WallMask mask = 0, Real t = 0) {
   int idx[D];
   grid.unflat(I, idx);
   bool empty = false, full = false;
@@ -103,6 +108,19 @@ SCREE_INLINE bool surface_node(const GridGeometry<D>& grid, const Real* cells, I
       cell += j * stride;
       stride *= grid.n[d];
     }
+    bool behind = false;
+    for (WallMask m = walls ? mask : 0u; m; m &= m - 1) {
+#if defined(__CUDA_ARCH__)
+      const Wall& w = walls[__ffs(static_cast<int>(m)) - 1];
+#else
+      const Wall& w = walls[__builtin_ctz(m)];
+#endif
+      if (w.mode != Wall::Mode::contact || t < w.t_start || t >= w.t_end) continue;
+      Real on = 0;  // the cell centre's offset from the node, along the wall's normal
+      for (int d = 0; d < D; ++d) on += ((c >> d) & 1 ? Real(1) : Real(-1)) * w.normal[d];
+      behind = behind || on < -Real(1e-6);
+    }
+    if (behind) continue;
     if (!ok) {
       empty = true;  // beyond the grid: nothing there
       continue;
@@ -140,6 +158,32 @@ SCREE_HD inline bool seepage_correction(const Real* grad, Real ms, Real ml, Real
     vs[d] += ds * n[d];
   }
   return true;
+}
+
+/// The surface normal at a node that walls hold lies in the walls' planes. A contact wall
+/// (slip, friction) is a plane of symmetry of the soil it holds: mirrored across it, the
+/// mixture's density has no gradient along the wall's normal. Without a mirror the points
+/// stop at the wall, and eq. (A) tilts the normal towards it: at the top nodes of a
+/// one-cell-wide column it points along the diagonal, and a correction along it (eq. C, or
+/// a closed surface's) sets the seepage along the diagonal, which the wall then halves.
+/// So the gradient loses its components along the normals of the contact walls acting at
+/// the node (one after the other: exact for orthogonal walls). Stick walls set both
+/// velocities outright and leave it as it is.
+template <int D>
+SCREE_INLINE void project_on_walls(const Wall* walls, WallMask mask, Real t, Real* grad) {
+  while (mask) {
+#if defined(__CUDA_ARCH__)
+    const int b = __ffs(static_cast<int>(mask)) - 1;
+#else
+    const int b = __builtin_ctz(mask);
+#endif
+    mask &= mask - 1;
+    const Wall& w = walls[b];
+    if (w.mode != Wall::Mode::contact || t < w.t_start || t >= w.t_end) continue;
+    Real gn = 0;
+    for (int d = 0; d < D; ++d) gn += grad[d] * w.normal[d];
+    for (int d = 0; d < D; ++d) grad[d] -= gn * w.normal[d];
+  }
 }
 
 /// An open stretch of surface (ponding, rain): the pore liquid there has the natural
@@ -452,7 +496,7 @@ struct TwoPhaseGridUpdate {
     // along the normal is then also set to zero after the integration.
     Real boundary[D] = {};
     bool closed = false;  // a closed surface node: no seepage through it (below)
-    if (cells && ml > 0 && surface_node<D>(grid, cells, I)) {
+    if (cells && ml > 0 && surface_node<D>(grid, cells, I, walls, mask, t)) {
       bool is_open = (mask & ~lmask) != 0;  // on a drained wall
       for (std::uint32_t m = open_masks ? open_masks[I] : 0u; m; m &= m - 1) {
 #if defined(__CUDA_ARCH__)
@@ -504,6 +548,7 @@ struct TwoPhaseGridUpdate {
       Real grad[D];
       const Real w0[D] = {};
       for (int d = 0; d < D; ++d) grad[d] = liquid.gradient[d][I];
+      if (mask) project_on_walls<D>(walls, mask, t, grad);
       if (seepage_correction<D>(grad, ms, ml, mlm, w0, ws, wl, false)) {
         if (mask) apply_walls<D>(walls, mask, ws, x, t);  // the walls have the last word
         if (lmask) apply_walls<D>(walls, lmask, wl, x, t);
@@ -568,6 +613,8 @@ struct TwoPhaseNodes {
   GridFields<D> solid;
   LiquidFields<D> liquid;
   const Real* cells = nullptr;  ///< points per cell (cell (i, j) at i + j n_x, n the node counts)
+  const Wall* walls = nullptr;   ///< the case's walls and, per node, which act on the solid
+  const WallMask* masks = nullptr;
   const StepControl* control = nullptr;
   int parity = 0;
   Real mass_eps = 0;
