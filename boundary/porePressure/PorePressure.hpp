@@ -1,5 +1,7 @@
-// porePressure: a prescribed pore-liquid pressure on the points of two-phase bodies inside a
-// box, applied after every step's pore-pressure update (porous/two_phase.hpp):
+// porePressure: a prescribed pore-liquid pressure on the points of two-phase bodies in the
+// cells a box overlaps (the pore pressure is resolved per cell of the grid: a box that cuts
+// a cell holds all of its points), applied after every step's pore-pressure update
+// (porous/two_phase.hpp):
 //   base  { type porePressure; min (0 -1); max (0.1 0.02); value 0; }          drained, p_w = 0
 //   table { type porePressure; min (0 -1); max (0.1 0.02); waterTable 0; }     hydrostatic
 //   pond  { type porePressure; min (0 1.04); max (0.1 2); value 0; }           ponding (p_w = 0)
@@ -22,7 +24,7 @@ class PorePressure final : public BoundaryCondition {
  public:
   static constexpr const char* type_name = "porePressure";
   static ParamSpec spec() {
-    ParamSpec s(type_name, "prescribed pore-liquid pressure on the points of two-phase bodies inside a box");
+    ParamSpec s(type_name, "prescribed pore-liquid pressure on the points of two-phase bodies in the cells a box overlaps");
     s.vector("min", "m", "lower corner of the box").size(-1);
     s.vector("max", "m", "upper corner of the box").size(-1);
     s.scalar("value", "Pa", "pore pressure, compression positive (give this or waterTable)").optional();

@@ -18,7 +18,9 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-VARIANTS = ["kappa_ponding", "kappa_rain", "Ksat2e-4_ponding", "Ksat2e-4_rain"]
+READINGS = ["kappa_ponding", "kappa_rain", "Ksat2e-4_ponding", "Ksat2e-4_rain"]
+SKELETONS = ["rigid", "seed"]  # E = 500 MPa (the Richards reference's rigid skeleton), Table A's 5 MPa
+VARIANTS = ["%s_%s" % (r, k) for k in SKELETONS for r in READINGS]
 RANGE = 1000 * 9.81 * 1.05  # [Pa] the suction range of the column
 
 
@@ -73,13 +75,14 @@ def main():
         for r in table:
             f.write("%s,%g,%.4f,%.3f,%.3f\n" % r)
     for r in table:
-        print("%-18s t = %5g s   max |dp| = %7.3f kPa = %6.2f%%  (mean %5.2f%%) of rho g H" % r)
+        print("%-24s t = %5g s   max |dp| = %7.3f kPa = %6.2f%%  (mean %5.2f%%) of rho g H" % r)
     if fig_path:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(1, len(panels), figsize=(4 * len(panels), 5), sharey=True)
-        axes = np.atleast_1d(axes)
+        rows = max(1, (len(panels) + 3) // 4)
+        fig, axes = plt.subplots(rows, min(4, len(panels)), figsize=(16, 5 * rows), sharey=True, squeeze=False)
+        axes = axes.ravel()
         for ax, (v, shown) in zip(axes, panels):
             for k, (t, y, p, z, pr) in enumerate(shown[:: max(1, len(shown) // 5)]):
                 c = "C%d" % k
@@ -90,7 +93,8 @@ def main():
             ax.set_xlabel("p_w [kPa]")
             ax.grid(alpha=0.3)
             ax.legend(fontsize=8)
-        axes[0].set_ylabel("z [m]")
+        for ax in axes[::4]:
+            ax.set_ylabel("z [m]")
         fig.suptitle("infiltration1D: MPM (circles) against the Richards reference (lines)")
         fig.tight_layout()
         fig.savefig(fig_path, dpi=110)

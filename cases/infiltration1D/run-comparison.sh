@@ -23,8 +23,11 @@ variants=(
   "Ksat2e-4_ponding|hydraulicConductivity   2e-4;|pond|5|0.5"
   "Ksat2e-4_rain|hydraulicConductivity   2e-4;|rain|10|1"
 )
-for v in "${variants[@]}"; do
-  IFS='|' read -r name perm top end every <<<"$v"
+# Each with two skeletons: Table A's (E = 5 MPa, `seed`) and a rigid one (E = 500 MPa,
+# `rigid`), the Richards equation's own assumption (README: what the skeleton changes).
+for v0 in "${variants[@]}"; do for skel in seed rigid; do
+  IFS='|' read -r name perm top end every <<<"$v0"
+  name="${name}_$skel"
   d="$work/$name"
   rm -rf "$d"; mkdir -p "$d"; cp -r "$here/system" "$here/constant" "$d/"
   mv "$d/system" "$d/mpm_system"; mkdir -p "$d/mpm"; mv "$d/mpm_system" "$d/mpm/system"; mv "$d/constant" "$d/mpm/"
@@ -33,11 +36,12 @@ for v in "${variants[@]}"; do
     sed -i 's|^rain |// rain |; s|^// pond |pond |' "$d/mpm/constant/boundaryConditions"
   fi
   sed -i "s|^endTime .*|endTime         $end;|; s|^writeInterval .*|writeInterval   $every;|" "$d/mpm/system/controlDict"
+  [ "$skel" = rigid ] && sed -i "s|E 5e6;|E 5e8;|" "$d/mpm/constant/materialProperties"
   times=$(awk -v e="$end" -v s="$every" 'BEGIN{for(t=s;t<=e+1e-9;t+=s) printf "%g ", t}')
   echo "== $name: scree to $end s"
   /usr/bin/time -f "$name mpm wall %e s" "$build/bin/scree" --case "$d/mpm" --overwrite "$@" > "$d/mpm.log" 2>&1 || { tail "$d/mpm.log"; exit 1; }
   tail -1 "$d/mpm.log"
-  "$build/bin/scree-richards" --config "$conf/$name.conf" --out "$d/richards" --set "profileTimes=$times" \
+  "$build/bin/scree-richards" --config "$conf/${name%_*}.conf" --out "$d/richards" --set "profileTimes=$times" \
     --set "endTime=$end" --quiet
-done
+done; done
 /usr/bin/python3 "$here/compare.py" "$work" "$here/comparison.png"

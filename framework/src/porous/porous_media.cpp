@@ -80,6 +80,7 @@ PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, co
     f.mass = next();
     f.mass_mix = next();
     f.drag = next();
+    f.conductance = next();
     for (int d = 0; d < D; ++d) f.momentum[d] = next();
     for (int d = 0; d < D; ++d) f.force[d] = next();
     for (int d = 0; d < D; ++d) f.velocity[d] = next();
@@ -90,8 +91,9 @@ PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, co
     f.volume = next();
     cells_[s].resize(static_cast<std::size_t>(nn), exec_.device);
   }
-  balance_.resize(static_cast<std::size_t>(2 * nn), exec_.device);
-  balance_.copy_from_host(std::vector<Real>(static_cast<std::size_t>(2 * nn), Real(0)));
+  // Per cell: inflow, capacity, and the moments sum V C p, sum V C x_d (PoreRate).
+  balance_.resize(static_cast<std::size_t>((3 + D) * nn), exec_.device);
+  balance_.copy_from_host(std::vector<Real>(static_cast<std::size_t>((3 + D) * nn), Real(0)));
   totals_.resize(2, exec_.device);
   totals_.copy_from_host(std::vector<Real>(2, Real(0)));
 }
@@ -238,7 +240,7 @@ void PorousMedia<D>::add_condition(const BoundaryCondition* bc) {
     if (bit >= kMaxOpenSurfaces)
       throw std::runtime_error("too many open surfaces (ponding, rainfall: at most " +
                                std::to_string(kMaxOpenSurfaces) + " per case)");
-    open_windows_.push_back(OpenSurfaceWindow{o.t_start, o.t_end});
+    open_windows_.push_back(OpenSurfaceWindow{o.t_start, o.t_end, o.outflow_only ? 1 : 0});
     if (host_open_.empty()) host_open_.assign(static_cast<std::size_t>(grid_.num_nodes()), 0u);
     for (Index I = 0; I < grid_.num_nodes(); ++I) {
       const Vec<D> x = grid_.node_position(I);
@@ -282,6 +284,8 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   const Index nn = grid_.num_nodes();
   lp.inflow = const_cast<Real*>(balance_.data());
   lp.capacity = lp.inflow + nn;
+  lp.moments = lp.inflow + 2 * nn;
+  lp.n_cells = nn;
   lp.totals = const_cast<Real*>(totals_.data());
   return lp;
 }
@@ -337,6 +341,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.cells_other = cells_[1 - set].data();
   u.inflow = balance_.data();
   u.capacity = balance_.data() + grid_.num_nodes();
+  u.moments = balance_.data() + 2 * grid_.num_nodes();
   u.n_cells = n_cells_;
   u.control = control;
   u.parity = parity;

@@ -56,6 +56,9 @@ struct PorePressureLaw;
 struct OpenSurface {
   std::function<bool(const Real* x)> select;  ///< the surface nodes it opens, by position
   Real t_start = -1e300, t_end = 1e300;
+  /// A seepage face: open only where the soil behind it is not in suction (nodal p_w >= 0),
+  /// so that the liquid may leave but not enter; closed elsewhere.
+  bool outflow_only = false;
 };
 
 /// The grid's nodes as WallSet and select_nodes visit them.

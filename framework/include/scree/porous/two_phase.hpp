@@ -24,7 +24,11 @@
 //       F_mix = -sum V (sigma' - S_l p_w I) grad N + sum N (m_s + m_lm) g
 //   liquid momentum (per unit volume of liquid, Darcy drag):
 //       M_l a_l = F_l - Q (v_l - v_s),  F_l = sum V p_w grad N + sum N rho_l V g,
-//       Q = sum N V n S_l mu_l / (kappa k_rel)
+//       Q = sum N V n S_l mu_l / (kappa k_I),  k_I = sum N V k_rel / sum N V
+//     (k_I the arithmetic mean over the node's points, as a finite-volume Richards solver
+//     takes between its cells, Celia et al. 1990; a sum of the points' resistances,
+//     sum N V n S mu / (kappa k_rel), is their harmonic mean: one dry point behind a
+//     wetting front then holds the water back, and a dry surface takes in almost no rain)
 //     (steady state: n S_l (v_l - v_s) = -(kappa k_rel / mu_l)(grad p_w - rho_l g), Darcy)
 //   liquid mass balance, incompressible grains, liquid bulk modulus K_l:
 //       (n S_l / K_l + n dS_l/dp_w) dp_w/dt = -(S_l div v_s + div q),  q = n S_l (v_l - v_s)
@@ -76,7 +80,8 @@ struct LiquidFields {
   Real* mass_mix;         ///< M_lm = sum N n S_l rho_l V [kg]
   Real* momentum[D];      ///< sum N rho_l V v_l [kg m/s]
   Real* force[D];         ///< F_l [N]
-  Real* drag;             ///< Q [kg/s]
+  Real* drag;             ///< sum N V n S_l mu_l / kappa [kg/s]: Q at k_rel = 1
+  Real* conductance;      ///< sum N V k_rel [m^3]; over `volume`: the node's mean k_rel
   Real* velocity[D];      ///< v_l^k [m/s]
   Real* velocity_new[D];  ///< v_l^{k+1} [m/s]
   Real* gradient[D];      ///< sum (m_s + m_lm) grad N [kg/m], the mixture density's (eq. A)
@@ -85,7 +90,7 @@ struct LiquidFields {
   Real* volume;           ///< sum N V [m^3]
 };
 template <int D>
-inline constexpr int kLiquidFieldCount = 5 + 6 * D;
+inline constexpr int kLiquidFieldCount = 6 + 6 * D;
 
 /// Whether node I of a grid is on a surface of the points: among the cells around it, one
 /// is empty and one holds points (`cells`: points per cell, cell (i, j) at i + j n_x).
@@ -191,6 +196,7 @@ SCREE_INLINE void project_on_walls(const Wall* walls, WallMask mask, Real t, Rea
 inline constexpr int kMaxOpenSurfaces = 16;
 struct OpenSurfaceWindow {
   Real t_start = -1e300, t_end = 1e300;
+  int outflow_only = 0;  ///< a seepage face: open only where the nodal p_w >= 0
 };
 
 /// A prescribed pore pressure on the points inside a box (porePressure condition):
@@ -217,10 +223,13 @@ struct PorePassParams {
   PorePressureLaw laws[kMaxPorePressureLaws];
   int vertical = 1;         ///< the axis opposite to gravity
   Real g = 0;               ///< |g| [m/s^2]
-  /// The nodal liquid mass balance (PoreRate, PorePressure): sum N V r_p [m^3/s] and
-  /// sum N V C_p [m^3/Pa]; not alternating: the grid update clears them.
+  /// The liquid mass balance per cell (PoreRate, PorePressure): sum V r_p [m^3/s] and
+  /// sum V C_p [m^3/Pa] over the cell's points; not alternating: the grid update clears them.
   Real* inflow = nullptr;
   Real* capacity = nullptr;
+  /// Per cell, sum V C p [m^3] then sum V C x_d [m^4/Pa] for each axis d, n_cells apart.
+  Real* moments = nullptr;
+  Index n_cells = 0;
   /// Cumulative liquid mass [kg] since t = 0: [0] through the surfaces (SurfaceInflow),
   /// [1] added by the prescribed pore pressures. Null: not counted.
   Real* totals = nullptr;
@@ -230,19 +239,49 @@ namespace detail {
 SCREE_INLINE Real clamp01(Real x, Real lo, Real hi) { return x < lo ? lo : (x > hi ? hi : x); }
 }  // namespace detail
 
-/// The pore pressure. The liquid mass balance (top of file) holds per node, not per point:
-///   C_I dp_I/dt = sum_p N_Ip V_p r_p,   C_I = sum_p N_Ip V_p C_p,
-///   r_p = -(S_l div v_s + div q) at the point,
-/// and each point takes the nodal rate, dp_p = dt sum_I N_Ip dp_I/dt. Integrated per point,
-/// the pressure has a null mode: equal and opposite values between the rows of points of a
-/// cell give no nodal force (V p grad N cancels), so nothing resists them, and where the
-/// soil is saturated (C smallest) they grow into an odd-even pattern of the seepage. The
-/// nodal balance removes it: a point's pressure changes only by what the nodes carry. The
-/// rate is projected, not p itself, so the answer does not depend on the number of steps,
-/// and sum_p V_p C_p dp_p = dt sum_p V_p r_p: the liquid's volume is kept.
+/// The cell of the grid that holds x (cell (i, j) indexed as node (i, j), strides of the
+/// node counts): the points-per-cell counts and the liquid mass balance use it.
+template <int D>
+SCREE_INLINE Index cell_of(const GridGeometry<D>& grid, const Vec<D>& x) {
+  Index cell = 0, stride = 1;
+  for (int d = 0; d < D; ++d) {
+    cell += static_cast<Index>(floor((x[d] - grid.origin[d]) / grid.h)) * stride;
+    stride *= grid.n[d];
+  }
+  return cell;
+}
+
+/// The pore pressure. The liquid mass balance (top of file) holds per cell c of the grid,
+/// a finite volume of the points it holds, for the storage-weighted mean pressure P_c:
+///   C_c dP_c/dt = sum_{p in c} V_p r_p,   C_c = sum_{p in c} V_p C_p,
+///   P_c = sum V_p C_p p_p / C_c,   r_p = -(S_l div v_s + div q) at the point
+/// (the divergences from the nodal velocities). The points then take the cell's pressure
+/// reconstructed linearly (van Leer 1979): p_p = P_c + g_c . (x_p - x_c), x_c the
+/// storage-weighted centroid of the cell's points (so sum V C p_p = C_c P_c: the liquid's
+/// volume is kept), g_c per axis the minmod of the differences to the two face neighbours
+/// (one-sided where there is one neighbour, none where there is none), so that no new
+/// extremum appears at a sharp wetting front. A hydrostatic or a uniform profile is
+/// reproduced exactly inside the cells.
+/// The pressure per cell and the velocities at the nodes pair like a staggered grid (Q1-P0;
+/// Anura3D also takes the pore pressure per element): the force on the node between two
+/// cells sees their difference, and no pattern of p hides from it. Three other pairings were
+/// tried, each with a defect measured:
+/// - per point (each point integrating its own r_p): equal and opposite p_w between the rows
+///   of points of a cell give no nodal force (V p grad N cancels); where the soil was
+///   saturated (C smallest) they grew into an odd-even pattern of the seepage;
+/// - per node (C_I dp_I/dt = sum_p N_Ip V_p r_p, dp_p = sum_I N_Ip dp_I): the force
+///   sum V p grad N and the divergence sum N V r pair like central differences, blind to p
+///   alternating from node to node; a saturated column with an artesian head at its base and
+///   a seepage face on top carried seepage alternating between -9e-5 and +4.6e-4 m/s from one
+///   row of points to the next around the steady 2.1e-4 m/s;
+/// - per cell, the increment only (each point keeping its own p plus the cell's rate, with
+///   or without a reconstructed slope of the rate): the differences between a cell's points
+///   never relax; behind a wetting front, where the pressure is uniform, the two rows of a
+///   cell stayed rho g h/2 apart from the initial hydrostatic profile (0.02 in S_l), more
+///   with the slope of the rate accumulated across the front.
 ///
 /// Two passes at the points' positions x^k, before the solid pass moves them: PoreRate (the
-/// liquid velocity's G2P and r_p into the nodes), then PorePressure (p_w, the prescribed
+/// liquid velocity's G2P, r_p and the cell's moments), then PorePressure (p_w, the prescribed
 /// pore pressures, S_l(p_w)).
 template <int D, class Shape>
 struct PoreRate {
@@ -288,20 +327,16 @@ struct PoreRate {
     // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).
     const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
     const Real r = -(S * div_s + div_q) * V, c = lp.pore.storage(n, S, pw) * V;
-    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-      Index I;
-      Real N;
-      Vec<D> gradN, dx;
-      st.node(k, pp.grid, x, I, N, gradN, dx);
-      if (N == 0) continue;
-      atomic_add(lp.inflow + I, N * r, pp.serial);
-      atomic_add(lp.capacity + I, N * c, pp.serial);
-    }
+    const Index cell = cell_of<D>(pp.grid, x);
+    atomic_add(lp.inflow + cell, r, pp.serial);
+    atomic_add(lp.capacity + cell, c, pp.serial);
+    atomic_add(lp.moments + cell, c * pw, pp.serial);
+    for (int d = 0; d < D; ++d) atomic_add(lp.moments + (d + 1) * lp.n_cells + cell, c * x[d], pp.serial);
   }
 };
 
-/// The pore pressure from the nodal rates (PoreRate), then the prescribed pore pressures,
-/// and S_l(p_w).
+/// The pore pressure from its cell's rate, reconstructed (PoreRate above), then the
+/// prescribed pore pressures, and S_l(p_w).
 template <int D, class Shape>
 struct PorePressure {
   PassParams<D> pp;
@@ -310,6 +345,10 @@ struct PorePressure {
   Shape shape;
 
   SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+  /// A cell's storage-weighted mean pressure after the step: (sum V C p + dt sum V r) / C_c.
+  SCREE_INLINE Real mean_pressure(Index cell, Real dt) const {
+    return (lp.moments[cell] + dt * lp.inflow[cell]) / lp.capacity[cell];
+  }
 
   SCREE_HD void operator()(Index p) const {
     if (!(pa.volume0[p] >= 0)) return;  // frozen
@@ -321,25 +360,56 @@ struct PorePressure {
     if (dt > 0) {
       const detail::Stencil<D, Shape> st(shape, pp.grid, x);
       if (st.inside) {
-        Real rate = 0;
-        for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-          Index I;
-          Real N;
-          Vec<D> gradN, dx;
-          st.node(k, pp.grid, x, I, N, gradN, dx);
-          const Real c = lp.capacity[I];
-          if (N != 0 && c > 0) rate += N * lp.inflow[I] / c;
+        // The cell's new mean pressure, and its slope from the face neighbours' (minmod).
+        Index cell = 0, stride = 1;
+        int ci[D];
+        for (int d = 0; d < D; ++d) {
+          ci[d] = static_cast<int>(floor((x[d] - pp.grid.origin[d]) / pp.grid.h));
+          cell += static_cast<Index>(ci[d]) * stride;
+          stride *= pp.grid.n[d];
         }
-        pw += dt * rate;
+        const Real c0 = lp.capacity[cell];
+        if (c0 > 0) {
+          const Real P0 = mean_pressure(cell, dt);
+          pw = P0;
+          stride = 1;
+          for (int d = 0; d < D; ++d) {
+            const Real xc = lp.moments[(d + 1) * lp.n_cells + cell] / c0;
+            Real lo = 0, hi = 0;
+            bool has_lo = false, has_hi = false;
+            const Index a = cell - stride, b = cell + stride;
+            if (ci[d] > 0 && lp.capacity[a] > 0) {
+              lo = (P0 - mean_pressure(a, dt)) / (xc - lp.moments[(d + 1) * lp.n_cells + a] / lp.capacity[a]);
+              has_lo = true;
+            }
+            if (ci[d] + 2 < pp.grid.n[d] && lp.capacity[b] > 0) {
+              hi = (mean_pressure(b, dt) - P0) / (lp.moments[(d + 1) * lp.n_cells + b] / lp.capacity[b] - xc);
+              has_hi = true;
+            }
+            Real slope = 0;
+            if (has_lo && has_hi)
+              slope = lo * hi > 0 ? (fabs(lo) < fabs(hi) ? lo : hi) : Real(0);
+            else if (has_lo || has_hi)
+              slope = has_lo ? lo : hi;
+            pw += slope * (x[d] - xc);
+            stride *= pp.grid.n[d];
+          }
+        }
       }
     }
-    // Prescribed pore pressures (water table, ponding, drained boundaries).
+    // Prescribed pore pressures (a water table, an artesian head), on every point of a cell
+    // the law's box overlaps: with linear shape functions the nodal force sees a cell's sum
+    // of V p, and a prescribed point beside free ones in one cell would be undone by them (measured: a base row held 2 kPa above
+    // hydrostatic, the free row of its cell fell 2 kPa below, and no water moved).
     const Real p_free = pw;
     for (int i = 0; i < lp.n_laws; ++i) {
       const PorePressureLaw& L = lp.laws[i];
       if (t < L.t_start || t >= L.t_end) continue;
       bool in = true;
-      for (int d = 0; d < D; ++d) in = in && x[d] >= L.lo[d] && x[d] <= L.hi[d];
+      for (int d = 0; d < D; ++d) {
+        const Real lo = pp.grid.origin[d] + floor((x[d] - pp.grid.origin[d]) / pp.grid.h) * pp.grid.h;
+        in = in && lo + pp.grid.h > L.lo[d] && lo < L.hi[d];
+      }
       if (!in) continue;
       pw = L.hydrostatic ? lp.pore.rho_l * lp.g * (L.level - x[lp.vertical]) : L.value;
     }
@@ -388,20 +458,11 @@ struct PoreScatter {
     const Real rho_l = lp.pore.rho_l;
     const Real m_lm = n * S * rho_l * V, m_l = rho_l * V, m_s = pa.mass[p];
     const Real krel = lp.pore.table.relative_permeability(S);
-    const Real q = V * n * S * lp.pore.viscosity / (lp.pore.kappa * (krel > 1e-300 ? krel : Real(1e-300)));
+    const Real q = V * n * S * lp.pore.viscosity / lp.pore.kappa;
 
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
     if (!st.inside) return;  // the solid pass froze it
-    if (lp.cells) {
-      int c[D];
-      Index cell = 0, stride = 1;
-      for (int d = 0; d < D; ++d) {
-        c[d] = static_cast<int>(floor((x[d] - pp.grid.origin[d]) / pp.grid.h));
-        cell += c[d] * stride;
-        stride *= pp.grid.n[d];
-      }
-      atomic_add(lp.cells + cell, Real(1), pp.serial);
-    }
+    if (lp.cells) atomic_add(lp.cells + cell_of<D>(pp.grid, x), Real(1), pp.serial);
     const bool serial = pp.serial;
     for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
       Index I;
@@ -412,6 +473,7 @@ struct PoreScatter {
       atomic_add(lp.scatter.mass + I, N * m_l, serial);
       atomic_add(lp.scatter.mass_mix + I, N * m_lm, serial);
       atomic_add(lp.scatter.drag + I, N * q, serial);
+      atomic_add(lp.scatter.conductance + I, N * V * krel, serial);
       for (int d = 0; d < D; ++d) {
         atomic_add(lp.scatter.momentum[d] + I, N * m_l * vl[d], serial);
         atomic_add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d], serial);
@@ -444,8 +506,9 @@ struct TwoPhaseGridUpdate {
   GridFields<D> solid, solid_other;
   LiquidFields<D> liquid, liquid_other;
   Real* cells_other = nullptr;  ///< the other parity's cell counts (cleared)
-  Real* inflow = nullptr;       ///< the nodal liquid mass balance (PorePassParams; cleared)
+  Real* inflow = nullptr;       ///< the liquid mass balance per cell (PorePassParams; cleared)
   Real* capacity = nullptr;
+  Real* moments = nullptr;      ///< (1 + D) n_cells of them
   Index n_cells = 0;
   StepControl* control = nullptr;
   int parity = 0;
@@ -461,9 +524,10 @@ struct TwoPhaseGridUpdate {
   SCREE_HD void operator()(Index I) const {
     if (I == 0) advance_clock(control, parity);
     if (I < n_cells && cells_other) cells_other[I] = 0;
-    if (inflow) {
+    if (inflow && I < n_cells) {
       inflow[I] = 0;
       capacity[I] = 0;
+      for (int d = 0; d <= D; ++d) moments[d * n_cells + I] = 0;
     }
     const Real t = control->t[parity], dt = control->dt[parity];
     const Real ms = solid.mass[I], ml = liquid.mass[I], mlm = liquid.mass_mix[I];
@@ -486,7 +550,6 @@ struct TwoPhaseGridUpdate {
     }
     Real ws[D], wl[D], fls[D];
     const bool damp = damping > 0 && t >= damping_start && t < damping_end;
-    const Real Q = liquid.drag[I];
     // The liquid's boundary term. The weak form of -grad p_w on the points' domain carries
     // -int N p_b n dGamma; left out, it makes every surface p_b = 0: open, the liquid enters
     // or leaves as the pore pressure drives it (ponding, a drained face). A surface is closed
@@ -496,23 +559,43 @@ struct TwoPhaseGridUpdate {
     // along the normal is then also set to zero after the integration.
     Real boundary[D] = {};
     bool closed = false;  // a closed surface node: no seepage through it (below)
+    bool inflow_face = false;  // an open surface node where the liquid flows in
+    bool outflow_only = false; // open as a seepage face only: closed again if the liquid would enter
     if (cells && ml > 0 && surface_node<D>(grid, cells, I, walls, mask, t)) {
       bool is_open = (mask & ~lmask) != 0;  // on a drained wall
+      bool seepage = false;                 // open as a seepage face
       for (std::uint32_t m = open_masks ? open_masks[I] : 0u; m; m &= m - 1) {
 #if defined(__CUDA_ARCH__)
         const int b = __ffs(static_cast<int>(m)) - 1;
 #else
         const int b = __builtin_ctz(m);
 #endif
-        is_open = is_open || (t >= open[b].t_start && t < open[b].t_end);
+        if (t < open[b].t_start || t >= open[b].t_end) continue;
+        if (!open[b].outflow_only)
+          is_open = true;
+        else
+          seepage = seepage || liquid.pressure[I] >= 0;
       }
+      outflow_only = seepage && !is_open;
+      is_open = is_open || seepage;
       const Real vol = liquid.volume[I];
       closed = !is_open;
       if (!is_open && vol > 0) {
         const Real pb = liquid.pressure[I] / vol;
         for (int d = 0; d < D; ++d) boundary[d] = -pb * liquid.area[d][I];
       }
+      // Upstream weighting at an open surface: where the soil is in suction (nodal p_w < 0)
+      // the liquid flows in from the boundary, at p_b = 0, S_l = S_max and k_rel = 1, and the
+      // node's conductivity is the boundary's (as a finite-volume Richards solver weights its
+      // boundary face upstream; Forsyth, Wu & Pruess 1995 show that dry soil needs it). The
+      // points' mean alone would be the dry soil's: a dry surface under rain or a pond would
+      // take in K_sat k_rel(S_dry) grad p, orders below what it takes (the water would wait
+      // for the top cell's points to wet through that small conductance first).
+      inflow_face = is_open && !outflow_only && vol > 0 && liquid.pressure[I] < 0;
     }
+    // The drag coefficient with the node's mean relative permeability (top of file).
+    const Real kI = inflow_face ? Real(1) : (liquid.volume[I] > 0 ? liquid.conductance[I] / liquid.volume[I] : Real(1));
+    const Real Q = liquid.drag[I] / (kI > Real(1e-300) ? kI : Real(1e-300));
     for (int d = 0; d < D; ++d) {
       Real fm = solid.force[d][I], fl = liquid.force[d][I] + boundary[d];
       fls[d] = 0;
@@ -542,14 +625,16 @@ struct TwoPhaseGridUpdate {
         for (int d = 0; d < D; ++d) wl[d] = vl[d] + dt * (fls[d] - Q * (vl[d] - ws[d])) / (ml + dt * Q);
     }
     if (lmask) apply_walls<D>(walls, lmask, wl, x, t);
-    if (closed && ms > mass_eps) {
+    if ((closed || outflow_only) && ms > mass_eps) {
       // A closed surface node: no flow through it: the seepage along the outward normal set to zero,
-      // the mixture's momentum kept (seepage_correction with w = 0, unconditionally).
+      // the mixture's momentum kept (seepage_correction with w = 0, unconditionally). A seepage
+      // face's node the same where the liquid would enter (w = 0 and eq. B: only inflow is
+      // cut): open, the liquid leaves at p_w = 0; never does it enter.
       Real grad[D];
       const Real w0[D] = {};
       for (int d = 0; d < D; ++d) grad[d] = liquid.gradient[d][I];
       if (mask) project_on_walls<D>(walls, mask, t, grad);
-      if (seepage_correction<D>(grad, ms, ml, mlm, w0, ws, wl, false)) {
+      if (seepage_correction<D>(grad, ms, ml, mlm, w0, ws, wl, outflow_only)) {
         if (mask) apply_walls<D>(walls, mask, ws, x, t);  // the walls have the last word
         if (lmask) apply_walls<D>(walls, lmask, wl, x, t);
       }
@@ -563,6 +648,7 @@ struct TwoPhaseGridUpdate {
     liquid_other.mass[I] = 0;
     liquid_other.mass_mix[I] = 0;
     liquid_other.drag[I] = 0;
+    liquid_other.conductance[I] = 0;
     for (int d = 0; d < D; ++d) {
       solid_other.momentum[d][I] = 0;
       solid_other.force[d][I] = 0;
