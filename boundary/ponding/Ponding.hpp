@@ -1,4 +1,5 @@
 // ponding: water stands on the surface of two-phase bodies inside a region, p_w = 0 there.
+// (Where the liquid may leave but must not enter, use seepageFace.)
 // The surface nodes in the region are open: the pore liquid has the weak form's natural
 // condition (no liquid traction, p_w = 0), and enters or leaves as the pore pressure drives
 // it: ponding water on an infiltrating surface, a drained top of a consolidating layer, a
