@@ -1,29 +1,36 @@
 #!/usr/bin/python3
-"""Write constant/bodies of cases/rainfallSlope: the slope as vertical strips.
-
-Why strips: the geostatic initial stress of a body (framework/src/solver/particle_generation.cpp
-and porous/porous_media.cpp) measures every point's depth from one elevation, the top of the
-body. One polygon for the whole slope would load the toe with the 2.5 m of soil that stands
-above the crest, and leave the base under the crest without it. Cut into vertical strips one
-cell wide, each strip's points take their depth from the strip's own top (off by at most one
-cell times tan(beta) at the strip's low side). The strips are bodies of the same material on
-the same grid: they share the nodes, so they move as one continuum.
+"""Write constant/bodies of cases/rainfallSlope: the slope as a staircase of rectangles.
 
     /usr/bin/python3 cases/rainfallSlope/makeBodies.py > cases/rainfallSlope/constant/bodies
+
+Why a staircase of whole cells. A polygon face cuts cells: a node next to a partly filled
+cell is not a surface node (the two-phase formulation finds surface nodes as nodes next to an
+empty cell, porous/two_phase.hpp surface_node), so it gets neither the closed surface's
+boundary term nor a place in the surface-inflow count, and it acts as an open surface at
+p_w = 0. With the 54-degree polygon face of the first version, the slope without rain drank
+about 10 kg/m/s through its face (water appearing in the wedge below the face; README,
+"Without rain"). With every cell either full or empty, the face's nodes are all surface nodes.
+
+Why one body per column. The geostatic initial stress of a body (solver/particle_generation.cpp,
+porous/porous_media.cpp) measures every point's depth from one elevation, the body's top. One
+body for the whole slope would load the toe with the 2.4 m of soil that stands above the
+crest. As rectangles of one cell's width, each column's points take their depth from the
+column's own top: exact. The columns are bodies of one material on one grid: they share the
+nodes and move as one continuum.
 """
 
-# Geometry [m] (keep in step with system/gridDict and the README).
-H_BASE = 0.5       # base layer thickness: the toe's level
-H_SLOPE = 2.5      # slope height above the base layer
-X_CREST = 1.5      # the crest runs from the left wall to here
-X_TOE = 3.3        # the face meets the base layer here: beta = atan(2.5 / 1.8) = 54.2 deg
-X_END = 6.0        # right wall
-H = 0.1            # cell size: the strips' width
+# Geometry [m] (keep in step with system/gridDict, constant/boundaryConditions, the README).
+H = 0.1            # cell size (system/gridDict): the columns' width, the steps' unit
+H_BASE = 5         # base layer: 5 cells, 0.5 m (the toe's level)
+H_SLOPE = 24       # slope height above the base layer: 24 cells, 2.4 m
+X_CREST = 15       # the crest runs from the left wall to x = 1.5 m
+RISE = 1.5         # the face rises 1.5 cells per cell: beta = atan(1.5) = 56.3 deg
+X_END = 60         # right wall at x = 6 m
 
 BODY = """{name}
 {{
     material            soil;
-    region              {{ type polygon; points ({pts}); }}
+    region              {{ type rectangle; lower ({x0:.6g} 0); upper ({x1:.6g} {y1:.6g}); }}
     particlesPerCell    2;
     initialStress       {{ type geostatic; K0 $_K0; }}
     twoPhase            $_twoPhase;
@@ -31,34 +38,29 @@ BODY = """{name}
 """
 
 
-def surface(x):
-    """Elevation of the ground surface at x."""
-    top = H_BASE + H_SLOPE
-    if x <= X_CREST:
-        return top
-    if x >= X_TOE:
-        return H_BASE
-    return top - (x - X_CREST) / (X_TOE - X_CREST) * H_SLOPE
-
-
-def fmt(p):
-    return "({:.6g} {:.6g})".format(*p)
+def columns():
+    """(x0, x1, top) in cells: the crest block, one column per cell of the face, the toe."""
+    out = [(0, X_CREST, H_BASE + H_SLOPE)]
+    i = 0
+    while True:
+        # The face line at the column's centre, rounded to whole cells (steps of 1 and 2).
+        top = round(H_SLOPE - RISE * (i + 0.5))
+        if top <= 0:
+            break
+        out.append((X_CREST + i, X_CREST + i + 1, H_BASE + top))
+        i += 1
+    out.append((X_CREST + i, X_END, H_BASE))
+    return out
 
 
 def main():
     print("FoamFile { version 2.0; format ascii; class dictionary; object bodies; }")
-    print("// Written by makeBodies.py (the slope cut into vertical strips; why: its docstring).")
-    print("// The soil's two-phase entries and K0 are in constant/soilProperties.")
+    print("// Written by makeBodies.py: the slope as a staircase of columns of whole cells (why: its")
+    print("// docstring). The soil's two-phase entries and K0 are in constant/soilProperties.")
     print('#include "soilProperties"')
     print()
-    # The crest block and the toe's base layer are single strips: their tops are flat.
-    strips = [(0.0, X_CREST)]
-    n = round((X_TOE - X_CREST) / H)
-    strips += [(X_CREST + i * H, X_CREST + (i + 1) * H) for i in range(n)]
-    strips += [(X_TOE, X_END)]
-    for i, (a, b) in enumerate(strips):
-        pts = [(a, 0.0), (b, 0.0), (b, surface(b)), (a, surface(a))]
-        print(BODY.format(name="strip%02d" % i, pts=" ".join(fmt(p) for p in pts)))
+    for k, (x0, x1, top) in enumerate(columns()):
+        print(BODY.format(name="column%02d" % k, x0=x0 * H, x1=x1 * H, y1=top * H))
 
 
 if __name__ == "__main__":
