@@ -64,8 +64,28 @@ WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
 
 WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
   Totals t;
-  bool any = false;
-  std::vector<std::string> others;
+  bool any = false, counted = false;
+  std::vector<std::string> others, missing;
+  const BodySnapshot* first_wet = nullptr;
+  // The inflow counters are the case's (all its two-phase bodies), reported with one of them
+  // (porous/: the first): add them once, wherever they are, and ask for every two-phase body.
+  for (const auto& b : s.bodies) {
+    if (!two_phase(b)) continue;
+    if (!first_wet) first_wet = &b;
+    if (!selected(bodies_, b)) missing.push_back(b.name);
+    const auto *in = b.scalar(kScalars[2]), *pre = b.scalar(kScalars[3]);
+    if (in && pre) {
+      t.inflow_surface += in->value;
+      t.inflow_prescribed += pre->value;
+      counted = true;
+    }
+  }
+  if (first_wet && !counted) {
+    std::vector<std::string> have;
+    for (const auto& x : first_wet->scalars) have.push_back(x.name);
+    throw std::runtime_error(who_ + ": no two-phase body gives the scalars " + kScalars[2] + " and " + kScalars[3] +
+                             " (body '" + first_wet->name + "' has: " + join(have) + ")");
+  }
   for (const auto& b : s.bodies) {
     if (!selected(bodies_, b)) continue;
     if (!two_phase(b)) {
@@ -77,8 +97,8 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
       others.push_back(b.name);
       continue;
     }
-    double sc[4];
-    for (int i = 0; i < 4; ++i) {
+    double sc[2];
+    for (int i = 0; i < 2; ++i) {
       const auto* v = b.scalar(kScalars[i]);
       if (!v) {
         std::vector<std::string> have;
@@ -105,8 +125,6 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
       w += (1 + pw / bulk) * n * sat * vol;
     }
     t.stored += rho * w;
-    t.inflow_surface += sc[2];
-    t.inflow_prescribed += sc[3];
     any = true;
   }
   if (!any)
@@ -114,6 +132,9 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
                              (others.empty() ? std::string(" (none in the snapshot)")
                                              : " (" + join(others) + ": no scalar liquidDensity)") +
                              "; waterBalance needs bodies of a two-phase material (porous/two_phase.hpp)");
+  if (!missing.empty())
+    throw std::runtime_error(who_ + ": bodies: the liquid's inflows are counted over all two-phase bodies of the case, "
+                             "so the balance needs them all; not selected: " + join(missing));
   return t;
 }
 

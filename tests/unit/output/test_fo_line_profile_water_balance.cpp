@@ -320,7 +320,23 @@ TEST(WaterBalance, ErrorsForBodiesThatAreNotTwoPhase) {
 
   Snapshot partial = wet(0, 0, 0.8, 0, 0);
   partial.bodies[0].scalars.pop_back();  // no liquidInflowPrescribed
-  expect_error(*all, partial, {"waterBalance 'w'", "liquidInflowPrescribed", "its scalars: liquidDensity"});
+  expect_error(*all, partial, {"waterBalance 'w'", "liquidInflowPrescribed", "has: liquidDensity"});
+
+  // Two two-phase bodies: the case's counters come with one of them, added once; a
+  // selection that leaves one out is refused (the counters cover both).
+  Snapshot two = wet(1, 10, 0.9, 0.5, 0.1, false);
+  auto second = two.bodies[0];
+  second.name = "left2";
+  second.body_id = 2;
+  second.scalars.resize(2);  // liquidDensity, liquidBulkModulus only
+  two.bodies.push_back(second);
+  auto both = make_function("waterBalance", "", make_context(dir.path(), "w2"));
+  both->execute(two);
+  const Csv c2 = read_csv(dir.path() / "postProcessing" / "w2" / "waterBalance.csv");
+  EXPECT_NEAR(c2.num(0, "stored [kg/m]"), 2 * kW1, 1e-9);
+  EXPECT_NEAR(c2.num(0, "inflowSurface [kg/m]"), 0.5, kTol);
+  auto one = make_function("waterBalance", "bodies (left);", make_context(dir.path(), "w3"));
+  expect_error(*one, two, {"waterBalance 'w3'", "not selected: left2"});
 
   Snapshot nofield = wet(0, 0, 0.8, 0, 0);
   nofield.bodies[0].fields.erase(nofield.bodies[0].fields.begin() + 2);  // porosity
