@@ -92,18 +92,19 @@ struct Wall {
   }
 };
 
+/// The index of the lowest set bit of a non-zero mask (walls, open surfaces per node).
+SCREE_INLINE int lowest_bit(std::uint32_t mask) {
+#if defined(__CUDA_ARCH__)
+  return __ffs(static_cast<int>(mask)) - 1;
+#else
+  return __builtin_ctz(mask);
+#endif
+}
+
 /// Apply every wall whose bit is set in `mask`, in index order.
 template <int D>
 SCREE_INLINE void apply_walls(const Wall* table, WallMask mask, Real* v, const Real* x, Real t) {
-  while (mask) {
-#if defined(__CUDA_ARCH__)
-    const int b = __ffs(static_cast<int>(mask)) - 1;
-#else
-    const int b = __builtin_ctz(mask);
-#endif
-    table[b].template apply<D>(v, x, t);
-    mask &= mask - 1;
-  }
+  for (; mask; mask &= mask - 1) table[lowest_bit(mask)].template apply<D>(v, x, t);
 }
 
 }  // namespace scree

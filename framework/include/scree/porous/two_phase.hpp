@@ -115,11 +115,7 @@ SCREE_INLINE bool surface_node(const GridGeometry<D>& grid, const Real* cells, I
     }
     bool behind = false;
     for (WallMask m = walls ? mask : 0u; m; m &= m - 1) {
-#if defined(__CUDA_ARCH__)
-      const Wall& w = walls[__ffs(static_cast<int>(m)) - 1];
-#else
-      const Wall& w = walls[__builtin_ctz(m)];
-#endif
+      const Wall& w = walls[lowest_bit(m)];
       if (w.mode != Wall::Mode::contact || t < w.t_start || t >= w.t_end) continue;
       Real on = 0;  // the cell centre's offset from the node, along the wall's normal
       for (int d = 0; d < D; ++d) on += ((c >> d) & 1 ? Real(1) : Real(-1)) * w.normal[d];
@@ -176,14 +172,8 @@ SCREE_HD inline bool seepage_correction(const Real* grad, Real ms, Real ml, Real
 /// velocities outright and leave it as it is.
 template <int D>
 SCREE_INLINE void project_on_walls(const Wall* walls, WallMask mask, Real t, Real* grad) {
-  while (mask) {
-#if defined(__CUDA_ARCH__)
-    const int b = __ffs(static_cast<int>(mask)) - 1;
-#else
-    const int b = __builtin_ctz(mask);
-#endif
-    mask &= mask - 1;
-    const Wall& w = walls[b];
+  for (; mask; mask &= mask - 1) {
+    const Wall& w = walls[lowest_bit(mask)];
     if (w.mode != Wall::Mode::contact || t < w.t_start || t >= w.t_end) continue;
     Real gn = 0;
     for (int d = 0; d < D; ++d) gn += grad[d] * w.normal[d];
@@ -569,11 +559,7 @@ struct TwoPhaseGridUpdate {
       bool is_open = (mask & ~lmask) != 0;  // on a drained wall
       bool seepage = false;                 // open as a seepage face
       for (std::uint32_t m = open_masks ? open_masks[I] : 0u; m; m &= m - 1) {
-#if defined(__CUDA_ARCH__)
-        const int b = __ffs(static_cast<int>(m)) - 1;
-#else
-        const int b = __builtin_ctz(m);
-#endif
+        const int b = lowest_bit(m);
         if (t < open[b].t_start || t >= open[b].t_end) continue;
         if (!open[b].outflow_only)
           is_open = true;
