@@ -320,7 +320,7 @@ void PorousMedia<D>::run_scatter(const PassParams<D>& pp, const PorePassParams<D
   const Real inv_h = 1 / grid_.h;
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
-    parallel_for(exec_, pa.n, PoreScatter<D, Shape>{pp, lp, pa, sh});
+    parallel_for_warps(exec_, pa.n, PoreScatter<D, Shape>{pp, lp, pa, sh});
   };
   switch (shape_) {
     case ShapeKind::linear: go(ShapeLinear{inv_h}); break;

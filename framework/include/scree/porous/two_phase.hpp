@@ -429,55 +429,79 @@ struct PoreScatter {
 
   SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
 
-  SCREE_HD void operator()(Index p) const {
-    if (!(pa.volume0[p] >= 0)) return;
-    Vec<D> x, vs, vl;
-    for (int d = 0; d < D; ++d) {
-      x[d] = pa.x[d][p];
-      vs[d] = pa.v[d][p];
-      vl[d] = col(kLiquidVelocity + d, p);
+  /// Warp-collective (parallel_for_warps): points sorted by cell share their stencil's
+  /// nodes, so the lanes of a warp with the same first node add their values per warp first
+  /// and one lane makes the atomic add (WarpSegment, as the solid pass's scatter): 15 fields
+  /// x the stencil's nodes of plain atomics per point were 1.4x the solid pass on an H100.
+  SCREE_HD void operator()(Index p, bool valid) const {
+    bool active = valid && pa.volume0[p] >= 0;
+    Vec<D> x = Vec<D>::zero(), vs = Vec<D>::zero(), vl = Vec<D>::zero();
+    Real V = 0, n = 0, S = 0, pw = 0;
+    if (active) {
+      for (int d = 0; d < D; ++d) {
+        x[d] = pa.x[d][p];
+        vs[d] = pa.v[d][p];
+        vl[d] = col(kLiquidVelocity + d, p);
+      }
+      Mat<D> F;
+      for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
+      const Real J = det(F);
+      V = pa.volume0[p] * J;
+      n = detail::clamp01(1 - (1 - lp.pore.n0) / J, Real(1e-3), Real(0.999));
+      S = col(kSaturation, p);
+      pw = col(kPorePressure, p);
+      col(kPorosity, p) = n;
+      for (int d = 0; d < D; ++d) col(kSeepage<D> + d, p) = n * S * (vl[d] - vs[d]);
     }
-    Mat<D> F;
-    for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
-    const Real J = det(F);
-    const Real V = pa.volume0[p] * J;
-    const Real n = detail::clamp01(1 - (1 - lp.pore.n0) / J, Real(1e-3), Real(0.999));
-    const Real S = col(kSaturation, p), pw = col(kPorePressure, p);
-    col(kPorosity, p) = n;
-    for (int d = 0; d < D; ++d) col(kSeepage<D> + d, p) = n * S * (vl[d] - vs[d]);
     const Real rho_l = lp.pore.rho_l;
-    const Real m_lm = n * S * rho_l * V, m_l = rho_l * V, m_s = pa.mass[p];
-    const Real krel = lp.pore.table.relative_permeability(S);
+    const Real m_lm = n * S * rho_l * V, m_l = rho_l * V, m_s = active ? pa.mass[p] : Real(0);
+    const Real krel = active ? lp.pore.table.relative_permeability(S) : Real(0);
     const Real q = V * n * S * lp.pore.viscosity / lp.pore.kappa;
 
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
-    if (!st.inside) return;  // the solid pass froze it
-    if (lp.cells) atomic_add(lp.cells + cell_of<D>(pp.grid, x), Real(1), pp.serial);
+    active = active && st.inside;  // outside: the solid pass froze it
+    if (active && lp.cells) atomic_add(lp.cells + cell_of<D>(pp.grid, x), Real(1), pp.serial);
     const bool serial = pp.serial;
+#if defined(__CUDA_ARCH__)
+    const WarpSegment seg(active ? static_cast<long long>(pp.grid.flat(st.base))
+                                 : -1 - static_cast<long long>(threadIdx.x));
+#else
+    const WarpSegment seg(0);
+#endif
+    auto add = [&](Real* field, Real value) {
+#if defined(__CUDA_ARCH__)
+      const Real sum = seg.sum(value);
+      if (active && seg.head && sum != 0) atomic_add(field, sum, serial);
+#else
+      if (active && value != 0) atomic_add(field, value, serial);
+#endif
+    };
     for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-      Index I;
-      Real N;
-      Vec<D> gradN, dx;
-      st.node(k, pp.grid, x, I, N, gradN, dx);
-      if (N == 0) continue;
-      atomic_add(lp.scatter.mass + I, N * m_l, serial);
-      atomic_add(lp.scatter.mass_mix + I, N * m_lm, serial);
-      atomic_add(lp.scatter.drag + I, N * q, serial);
-      atomic_add(lp.scatter.conductance + I, N * V * krel, serial);
+      Index I = 0;
+      Real N = 0;
+      Vec<D> gradN = Vec<D>::zero(), dx = Vec<D>::zero();
+      if (active) st.node(k, pp.grid, x, I, N, gradN, dx);
+#if !defined(__CUDA_ARCH__)
+      if (!active || N == 0) continue;
+#endif
+      add(lp.scatter.mass + I, N * m_l);
+      add(lp.scatter.mass_mix + I, N * m_lm);
+      add(lp.scatter.drag + I, N * q);
+      add(lp.scatter.conductance + I, N * V * krel);
       for (int d = 0; d < D; ++d) {
-        atomic_add(lp.scatter.momentum[d] + I, N * m_l * vl[d], serial);
-        atomic_add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d], serial);
-        atomic_add(pp.scatter.force[d] + I, V * S * pw * gradN[d] + N * m_lm * pp.gravity[d], serial);
-        atomic_add(lp.scatter.gradient[d] + I, (m_s + m_lm) * gradN[d], serial);
-        atomic_add(lp.scatter.area[d] + I, V * gradN[d], serial);
+        add(lp.scatter.momentum[d] + I, N * m_l * vl[d]);
+        add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d]);
+        add(pp.scatter.force[d] + I, V * S * pw * gradN[d] + N * m_lm * pp.gravity[d]);
+        add(lp.scatter.gradient[d] + I, (m_s + m_lm) * gradN[d]);
+        add(lp.scatter.area[d] + I, V * gradN[d]);
       }
-      atomic_add(lp.scatter.pressure + I, N * V * pw, serial);
-      atomic_add(lp.scatter.volume + I, N * V, serial);
+      add(lp.scatter.pressure + I, N * V * pw);
+      add(lp.scatter.volume + I, N * V);
     }
     // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
     // (C rho_mix) with the storage C = n S_l / K_l + n dS_l/dp (K_l / (n rho_mix) when
     // saturated), plus |v_l|. The step takes the larger of it and the skeleton's.
-    if (pp.need_speed && V > 0) {
+    if (active && pp.need_speed && V > 0) {
       const Real C = lp.pore.storage(n, S, pw);
       const Real rho_mix = (m_s + m_lm) / V;
       const Real c = sqrt(S * S / (C * rho_mix)) + norm(vl);
