@@ -231,11 +231,14 @@ SCREE_INLINE Real clamp01(Real x, Real lo, Real hi) { return x < lo ? lo : (x > 
 
 /// The cell of the grid that holds x (cell (i, j) indexed as node (i, j), strides of the
 /// node counts): the points-per-cell counts and the liquid mass balance use it.
+/// With `ci`, also the cell's integer coordinates (its lower corner is origin + ci h).
 template <int D>
-SCREE_INLINE Index cell_of(const GridGeometry<D>& grid, const Vec<D>& x) {
+SCREE_INLINE Index cell_of(const GridGeometry<D>& grid, const Vec<D>& x, int* ci = nullptr) {
   Index cell = 0, stride = 1;
   for (int d = 0; d < D; ++d) {
-    cell += static_cast<Index>(floor((x[d] - grid.origin[d]) / grid.h)) * stride;
+    const int c = static_cast<int>(floor((x[d] - grid.origin[d]) / grid.h));
+    if (ci) ci[d] = c;
+    cell += static_cast<Index>(c) * stride;
     stride *= grid.n[d];
   }
   return cell;
@@ -351,18 +354,13 @@ struct PorePressure {
       const detail::Stencil<D, Shape> st(shape, pp.grid, x);
       if (st.inside) {
         // The cell's new mean pressure, and its slope from the face neighbours' (minmod).
-        Index cell = 0, stride = 1;
         int ci[D];
-        for (int d = 0; d < D; ++d) {
-          ci[d] = static_cast<int>(floor((x[d] - pp.grid.origin[d]) / pp.grid.h));
-          cell += static_cast<Index>(ci[d]) * stride;
-          stride *= pp.grid.n[d];
-        }
+        const Index cell = cell_of<D>(pp.grid, x, ci);
         const Real c0 = lp.capacity[cell];
         if (c0 > 0) {
           const Real P0 = mean_pressure(cell, dt);
           pw = P0;
-          stride = 1;
+          Index stride = 1;
           for (int d = 0; d < D; ++d) {
             const Real xc = lp.moments[(d + 1) * lp.n_cells + cell] / c0;
             Real lo = 0, hi = 0;
@@ -389,17 +387,18 @@ struct PorePressure {
     }
     // Prescribed pore pressures (a water table, an artesian head), on every point of a cell
     // the law's box overlaps: with linear shape functions the nodal force sees a cell's sum
-    // of V p, and a prescribed point beside free ones in one cell would be undone by them (measured: a base row held 2 kPa above
-    // hydrostatic, the free row of its cell fell 2 kPa below, and no water moved).
+    // of V p, and a prescribed point beside free ones in one cell would be undone by them
+    // (measured: a base row held 2 kPa above hydrostatic, the free row of its cell fell 2 kPa
+    // below, and no water moved).
     const Real p_free = pw;
+    Real cell_lo[D];  // the lower corner of the point's cell
+    for (int d = 0; d < D; ++d)
+      cell_lo[d] = pp.grid.origin[d] + floor((x[d] - pp.grid.origin[d]) / pp.grid.h) * pp.grid.h;
     for (int i = 0; i < lp.n_laws; ++i) {
       const PorePressureLaw& L = lp.laws[i];
       if (t < L.t_start || t >= L.t_end) continue;
       bool in = true;
-      for (int d = 0; d < D; ++d) {
-        const Real lo = pp.grid.origin[d] + floor((x[d] - pp.grid.origin[d]) / pp.grid.h) * pp.grid.h;
-        in = in && lo + pp.grid.h > L.lo[d] && lo < L.hi[d];
-      }
+      for (int d = 0; d < D; ++d) in = in && cell_lo[d] + pp.grid.h > L.lo[d] && cell_lo[d] < L.hi[d];
       if (!in) continue;
       pw = L.hydrostatic ? lp.pore.rho_l * lp.g * (L.level - x[lp.vertical]) : L.value;
     }
