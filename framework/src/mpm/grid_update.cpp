@@ -61,12 +61,16 @@ struct GridUpdate {
     if (p.modes & kIntegrate) {
       Real v[D];
       const bool damp = p.damping > 0 && t >= p.damping_start && t < p.damping_end;
+      Real probe = 0;  // health: the nodal velocity and force (report_nonfinite_node)
       for (int d = 0; d < D; ++d) {
         const Real vk = g.velocity[d][I];
         Real f = g.force[d][I];
+        probe += vk + f;
         if (damp && vk != 0) f -= p.damping * fabs(f) * (vk > 0 ? Real(1) : Real(-1));
         v[d] = accelerate ? vk + dt * f * rm : vk;
       }
+      if (!(probe - probe == 0)) [[unlikely]]
+        report_nonfinite_node(p.control, par);
       if (mask) apply_walls<D>(p.walls, mask, v, x, t);
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }

@@ -325,13 +325,45 @@ std::string Solver<D>::diagnosis() {
     static const char* fields[] = {"position", "velocity", "stress"};
     static const char* axes[] = {"x", "y", "z"};
     static const char* stress[] = {"xx", "yy", "zz", "xy", "yz", "zx"};
-    const int f = c.bad.field;
-    const char* comp = f == kBadStress ? stress[c.bad.component % 6] : axes[c.bad.component % 3];
+    // Found by the grid update (report_nonfinite_node): the point is the first one of the
+    // frozen state with a non-finite position, velocity or stress.
+    StepControl::BadPoint bad = c.bad;
+    if (bad.index < 0) {
+      bad.index = -1;
+      for (std::size_t k = 0; k < s.bodies.size() && bad.index < 0; ++k) {
+        const BodySnapshot& bs = s.bodies[k];
+        const FieldData* vel = bs.find("velocity");
+        const FieldData* sig = bs.find("stress");
+        for (Index q = 0; q < bs.n && bad.index < 0; ++q) {
+          const struct { int field, n, stride; const Real* v; } probes[] = {
+              {kBadPosition, D, 3, &bs.position[3 * q]},
+              {kBadVelocity, D, 3, vel ? &vel->values[3 * q] : nullptr},
+              {kBadStress, 6, 6, sig ? &sig->values[6 * q] : nullptr}};
+          for (const auto& pr : probes) {
+            for (int j = 0; pr.v && j < pr.n && bad.index < 0; ++j)
+              if (!std::isfinite(pr.v[j])) {
+                bad.body = bs.body_id;
+                bad.field = pr.field;
+                bad.component = j;
+                bad.index = q;
+                bad.value = pr.v[j];
+              }
+          }
+        }
+      }
+    }
+    const int f = bad.field;
+    const char* comp = f == kBadStress ? stress[bad.component % 6] : axes[bad.component % 3];
     std::size_t b = 0;
     Index i = -1;
-    const std::string who = point(c.bad, b, i);
-    m << "\n  " << fields[f % 3] << " " << comp << " = " << c.bad.value << " (not finite) of " << who
-      << ", found in step " << c.bad.step << "; " << c.bad.count << " non-finite value(s) in that step";
+    if (bad.index < 0) {
+      m << "\n  a nodal velocity or force of the grid update is not finite (step " << bad.step
+        << "), and no particle's position, velocity or stress is";
+    } else {
+      const std::string who = point(bad, b, i);
+      m << "\n  " << fields[f % 3] << " " << comp << " = " << bad.value << " (not finite) of " << who
+        << ", found in step " << bad.step << "; " << bad.count << " non-finite value(s) in that step";
+    }
     if (i >= 0) m << "\n  its position " << vec_str(&s.bodies[b].position[3 * i], D);
     m << "\n  the material's parameters, the time step (" << where(case_.control(), "deltaT")
       << ") or the loads (constant/g, boundary conditions) drove it there";

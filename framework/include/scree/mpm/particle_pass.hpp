@@ -365,11 +365,6 @@ SCREE_UNROLL
     if (flags & kAnyScatter) scatter(p, flags, active, x, v, C, mass, fresh);
 
     if (active) {
-      if (flags & kAnyGather) {  // health: what this pass computed (StepControl::bad)
-        const int cx = detail::first_nonfinite(x, D), cv = detail::first_nonfinite(v, D);
-        if (cx >= 0) [[unlikely]] report_bad(p, kBadPosition, cx, x[cx]);
-        else if (cv >= 0) [[unlikely]] report_bad(p, kBadVelocity, cv, v[cv]);
-      }
       for (int d = 0; d < D; ++d) {
         pa.x[d][p] = x[d];
         pa.v[d][p] = v[d];
@@ -511,10 +506,6 @@ SCREE_UNROLL
       if (!M::update_elastic(mp, s, sigma, inc)) return false;
     } else {
       M::update(mp, s, sigma, inc);
-    }
-    {  // health: a stress update that returned a non-finite stress (StepControl::bad)
-      const int c = detail::first_nonfinite(sigma, kStressComponents<D>);
-      if (c >= 0) [[unlikely]] report_bad(p, kBadStress, c, sigma[c]);
     }
     const Real vol = pa.volume0[p] * J;
     // The speed before the stores: with no memory access between them, the compiler shares

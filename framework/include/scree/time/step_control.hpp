@@ -8,9 +8,11 @@
 // The host side (the stable step, the first step, a new target, the watch over a fixed
 // step) is TimeControl (time_control.hpp); the step-size rules shared by both are here.
 //
-// Health: the particle kernels count points whose position, velocity or stress is not
-// finite (the first one found records itself in `bad`), and the kernels' lost-point count
-// and the step's signal speed are here already. advance_clock turns them into `failure`
+// Health: the grid update counts nodes whose velocity or force is not finite (every
+// non-finite velocity, stress or mass of a point reaches them in the step's P2G; the host
+// then finds the point: report_nonfinite_node), a point whose stencil leaves the grid with
+// a non-finite position records itself in `bad`, and the kernels' lost-point count and the
+// step's signal speed are here already. advance_clock turns them into `failure`
 // and then stops the clock (dt = 0): a run gone wrong freezes on the device in the step
 // it went wrong, at no cost to a healthy step (no host round trip), and the host finds
 // `failure` when it reads the clock between chunks of steps (Solver::check_health).
@@ -62,6 +64,27 @@ struct StepControl {
   unsigned long long failed_step; ///< the step after which the clock stopped
   Real failed_co;                 ///< that step's Courant number dt (c + |v|)_max / h
 };
+
+/// Health: a node of the grid update found a non-finite velocity or force (every
+/// non-finite stress, velocity or mass of a point reaches its stencil's nodes in the step's
+/// P2G). Counted; the clock stops after the step (advance_clock), and the host finds the
+/// point in the frozen state (Solver::diagnosis). The particle pass itself tests nothing:
+/// three inline tests there cost the paper's column 9% per step on an H100 (performance
+/// log entry 27); the grid update is a small share of a step.
+SCREE_INLINE void report_nonfinite_node(StepControl* c, int par) {
+#if defined(__CUDA_ARCH__)
+  if (atomicAdd(&c->bad.count, 1ull) != 0) return;
+#else
+  if (__atomic_fetch_add(&c->bad.count, 1ull, __ATOMIC_RELAXED) != 0) return;
+#endif
+  c->bad.index = -1;  // the point: found by the host
+  c->bad.step = c->step[par];
+  // Stop the clock after this step, whether or not advance_clock (node 0 of this very
+  // kernel) has run yet: the state the host inspects is the one that went wrong.
+  c->failure |= kFailNonFinite;
+  c->failed_step = c->step[par];
+  c->dt[1 - par] = 0;
+}
 
 /// The step that lands on a target `remaining` seconds ahead: the remainder when dt would
 /// overshoot it or stop short of it by less than 1e-6 dt (no sliver of a step), else dt.
