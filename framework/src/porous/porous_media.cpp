@@ -83,7 +83,6 @@ PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, co
     f.conductance = next();
     for (int d = 0; d < D; ++d) f.momentum[d] = next();
     for (int d = 0; d < D; ++d) f.force[d] = next();
-    for (int d = 0; d < D; ++d) f.velocity[d] = next();
     for (int d = 0; d < D; ++d) f.velocity_new[d] = next();
     for (int d = 0; d < D; ++d) f.gradient[d] = next();
     for (int d = 0; d < D; ++d) f.area[d] = next();
@@ -91,6 +90,7 @@ PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, co
     f.volume = next();
     cells_[s].resize(static_cast<std::size_t>(nn), exec_.device);
   }
+  surface_.resize(static_cast<std::size_t>(nn), exec_.device);
   // Per cell: inflow, capacity, and the moments sum V C p, sum V C x_d (PoreRate).
   balance_.resize(static_cast<std::size_t>((3 + D) * nn), exec_.device);
   balance_.copy_from_host(std::vector<Real>(static_cast<std::size_t>((3 + D) * nn), Real(0)));
@@ -276,6 +276,7 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   lp.gather = sets_[gather_set];
   lp.scatter = sets_[scatter_set];
   lp.cells = const_cast<Real*>(cells_[scatter_set].data());
+  lp.surface = const_cast<std::uint8_t*>(surface_.data());
   lp.extra = b.body->extra_columns();
   lp.n_laws = static_cast<int>(laws_.size());
   for (int i = 0; i < lp.n_laws; ++i) lp.laws[i] = laws_[i];
@@ -297,8 +298,8 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
     for (const PorousBody& b : bodies_)
-      parallel_for(exec_, b.body->arrays().n, PoreRate<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
-                                                                 b.body->arrays(), sh});
+      parallel_for_warps(exec_, b.body->arrays().n,
+                         PoreRate<D, Shape>{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh});
     for (const PorousBody& b : bodies_)
       parallel_for(exec_, b.body->arrays().n, PorePressure<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
                                                                      b.body->arrays(), sh});
@@ -312,15 +313,18 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
 
 template <int D>
 void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatter_set) {
-  for (const PorousBody& b : bodies_) run_scatter(pp, pass_params(b, gather_set, scatter_set), b.body->arrays());
-}
-
-template <int D>
-void PorousMedia<D>::run_scatter(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa) {
+  // Every body's liquid fields and points per cell first, then the surface nodes they
+  // make, then every body's surface-only fields (SurfaceScatter).
   const Real inv_h = 1 / grid_.h;
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
-    parallel_for_warps(exec_, pa.n, PoreScatter<D, Shape>{pp, lp, pa, sh});
+    for (const PorousBody& b : bodies_)
+      parallel_for_warps(exec_, b.body->arrays().n,
+                         PoreScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh});
+    parallel_for(exec_, grid_.num_nodes(), SurfaceMask<D>{grid_, cells_[scatter_set].data(), surface_.data()});
+    for (const PorousBody& b : bodies_)
+      parallel_for_warps(exec_, b.body->arrays().n, SurfaceScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
+                                                                             b.body->arrays(), sh});
   };
   switch (shape_) {
     case ShapeKind::linear: go(ShapeLinear{inv_h}); break;

@@ -68,7 +68,6 @@ class PorousMedia {
     std::unique_ptr<PermeabilityModel> permeability;
   };
   PorePassParams<D> pass_params(const PorousBody& b, int gather_set, int scatter_set) const;
-  void run_scatter(const PassParams<D>& pp, const PorePassParams<D>& lp, const ParticleArrays<D>& pa);
 
   const Registry& reg_;
   GridGeometry<D> grid_;
@@ -82,6 +81,7 @@ class PorousMedia {
   Buffer<Real> liquid_data_[2];
   LiquidFields<D> sets_[2]{};
   Buffer<Real> cells_[2];
+  Buffer<std::uint8_t> surface_;  // per node: on a surface of the points (SurfaceMask)
   Buffer<Real> balance_;  // per node: the liquid mass balance's inflow, then its capacity
   Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals)
   Index n_cells_ = 0;

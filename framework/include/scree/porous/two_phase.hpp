@@ -82,7 +82,6 @@ struct LiquidFields {
   Real* force[D];         ///< F_l [N]
   Real* drag;             ///< sum N V n S_l mu_l / kappa [kg/s]: Q at k_rel = 1
   Real* conductance;      ///< sum N V k_rel [m^3]; over `volume`: the node's mean k_rel
-  Real* velocity[D];      ///< v_l^k [m/s]
   Real* velocity_new[D];  ///< v_l^{k+1} [m/s]
   Real* gradient[D];      ///< sum (m_s + m_lm) grad N [kg/m], the mixture density's (eq. A)
   Real* area[D];          ///< sum V grad N [m^2 per unit thickness]: the surface's share, int N n dGamma
@@ -90,7 +89,7 @@ struct LiquidFields {
   Real* volume;           ///< sum N V [m^3]
 };
 template <int D>
-inline constexpr int kLiquidFieldCount = 6 + 6 * D;
+inline constexpr int kLiquidFieldCount = 6 + 5 * D;
 
 /// Whether node I of a grid is on a surface of the points: among the cells around it, one
 /// is empty and one holds points (`cells`: points per cell, cell (i, j) at i + j n_x).
@@ -208,6 +207,7 @@ struct PorePassParams {
   LiquidFields<D> gather;   ///< the liquid set read (the last step's)
   LiquidFields<D> scatter;  ///< the liquid set written (this step's)
   Real* cells = nullptr;    ///< points per cell (this step's), for the surface nodes
+  std::uint8_t* surface = nullptr;  ///< per node: 1 on a surface of the points (SurfaceMask)
   Real* extra = nullptr;    ///< the body's extra columns (PoreColumn order)
   int n_laws = 0;
   PorePressureLaw laws[kMaxPorePressureLaws];
@@ -285,46 +285,69 @@ struct PoreRate {
 
   SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
 
-  SCREE_HD void operator()(Index p) const {
-    if (!(pa.volume0[p] >= 0)) return;  // frozen
+  /// Warp-collective (parallel_for_warps): the lanes of a warp in one cell (points sorted
+  /// by cell) add their cell's 3 + D values per warp first, one lane making the atomic adds
+  /// (WarpSegment): with 4 points per cell the plain atomics on one address serialised.
+  SCREE_HD void operator()(Index p, bool valid) const {
     const Real dt = pp.control->dt[pp.gather_parity];
-    if (!(dt > 0)) return;
-    Vec<D> x;
-    for (int d = 0; d < D; ++d) x[d] = pa.x[d][p];
+    bool active = valid && pa.volume0[p] >= 0 && dt > 0;  // not frozen, a step to take
+    Vec<D> x = Vec<D>::zero();
+    if (active)
+      for (int d = 0; d < D; ++d) x[d] = pa.x[d][p];
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
-    if (!st.inside) return;
-    Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
-    for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
-    Real div_s = 0, div_q = 0;
-    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-      Index I;
-      Real N;
-      Vec<D> gradN, dx;
-      st.node(k, pp.grid, x, I, N, gradN, dx);
-      const Real ml = lp.gather.mass[I];
-      if (!(ml > 0)) continue;
-      const Real rm = 1 / ml;
-      const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
-      for (int d = 0; d < D; ++d) {
-        const Real vln = lp.gather.velocity_new[d][I];
-        const Real vsn = pp.gather.velocity_new[d][I];
-        vpic[d] += N * vln;
-        dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
-        div_s += vsn * gradN[d];
-        div_q += nS * (vln - vsn) * gradN[d];
+    active = active && st.inside;
+    Real r = 0, c = 0, pw = 0;
+    Index cell = 0;
+    if (active) {
+      Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
+      for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
+      Real div_s = 0, div_q = 0;
+      for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+        Index I;
+        Real N;
+        Vec<D> gradN, dx;
+        st.node(k, pp.grid, x, I, N, gradN, dx);
+        const Real ml = lp.gather.mass[I];
+        if (!(ml > 0)) continue;
+        const Real rm = 1 / ml;
+        const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
+        for (int d = 0; d < D; ++d) {
+          const Real vln = lp.gather.velocity_new[d][I];
+          const Real vsn = pp.gather.velocity_new[d][I];
+          vpic[d] += N * vln;
+          dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
+          div_s += vsn * gradN[d];
+          div_q += nS * (vln - vsn) * gradN[d];
+        }
       }
+      const Real a = pp.pic_fraction;
+      for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
+      const Real n = col(kPorosity, p), S = col(kSaturation, p);
+      pw = col(kPorePressure, p);
+      // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).
+      const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
+      r = -(S * div_s + div_q) * V;
+      c = lp.pore.storage(n, S, pw) * V;
+      cell = cell_of<D>(pp.grid, x);
     }
-    const Real a = pp.pic_fraction;
-    for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
-    const Real n = col(kPorosity, p), S = col(kSaturation, p), pw = col(kPorePressure, p);
-    // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).
-    const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
-    const Real r = -(S * div_s + div_q) * V, c = lp.pore.storage(n, S, pw) * V;
-    const Index cell = cell_of<D>(pp.grid, x);
-    atomic_add(lp.inflow + cell, r, pp.serial);
-    atomic_add(lp.capacity + cell, c, pp.serial);
-    atomic_add(lp.moments + cell, c * pw, pp.serial);
-    for (int d = 0; d < D; ++d) atomic_add(lp.moments + (d + 1) * lp.n_cells + cell, c * x[d], pp.serial);
+    const bool serial = pp.serial;
+#if defined(__CUDA_ARCH__)
+    const WarpSegment seg(active ? static_cast<long long>(cell) : -1 - static_cast<long long>(threadIdx.x));
+#else
+    const WarpSegment seg(0);
+#endif
+    auto add = [&](Real* field, Real value) {
+#if defined(__CUDA_ARCH__)
+      const Real sum = seg.sum(value);
+      if (active && seg.head) atomic_add(field, sum, serial);
+#else
+      if (active) atomic_add(field, value, serial);
+#endif
+    };
+    add(lp.inflow + cell, r);
+    add(lp.capacity + cell, c);
+    add(lp.moments + cell, c * pw);
+    for (int d = 0; d < D; ++d) add(lp.moments + (d + 1) * lp.n_cells + cell, c * x[d]);
   }
 };
 
@@ -418,7 +441,8 @@ struct PorePressure {
 
 /// The liquid's scatter (after the solid pass; weights at x_p^{k+1}): porosity from J,
 /// the liquid's nodal fields, and the pore pressure's share of the mixture force,
-/// V S_l p_w grad N + N m_lm g, into the solid's force.
+/// V S_l p_w grad N + N m_lm g, into the solid's force. The fields read only at the
+/// surface nodes follow in SurfaceScatter.
 template <int D, class Shape>
 struct PoreScatter {
   PassParams<D> pp;
@@ -491,10 +515,7 @@ struct PoreScatter {
         add(lp.scatter.momentum[d] + I, N * m_l * vl[d]);
         add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d]);
         add(pp.scatter.force[d] + I, V * S * pw * gradN[d] + N * m_lm * pp.gravity[d]);
-        add(lp.scatter.gradient[d] + I, (m_s + m_lm) * gradN[d]);
-        add(lp.scatter.area[d] + I, V * gradN[d]);
       }
-      add(lp.scatter.pressure + I, N * V * pw);
       add(lp.scatter.volume + I, N * V);
     }
     // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
@@ -509,6 +530,93 @@ struct PoreScatter {
       // one word serialised and made this pass 6x the solid pass (H100, 1e6 points).
       if (c > *static_cast<const volatile Real*>(&pp.control->max_speed[pp.parity]))
         atomic_max_nonneg(&pp.control->max_speed[pp.parity], c, serial);
+    }
+  }
+};
+
+/// Which nodes lie on a surface of the points (surface_node, without the walls: a superset
+/// of the nodes any hydraulic law treats as surface), from this step's points per cell,
+/// for SurfaceScatter.
+template <int D>
+struct SurfaceMask {
+  GridGeometry<D> grid;
+  const Real* cells = nullptr;
+  std::uint8_t* surface = nullptr;
+  SCREE_HD void operator()(Index I) const { surface[I] = surface_node<D>(grid, cells, I) ? 1 : 0; }
+};
+
+/// The liquid's nodal fields read at surface nodes alone (the closed surface's p_b and
+/// area, eq. A's mixture-density gradient, the surface inflow): sum (m_s + m_lm) grad N,
+/// sum V grad N and sum N V p_w, added only into the nodes SurfaceMask marked, by the points
+/// whose stencil reaches one. Every point adding them (PoreScatter) was a third of that
+/// pass's atomics for nodes that are never read (performance log entry 27). Weights at
+/// x^{k+1}, as PoreScatter's (whose porosity it reads).
+template <int D, class Shape>
+struct SurfaceScatter {
+  PassParams<D> pp;
+  PorePassParams<D> lp;
+  ParticleArrays<D> pa;
+  Shape shape;
+
+  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+
+  SCREE_HD void operator()(Index p, bool valid) const {
+    bool active = valid && pa.volume0[p] >= 0;
+    Vec<D> x = Vec<D>::zero();
+    if (active)
+      for (int d = 0; d < D; ++d) x[d] = pa.x[d][p];
+    const detail::Stencil<D, Shape> st(shape, pp.grid, x);
+    active = active && st.inside;
+    bool touches = false;
+    for (int k = 0; active && k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I = 0;
+      Real N = 0;
+      Vec<D> gradN, dx;
+      st.node(k, pp.grid, x, I, N, gradN, dx);
+      touches = touches || lp.surface[I] != 0;
+    }
+#if defined(__CUDA_ARCH__)
+    if (!__any_sync(0xffffffffu, touches)) return;  // the whole warp inside the soil (uniform)
+#endif
+    active = active && touches;
+    Real V = 0, pw = 0, m = 0;
+    if (active) {
+      Mat<D> F;
+      for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
+      V = pa.volume0[p] * det(F);
+      const Real n = col(kPorosity, p), S = col(kSaturation, p);
+      pw = col(kPorePressure, p);
+      m = pa.mass[p] + n * S * lp.pore.rho_l * V;  // m_s + m_lm
+    }
+    const bool serial = pp.serial;
+#if defined(__CUDA_ARCH__)
+    const WarpSegment seg(active ? static_cast<long long>(pp.grid.flat(st.base))
+                                 : -1 - static_cast<long long>(threadIdx.x));
+#else
+    const WarpSegment seg(0);
+#endif
+    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I = 0;
+      Real N = 0;
+      Vec<D> gradN = Vec<D>::zero(), dx = Vec<D>::zero();
+      if (active) st.node(k, pp.grid, x, I, N, gradN, dx);
+      const bool mine = active && lp.surface[I] != 0;  // the same node for a whole run of lanes
+#if !defined(__CUDA_ARCH__)
+      if (!mine || N == 0) continue;  // as PoreScatter's CPU path skipped them
+#endif
+      auto add = [&](Real* field, Real value) {
+#if defined(__CUDA_ARCH__)
+        const Real sum = seg.sum(mine ? value : Real(0));
+        if (mine && seg.head && sum != 0) atomic_add(field, sum, serial);
+#else
+        if (mine && value != 0) atomic_add(field, value, serial);
+#endif
+      };
+      for (int d = 0; d < D; ++d) {
+        add(lp.scatter.gradient[d] + I, m * gradN[d]);
+        add(lp.scatter.area[d] + I, V * gradN[d]);
+      }
+      add(lp.scatter.pressure + I, N * V * pw);
     }
   }
 };
@@ -562,8 +670,7 @@ struct TwoPhaseGridUpdate {
     if (mask) apply_walls<D>(walls, mask, vs, x, t);
     if (lmask) apply_walls<D>(walls, lmask, vl, x, t);
     for (int d = 0; d < D; ++d) {
-      solid.velocity[d][I] = vs[d];
-      liquid.velocity[d][I] = vl[d];
+      solid.velocity[d][I] = vs[d];  // the solid pass's FLIP increment reads it (PoreRate: M_l v_l / M_l)
     }
     Real ws[D], wl[D], fls[D];
     const bool damp = damping > 0 && t >= damping_start && t < damping_end;
@@ -609,8 +716,10 @@ struct TwoPhaseGridUpdate {
     // The drag coefficient with the node's mean relative permeability (top of file).
     const Real kI = inflow_face ? Real(1) : (liquid.volume[I] > 0 ? liquid.conductance[I] / liquid.volume[I] : Real(1));
     const Real Q = liquid.drag[I] / (kI > Real(1e-300) ? kI : Real(1e-300));
+    Real probe = 0;  // health: both phases' nodal velocities and forces (report_nonfinite_node)
     for (int d = 0; d < D; ++d) {
       Real fm = solid.force[d][I], fl = liquid.force[d][I] + boundary[d];
+      probe += vs[d] + vl[d] + fm + fl;
       fls[d] = 0;
       if (damp) {
         if (vs[d] != 0) fm -= damping * fabs(fm) * (vs[d] > 0 ? Real(1) : Real(-1));
@@ -629,6 +738,8 @@ struct TwoPhaseGridUpdate {
         ws[d] = vs[d] + dt * fm / ms;
       }
     }
+    if (!(probe - probe == 0)) [[unlikely]]
+      report_nonfinite_node(control, parity);
     if (mask) {
       apply_walls<D>(walls, mask, ws, x, t);
       // A wall held the solid: its reaction is not in F_mix, so the coupled solve dragged the
