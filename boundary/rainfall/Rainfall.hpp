@@ -20,10 +20,11 @@
 // accelerations leave the external forces out; gravity's share of the normal flux is then
 // part of what the correction replaces, the same at convergence of the flux).
 //
-// Surface nodes are found at every step: nodes with mass that touch both an empty cell and
-// a cell holding points, inside the condition's region and time window. There the surface
-// is open while it rains (a two-phase body's surface is closed elsewhere, porous/
-// two_phase.hpp): p_w = 0, the natural condition, takes in what the soil can take.
+// Surface nodes are found at every step: nodes with mass that touch an empty cell and a cell
+// holding points, or only empty cells (their mass then comes from the GIMP domains of points
+// beyond: porous/two_phase.hpp, surface_node), inside the condition's region and time window.
+// There the surface is open while it rains (a two-phase body's surface is closed elsewhere,
+// porous/two_phase.hpp): p_w = 0, the natural condition, takes in what the soil can take.
 //
 //   rain { type rainfall; box { min (0 1.0); max (0.1 1.2); } intensity 1800; unit mm/h; }
 #pragma once
@@ -59,7 +60,7 @@ struct RainfallKernel {
     if (t < t_start || t >= t_end) return;
     const Real ms = g.solid.mass[I];
     if (!(ms > g.mass_eps)) return;
-    if (!surface_node<D>(g.grid, g.cells, I, g.walls, g.masks ? g.masks[I] : 0u, t)) return;
+    if (!surface_node<D>(g.grid, g.cells, I, g.walls, g.masks ? g.masks[I] : 0u, t, true)) return;
     Real grad[D], vs[D], vl[D];
     for (int d = 0; d < D; ++d) {
       grad[d] = g.liquid.gradient[d][I];

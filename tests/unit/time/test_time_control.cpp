@@ -93,7 +93,7 @@ TEST(TimeControl, RetargetingRederivesAStepThatStoppedOnTheOldTarget) {
   const int p = run_to_target(c, 10.0) % 2;  // steps of 0.5 * 0.01 / 10 = 5e-4 s after the first
   ASSERT_DOUBLE_EQ(c.t[p], 2e-3);
   ASSERT_EQ(c.dt[p], 0);
-  c.max_speed[1 - p] = 10.0;  // the last step's speed
+  ASSERT_EQ(c.max_speed[1 - p], 0) << "the last step's slot is cleared";
   EXPECT_FALSE(tc.retarget(c, p, 2e-3)) << "the same target changes nothing";
   EXPECT_TRUE(tc.retarget(c, p, 2.2e-3));
   EXPECT_DOUBLE_EQ(c.dt[p], 2e-4) << "the remainder, shorter than the CFL step";
@@ -101,7 +101,14 @@ TEST(TimeControl, RetargetingRederivesAStepThatStoppedOnTheOldTarget) {
   EXPECT_DOUBLE_EQ(c.dt[p], 2e-4) << "a step already under way is kept (the CFL rule acts after it)";
   c.dt[p] = 0;  // stopped on a target again
   EXPECT_TRUE(tc.retarget(c, p, 2.0));
-  EXPECT_DOUBLE_EQ(c.dt[p], 5e-4) << "the CFL step of the last step's speed";
+  EXPECT_DOUBLE_EQ(c.dt[p], 5e-4) << "the CFL step of the last step's speed, not maxDeltaT (1e-3)";
+  // Steps that idle on the target (dt = 0) and see no speed do not forget it.
+  StepControl d = tc.initial();
+  d.t_target = 2e-3;
+  const int q = run_to_target(d, 10.0) % 2;
+  advance_clock(&d, q);  // an idle step with max_speed 0
+  EXPECT_TRUE(tc.retarget(d, 1 - q, 1.0));
+  EXPECT_DOUBLE_EQ(d.dt[1 - q], 5e-4);
 }
 
 TEST(TimeControl, ChunksCoverTheTargetAndReachedToleratesRoundOff) {

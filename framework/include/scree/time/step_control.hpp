@@ -39,6 +39,9 @@ struct StepControl {
   Real t[2];          ///< time at the start of the step [s]
   Real dt[2];         ///< the step's time increment [s]
   Real max_speed[2];  ///< largest particle signal speed c + |v| seen in the step [m/s]
+  /// The largest signal speed of the last step that saw one [m/s] (max_speed is cleared
+  /// after each step): the step after the clock stopped on a target is derived from it.
+  Real last_speed;
   Real t_target;      ///< the time to land on (next write or end) [s]
   Real dt_max;        ///< fixed step, or the largest adaptive step [s]
   Real cfl;           ///< CFL number (0: fixed step)
@@ -123,6 +126,7 @@ SCREE_INLINE void advance_clock(StepControl* c, int par) {
   if (c->failure != 0) dt1 = 0;
   c->t[1 - par] = t1;
   c->dt[1 - par] = dt1;
+  if (c->max_speed[par] > 0) c->last_speed = c->max_speed[par];
   c->max_speed[par] = 0;
   c->step[1 - par] = c->step[par] + 1;
   if (dt > 0) c->steps_done += 1;
