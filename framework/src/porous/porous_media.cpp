@@ -298,8 +298,8 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
     for (const PorousBody& b : bodies_)
-      parallel_for_warps(exec_, b.body->arrays().n,
-                         PoreRate<D, Shape>{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh});
+      parallel_for(exec_, b.body->arrays().n, PoreRate<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
+                                                                 b.body->arrays(), sh});
     for (const PorousBody& b : bodies_)
       parallel_for(exec_, b.body->arrays().n, PorePressure<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
                                                                      b.body->arrays(), sh});
@@ -321,7 +321,9 @@ void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatte
     for (const PorousBody& b : bodies_)
       parallel_for_warps(exec_, b.body->arrays().n,
                          PoreScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh});
-    parallel_for(exec_, grid_.num_nodes(), SurfaceMask<D>{grid_, cells_[scatter_set].data(), surface_.data()});
+    parallel_for(exec_, grid_.num_nodes(),
+                 SurfaceMask<D>{grid_, cells_[scatter_set].data(), pp.scatter.mass, sets_[scatter_set].mass,
+                                surface_.data()});
     for (const PorousBody& b : bodies_)
       parallel_for_warps(exec_, b.body->arrays().n, SurfaceScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
                                                                              b.body->arrays(), sh});

@@ -303,69 +303,46 @@ struct PoreRate {
 
   SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
 
-  /// Warp-collective (parallel_for_warps): the lanes of a warp in one cell (points sorted
-  /// by cell) add their cell's 3 + D values per warp first, one lane making the atomic adds
-  /// (WarpSegment): with 4 points per cell the plain atomics on one address serialised.
-  SCREE_HD void operator()(Index p, bool valid) const {
+  SCREE_HD void operator()(Index p) const {
+    if (!(pa.volume0[p] >= 0)) return;  // frozen
     const Real dt = pp.control->dt[pp.gather_parity];
-    bool active = valid && pa.volume0[p] >= 0 && dt > 0;  // not frozen, a step to take
-    Vec<D> x = Vec<D>::zero();
-    if (active)
-      for (int d = 0; d < D; ++d) x[d] = pa.x[d][p];
+    if (!(dt > 0)) return;
+    Vec<D> x;
+    for (int d = 0; d < D; ++d) x[d] = pa.x[d][p];
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
-    active = active && st.inside;
-    Real r = 0, c = 0, pw = 0;
-    Index cell = 0;
-    if (active) {
-      Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
-      for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
-      Real div_s = 0, div_q = 0;
-      for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-        Index I;
-        Real N;
-        Vec<D> gradN, dx;
-        st.node(k, pp.grid, x, I, N, gradN, dx);
-        const Real ml = lp.gather.mass[I];
-        if (!(ml > 0)) continue;
-        const Real rm = 1 / ml;
-        const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
-        for (int d = 0; d < D; ++d) {
-          const Real vln = lp.gather.velocity_new[d][I];
-          const Real vsn = pp.gather.velocity_new[d][I];
-          vpic[d] += N * vln;
-          dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
-          div_s += vsn * gradN[d];
-          div_q += nS * (vln - vsn) * gradN[d];
-        }
+    if (!st.inside) return;
+    Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
+    for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
+    Real div_s = 0, div_q = 0;
+    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I;
+      Real N;
+      Vec<D> gradN, dx;
+      st.node(k, pp.grid, x, I, N, gradN, dx);
+      const Real ml = lp.gather.mass[I];
+      if (!(ml > 0)) continue;
+      const Real rm = 1 / ml;
+      const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
+      for (int d = 0; d < D; ++d) {
+        const Real vln = lp.gather.velocity_new[d][I];
+        const Real vsn = pp.gather.velocity_new[d][I];
+        vpic[d] += N * vln;
+        dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
+        div_s += vsn * gradN[d];
+        div_q += nS * (vln - vsn) * gradN[d];
       }
-      const Real a = pp.pic_fraction;
-      for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
-      const Real n = col(kPorosity, p), S = col(kSaturation, p);
-      pw = col(kPorePressure, p);
-      // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).
-      const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
-      r = -(S * div_s + div_q) * V;
-      c = lp.pore.storage(n, S, pw) * V;
-      cell = cell_of<D>(pp.grid, x);
     }
-    const bool serial = pp.serial;
-#if defined(__CUDA_ARCH__)
-    const WarpSegment seg(active ? static_cast<long long>(cell) : -1 - static_cast<long long>(threadIdx.x));
-#else
-    const WarpSegment seg(0);
-#endif
-    auto add = [&](Real* field, Real value) {
-#if defined(__CUDA_ARCH__)
-      const Real sum = seg.sum(value);
-      if (active && seg.head) atomic_add(field, sum, serial);
-#else
-      if (active) atomic_add(field, value, serial);
-#endif
-    };
-    add(lp.inflow + cell, r);
-    add(lp.capacity + cell, c);
-    add(lp.moments + cell, c * pw);
-    for (int d = 0; d < D; ++d) add(lp.moments + (d + 1) * lp.n_cells + cell, c * x[d]);
+    const Real a = pp.pic_fraction;
+    for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
+    const Real n = col(kPorosity, p), S = col(kSaturation, p), pw = col(kPorePressure, p);
+    // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).
+    const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
+    const Real r = -(S * div_s + div_q) * V, c = lp.pore.storage(n, S, pw) * V;
+    const Index cell = cell_of<D>(pp.grid, x);
+    atomic_add(lp.inflow + cell, r, pp.serial);
+    atomic_add(lp.capacity + cell, c, pp.serial);
+    atomic_add(lp.moments + cell, c * pw, pp.serial);
+    for (int d = 0; d < D; ++d) atomic_add(lp.moments + (d + 1) * lp.n_cells + cell, c * x[d], pp.serial);
   }
 };
 
@@ -552,15 +529,20 @@ struct PoreScatter {
   }
 };
 
-/// Which nodes lie on a surface of the points (surface_node, without the walls: a superset
-/// of the nodes any hydraulic law treats as surface), from this step's points per cell,
-/// for SurfaceScatter.
+/// Which nodes lie on a surface of the points (surface_node, without the walls and with the
+/// node's mass of either phase: a superset of the nodes any hydraulic law treats as
+/// surface), from this step's points per cell, for SurfaceScatter.
 template <int D>
 struct SurfaceMask {
   GridGeometry<D> grid;
   const Real* cells = nullptr;
+  const Real* solid_mass = nullptr;
+  const Real* liquid_mass = nullptr;
   std::uint8_t* surface = nullptr;
-  SCREE_HD void operator()(Index I) const { surface[I] = surface_node<D>(grid, cells, I) ? 1 : 0; }
+  SCREE_HD void operator()(Index I) const {
+    const bool has_mass = solid_mass[I] > 0 || liquid_mass[I] > 0;
+    surface[I] = surface_node<D>(grid, cells, I, nullptr, 0, 0, has_mass) ? 1 : 0;
+  }
 };
 
 /// The liquid's nodal fields read at surface nodes alone (the closed surface's p_b and
