@@ -90,7 +90,12 @@ struct PassParams {
   Real max_volume_ratio = kNoVolumeLimit;
   Transfer transfer = Transfer::flip;
   bool serial = false;    ///< CPU loop on one thread: plain adds instead of atomics
-  bool need_speed = true;  ///< compute the largest signal speed (adaptive time step only)
+  bool need_speed = true;  ///< compute the largest signal speed (the adaptive step, the stopCo check)
+  /// With need_speed: 0, every step; else only on steps whose index & speed_mask is 0. The
+  /// health check of a fixed step (stopCo) samples the speed every 16th step: computed on
+  /// every step it cost the 1e7 blocks 8-19% per step (H100, performance log entry 27), and
+  /// an unstable step is caught at most 15 steps later.
+  unsigned speed_mask = 0;
   bool reference = false;  ///< the straightforward kernel (see the top of this file)
   std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
   /// CUDA, 2D: run the stress kernel with a register cap (launch bounds of 64 threads and
@@ -114,6 +119,12 @@ struct PassParams {
   /// with a non-finite field records it in StepControl::bad.
   int body = 0;
 };
+
+/// Whether this step computes the largest signal speed (PassParams::speed_mask).
+template <class PP>
+SCREE_INLINE bool speed_wanted(const PP& pp) {
+  return pp.need_speed && (pp.speed_mask == 0 || (pp.control->step[pp.parity] & pp.speed_mask) == 0);
+}
 
 namespace detail {
 
@@ -329,7 +340,7 @@ SCREE_UNROLL
         // The new velocity and position (eqs. 10-11) need the gather alone: made before the
         // stress update, so that the gather's sums are dead while the update needs registers.
         // The signal speed takes |v| of the velocity the step started from.
-        const Real v_start = pp.need_speed ? norm(v) : Real(0);
+        const Real v_start = speed_wanted(pp) ? norm(v) : Real(0);
         if (flags & kGatherVelocity) {
           if (apic) {
             v = v_pic;
@@ -351,7 +362,7 @@ SCREE_UNROLL
       if (defer) active = false;  // nothing of it is written or scattered here
     }
     if constexpr ((May & kStressPhases) != 0)
-      if ((flags & kStressPhases) && pp.need_speed) {
+      if ((flags & kStressPhases) && speed_wanted(pp)) {
         // The step's largest signal speed, for the adaptive time step: one atomic per warp.
         if (pp.reference) {
           if (speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.serial);
@@ -512,7 +523,7 @@ SCREE_UNROLL
     // what the update and wave_speed() both compute (phaseTransition: the collisional
     // coefficients at the new void ratio).
     speed = 0;
-    if (pp.need_speed) {
+    if (speed_wanted(pp)) {
       // An inverted point (V <= 0) has no density and so no wave speed: its |v| alone. (Its
       // density was taken as 0, c = inf for most models: the adaptive step became 0 for a
       // step and then maxDeltaT, and the health check read an infinite Courant number.)

@@ -516,7 +516,7 @@ struct PoreScatter {
     // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
     // (C rho_mix) with the storage C = n S_l / K_l + n dS_l/dp (K_l / (n rho_mix) when
     // saturated), plus |v_l|. The step takes the larger of it and the skeleton's.
-    if (active && pp.need_speed && V > 0) {
+    if (active && speed_wanted(pp) && V > 0) {
       const Real C = lp.pore.storage(n, S, pw);
       const Real rho_mix = (m_s + m_lm) / V;
       const Real c = sqrt(S * S / (C * rho_mix)) + norm(vl);
