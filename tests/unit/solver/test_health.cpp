@@ -1,6 +1,7 @@
-// The health checks (time/step_control.hpp): a non-finite value found by the particle
-// kernel stops the run in the step it appeared, and the diagnosis names the particle, its
-// body and material, the field, the value and the step. (The scree-level cases, a huge E,
+// The health checks (time/step_control.hpp): a non-finite value, found by the grid update
+// in the nodal velocities and forces it reaches, stops the run in the step it appeared, and
+// the diagnosis names the particle (found in the frozen state), its body and material, the
+// field, the value and the step. (The scree-level cases, a huge E,
 // a huge g and a fixed step far above the stable one, are tests/broken/variants/health_*.)
 #include <gtest/gtest.h>
 
