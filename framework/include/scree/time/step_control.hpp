@@ -126,7 +126,12 @@ SCREE_INLINE void advance_clock(StepControl* c, int par) {
   if (c->failure != 0) dt1 = 0;
   c->t[1 - par] = t1;
   c->dt[1 - par] = dt1;
-  if (c->max_speed[par] > 0) c->last_speed = c->max_speed[par];
+  // Only a step that advanced the clock: an idle step's speed (dt = 0, on a target; the
+  // pore liquid's scatter still measures one, the solid's stress update does not run) is a
+  // different quantity, and how many idle steps a run takes depends on where its chunks of
+  // steps ended (the wall clock): the step after a write depended on it, and a two-phase run
+  // did not reproduce itself (cases/rainfallSlope, two runs of one binary on one thread).
+  if (dt > 0 && c->max_speed[par] > 0) c->last_speed = c->max_speed[par];
   c->max_speed[par] = 0;
   c->step[1 - par] = c->step[par] + 1;
   if (dt > 0) c->steps_done += 1;
