@@ -94,6 +94,8 @@ PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, co
   // Per cell: inflow, capacity, and the moments sum V C p, sum V C x_d (PoreRate).
   balance_.resize(static_cast<std::size_t>((3 + D) * nn), exec_.device);
   balance_.copy_from_host(std::vector<Real>(static_cast<std::size_t>((3 + D) * nn), Real(0)));
+  // Per cell: the reconstructed pressure P_c, x_c and g_c per axis (CellPressure).
+  cell_pressure_.resize(static_cast<std::size_t>((1 + 2 * D) * nn), exec_.device);
   totals_.resize(2, exec_.device);
   totals_.copy_from_host(std::vector<Real>(2, Real(0)));
 }
@@ -225,6 +227,19 @@ void PorousMedia<D>::attach(Body<D>* body) {
 }
 
 template <int D>
+void PorousMedia<D>::finish_columns(int gather_set, int scatter_set) {
+  for (const PorousBody& b : bodies_)
+    parallel_for(exec_, b.body->arrays().n, PoreColumns<D>{pass_params(b, gather_set, scatter_set), b.body->arrays()});
+}
+
+template <int D>
+bool PorousMedia<D>::holds(const Body<D>* body) const {
+  for (const PorousBody& b : bodies_)
+    if (b.body == body) return true;
+  return false;
+}
+
+template <int D>
 void PorousMedia<D>::add_condition(const BoundaryCondition* bc) {
   std::vector<PorePressureLaw> laws;
   bc->constrain_pores(laws);
@@ -286,6 +301,7 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   lp.inflow = const_cast<Real*>(balance_.data());
   lp.capacity = lp.inflow + nn;
   lp.moments = lp.inflow + 2 * nn;
+  lp.cell_pressure = const_cast<Real*>(cell_pressure_.data());
   lp.n_cells = nn;
   lp.totals = const_cast<Real*>(totals_.data());
   return lp;
@@ -293,13 +309,20 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
 
 template <int D>
 void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter_set) {
-  // Every body's rates into the nodes first (PoreRate), then every body's pressures.
+  // Every body's rates into the cells first (PoreRate), the cells' pressures (CellPressure),
+  // then every body's points' pressures (PorePressure).
   const Real inv_h = 1 / grid_.h;
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
     for (const PorousBody& b : bodies_)
       parallel_for(exec_, b.body->arrays().n, PoreRate<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
                                                                  b.body->arrays(), sh});
+    if (!bodies_.empty()) {
+      const PorePassParams<D> lp = pass_params(bodies_.front(), gather_set, scatter_set);
+      parallel_for(exec_, n_cells_,
+                   CellPressure<D>{grid_, lp.inflow, lp.capacity, lp.moments, lp.cell_pressure, n_cells_, pp.control,
+                                   pp.gather_parity});
+    }
     for (const PorousBody& b : bodies_)
       parallel_for(exec_, b.body->arrays().n, PorePressure<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
                                                                      b.body->arrays(), sh});
@@ -313,14 +336,14 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
 
 template <int D>
 void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatter_set) {
-  // Every body's liquid fields and points per cell first, then the surface nodes they
-  // make, then every body's surface-only fields (SurfaceScatter).
+  // Every body's P2G of both phases and points per cell first (MixtureScatter), then the
+  // surface nodes they make, then every body's surface-only fields (SurfaceScatter).
   const Real inv_h = 1 / grid_.h;
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
     for (const PorousBody& b : bodies_)
       parallel_for_warps(exec_, b.body->arrays().n,
-                         PoreScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh});
+                         MixtureScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh});
     parallel_for(exec_, grid_.num_nodes(),
                  SurfaceMask<D>{grid_, cells_[scatter_set].data(), pp.scatter.mass, sets_[scatter_set].mass,
                                 surface_.data()});
@@ -355,6 +378,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.masks = masks_;
   u.liquid_masks = has_liquid_walls_ ? liquid_masks_.data() : nullptr;
   u.cells = cells_[set].data();
+  u.surface = surface_.data();
   u.open_masks = open_masks_.size() ? open_masks_.data() : nullptr;
   for (std::size_t i = 0; i < open_windows_.size(); ++i) u.open[i] = open_windows_[i];
   u.mass_eps = mass_eps;
@@ -377,7 +401,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   f.grid = grid_;
   f.solid = solid_sets[set];
   f.liquid = sets_[set];
-  f.cells = cells_[set].data();
+  f.surface = surface_.data();
   f.control = control;
   f.parity = parity;
   f.totals = totals_.data();

@@ -44,7 +44,13 @@ class PorousMedia {
   /// The liquid's gather (before the solid passes of a step; pp as the solid's pass) from
   /// the liquid set `gather_set`.
   void gather(const PassParams<D>& pp, int gather_set, int scatter_set);
-  /// The liquid's scatter into the liquid set `scatter_set` (after the solid passes).
+  /// After a G2P that no P2G follows (Solver::flush): the points' porosity and seepage
+  /// (PoreColumns), which the P2G writes otherwise.
+  void finish_columns(int gather_set, int scatter_set);
+  /// Whether `body` is a two-phase body (its P2G is scatter()'s, not its solid pass's).
+  bool holds(const Body<D>* body) const;
+  /// The two-phase bodies' P2G of both phases into the solid set of `pp` and the liquid set
+  /// `scatter_set` (after the solid passes, which gathered and updated them).
   void scatter(const PassParams<D>& pp, int gather_set, int scatter_set);
   /// The two-phase grid update of set `set` (USL), then the hydraulic node laws.
   void grid_update(int set, StepControl* control, int parity, Real mass_eps, Real damping, Real damping_start,
@@ -83,6 +89,7 @@ class PorousMedia {
   Buffer<Real> cells_[2];
   Buffer<std::uint8_t> surface_;  // per node: on a surface of the points (SurfaceMask)
   Buffer<Real> balance_;  // per node: the liquid mass balance's inflow, then its capacity
+  Buffer<Real> cell_pressure_;  // per cell: P_c, x_c, g_c (CellPressure)
   Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals)
   Index n_cells_ = 0;
   std::vector<PorePressureLaw> laws_;

@@ -66,8 +66,9 @@ void Solver<D>::step() {
 }
 
 /// The two-phase step (porous/two_phase.hpp), USL: the liquid's gather at the points'
-/// positions x^k (the last step's G2P of v_l and the pore pressure), the solid's fused pass
-/// (its G2P, stress, P2G), the liquid's scatter at x^{k+1}, then both phases' grid update.
+/// positions x^k (the last step's G2P of v_l and the pore pressure), the solid's pass (its
+/// G2P and stress; a single-phase body's P2G too), both phases' P2G of the two-phase bodies
+/// at x^{k+1} (MixtureScatter), then both phases' grid update.
 template <int D>
 void Solver<D>::step_two_phase() {
   const int p = parity();
@@ -75,13 +76,15 @@ void Solver<D>::step_two_phase() {
   const unsigned pend = pending_ ? pending_flags(UpdateScheme::USL) : 0u;
   PassParams<D> pp = pass_params(pend | kScatterMassMomentum | kScatterForce, A, B, A);
   pp.tile_stamps = nullptr;  // the two-phase grid update visits every node
+  PassParams<D> gather_only = pp;
+  gather_only.flags &= ~kAnyScatter;
   phase("pore liquid: G2P v_l, pore pressure", [&] {
     if (pending_) porous_->gather(pp, A, B);
   });
-  phase("particles: G2P + stress + P2G (fused)", [&] {
-    for (auto& b : bodies_) b->pass(pp);
+  phase("particles: G2P + stress (+ P2G of single-phase bodies)", [&] {
+    for (auto& b : bodies_) b->pass(porous_->holds(b.get()) ? gather_only : pp);
   });
-  phase("pore liquid: P2G", [&] { porous_->scatter(pp, A, B); });
+  phase("both phases: P2G", [&] { porous_->scatter(pp, A, B); });
   phase("grid: both phases, implicit drag", [&] {
     const DampingSettings& damping = settings_.schemes.damping;
     porous_->grid_update(B, ctl_.data(), p, mass_eps_, damping.coefficient, damping.start_time, damping.end_time,
@@ -99,6 +102,7 @@ void Solver<D>::flush() {
   const unsigned flags = pending_flags(settings_.schemes.update_scheme);
   if (porous_) porous_->gather(pass_params(flags, last, last, last), last, last);
   for (auto& b : bodies_) b->pass(pass_params(flags, last, last, last));
+  if (porous_) porous_->finish_columns(last, last);
   pending_ = false;
 }
 

@@ -237,6 +237,9 @@ struct PorePassParams {
   Real* capacity = nullptr;
   /// Per cell, sum V C p [m^3] then sum V C x_d [m^4/Pa] for each axis d, n_cells apart.
   Real* moments = nullptr;
+  /// Per cell after CellPressure: the new mean pressure P_c [Pa], then the centroid x_c
+  /// [m] and the slope g_c [Pa/m] per axis, n_cells apart (1 + 2 D of them).
+  Real* cell_pressure = nullptr;
   Index n_cells = 0;
   /// Cumulative liquid mass [kg] since t = 0: [0] through the surfaces (SurfaceInflow),
   /// [1] added by the prescribed pore pressures. Null: not counted.
@@ -291,9 +294,9 @@ SCREE_INLINE Index cell_of(const GridGeometry<D>& grid, const Vec<D>& x, int* ci
 ///   cell stayed rho g h/2 apart from the initial hydrostatic profile (0.02 in S_l), more
 ///   with the slope of the rate accumulated across the front.
 ///
-/// Two passes at the points' positions x^k, before the solid pass moves them: PoreRate (the
-/// liquid velocity's G2P, r_p and the cell's moments), then PorePressure (p_w, the prescribed
-/// pore pressures, S_l(p_w)).
+/// Three passes at the points' positions x^k, before the solid pass moves them: PoreRate (the
+/// liquid velocity's G2P, r_p and the cell's moments), CellPressure (per cell: P_c, x_c,
+/// g_c), then PorePressure (p_w, the prescribed pore pressures, S_l(p_w)).
 template <int D, class Shape>
 struct PoreRate {
   PassParams<D> pp;        ///< the solid pass's (grid, sets, control, PIC fraction)
@@ -346,8 +349,62 @@ struct PoreRate {
   }
 };
 
-/// The pore pressure from its cell's rate, reconstructed (PoreRate above), then the
-/// prescribed pore pressures, and S_l(p_w).
+/// The cells' new pressures and their reconstruction (PoreRate above), once per cell, for
+/// PorePressure: P_c = (sum V C p + dt sum V r) / C_c, the storage-weighted centroid x_c
+/// and per axis the slope g_c, the minmod of the differences to the two face neighbours
+/// (one-sided where there is one, 0 where there is none). A cell without points (C_c = 0)
+/// is left as it is: no point reads it. (Per point, the same sums read 25 cell values of
+/// a 2D point's neighbourhood for each of the cell's points.)
+template <int D>
+struct CellPressure {
+  GridGeometry<D> grid;
+  const Real* inflow = nullptr;    ///< PorePassParams's, n_cells each
+  const Real* capacity = nullptr;
+  const Real* moments = nullptr;
+  Real* out = nullptr;             ///< PorePassParams::cell_pressure
+  Index n_cells = 0;
+  const StepControl* control = nullptr;
+  int gather_parity = 0;
+
+  SCREE_INLINE Real mean_pressure(Index cell, Real dt) const {
+    return (moments[cell] + dt * inflow[cell]) / capacity[cell];
+  }
+  SCREE_HD void operator()(Index cell) const {
+    const Real dt = control->dt[gather_parity];
+    const Real c0 = capacity[cell];
+    if (!(dt > 0) || !(c0 > 0)) return;
+    int ci[D];
+    grid.unflat(cell, ci);
+    const Real P0 = mean_pressure(cell, dt);
+    out[cell] = P0;
+    Index stride = 1;
+    for (int d = 0; d < D; ++d) {
+      const Real xc = moments[(d + 1) * n_cells + cell] / c0;
+      Real lo = 0, hi = 0;
+      bool has_lo = false, has_hi = false;
+      const Index a = cell - stride, b = cell + stride;
+      if (ci[d] > 0 && capacity[a] > 0) {
+        lo = (P0 - mean_pressure(a, dt)) / (xc - moments[(d + 1) * n_cells + a] / capacity[a]);
+        has_lo = true;
+      }
+      if (ci[d] + 2 < grid.n[d] && capacity[b] > 0) {
+        hi = (mean_pressure(b, dt) - P0) / (moments[(d + 1) * n_cells + b] / capacity[b] - xc);
+        has_hi = true;
+      }
+      Real slope = 0;
+      if (has_lo && has_hi)
+        slope = lo * hi > 0 ? (fabs(lo) < fabs(hi) ? lo : hi) : Real(0);
+      else if (has_lo || has_hi)
+        slope = has_lo ? lo : hi;
+      out[(1 + d) * n_cells + cell] = xc;
+      out[(1 + D + d) * n_cells + cell] = slope;
+      stride *= grid.n[d];
+    }
+  }
+};
+
+/// The pore pressure from its cell's reconstruction (CellPressure), then the prescribed
+/// pore pressures, and S_l(p_w).
 template <int D, class Shape>
 struct PorePressure {
   PassParams<D> pp;
@@ -356,10 +413,6 @@ struct PorePressure {
   Shape shape;
 
   SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
-  /// A cell's storage-weighted mean pressure after the step: (sum V C p + dt sum V r) / C_c.
-  SCREE_INLINE Real mean_pressure(Index cell, Real dt) const {
-    return (lp.moments[cell] + dt * lp.inflow[cell]) / lp.capacity[cell];
-  }
 
   SCREE_HD void operator()(Index p) const {
     if (!(pa.volume0[p] >= 0)) return;  // frozen
@@ -370,37 +423,12 @@ struct PorePressure {
     Real pw = col(kPorePressure, p);
     if (dt > 0) {
       const detail::Stencil<D, Shape> st(shape, pp.grid, x);
-      if (st.inside) {
-        // The cell's new mean pressure, and its slope from the face neighbours' (minmod).
-        int ci[D];
-        const Index cell = cell_of<D>(pp.grid, x, ci);
-        const Real c0 = lp.capacity[cell];
-        if (c0 > 0) {
-          const Real P0 = mean_pressure(cell, dt);
-          pw = P0;
-          Index stride = 1;
-          for (int d = 0; d < D; ++d) {
-            const Real xc = lp.moments[(d + 1) * lp.n_cells + cell] / c0;
-            Real lo = 0, hi = 0;
-            bool has_lo = false, has_hi = false;
-            const Index a = cell - stride, b = cell + stride;
-            if (ci[d] > 0 && lp.capacity[a] > 0) {
-              lo = (P0 - mean_pressure(a, dt)) / (xc - lp.moments[(d + 1) * lp.n_cells + a] / lp.capacity[a]);
-              has_lo = true;
-            }
-            if (ci[d] + 2 < pp.grid.n[d] && lp.capacity[b] > 0) {
-              hi = (mean_pressure(b, dt) - P0) / (lp.moments[(d + 1) * lp.n_cells + b] / lp.capacity[b] - xc);
-              has_hi = true;
-            }
-            Real slope = 0;
-            if (has_lo && has_hi)
-              slope = lo * hi > 0 ? (fabs(lo) < fabs(hi) ? lo : hi) : Real(0);
-            else if (has_lo || has_hi)
-              slope = has_lo ? lo : hi;
-            pw += slope * (x[d] - xc);
-            stride *= pp.grid.n[d];
-          }
-        }
+      const Index cell = st.inside ? cell_of<D>(pp.grid, x) : Index(0);
+      if (st.inside && lp.capacity[cell] > 0) {  // p_p = P_c + g_c . (x_p - x_c)
+        const Index nc = lp.n_cells;
+        pw = lp.cell_pressure[cell];
+        for (int d = 0; d < D; ++d)
+          pw += lp.cell_pressure[(1 + D + d) * nc + cell] * (x[d] - lp.cell_pressure[(1 + d) * nc + cell]);
       }
     }
     // Prescribed pore pressures (a water table, an artesian head), on every point of a cell
@@ -434,12 +462,58 @@ struct PorePressure {
   }
 };
 
-/// The liquid's scatter (after the solid pass; weights at x_p^{k+1}): porosity from J,
-/// the liquid's nodal fields, and the pore pressure's share of the mixture force,
-/// V S_l p_w grad N + N m_lm g, into the solid's force. The fields read only at the
-/// surface nodes follow in SurfaceScatter.
+/// The columns of point p that follow from the solid pass's state: the porosity from J,
+/// n = 1 - (1 - n0) / J (clamped to [1e-3, 0.999]), and the seepage velocity
+/// w = n S_l (v_l - v_s). Returns n.
+template <int D>
+SCREE_INLINE Real store_pore_columns(const PorePassParams<D>& lp, Index n_points, Index p, Real J, Real S,
+                                     const Vec<D>& vl, const Vec<D>& vs) {
+  auto col = [&](int c) -> Real& { return lp.extra[static_cast<std::size_t>(c) * n_points + p]; };
+  const Real n = detail::clamp01(1 - (1 - lp.pore.n0) / J, Real(1e-3), Real(0.999));
+  col(kPorosity) = n;
+  for (int d = 0; d < D; ++d) col(kSeepage<D> + d) = n * S * (vl[d] - vs[d]);
+  return n;
+}
+
+/// The pore columns of every point after a G2P with no P2G after it (Solver::flush, before a
+/// snapshot): otherwise they would be the last scatter's, one step behind the positions,
+/// and a run's output would depend on whether its last step was followed by an idle one
+/// (a step on a target time, dt = 0, whose scatter writes them).
+template <int D>
+struct PoreColumns {
+  PorePassParams<D> lp;
+  ParticleArrays<D> pa;
+  SCREE_HD void operator()(Index p) const {
+    if (!(pa.volume0[p] >= 0)) return;  // frozen
+    Vec<D> vl, vs;
+    for (int d = 0; d < D; ++d) {
+      vl[d] = lp.extra[static_cast<std::size_t>(kLiquidVelocity + d) * pa.n + p];
+      vs[d] = pa.v[d][p];
+    }
+    Mat<D> F;
+    for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
+    store_pore_columns<D>(lp, pa.n, p, det(F), lp.extra[static_cast<std::size_t>(kSaturation) * pa.n + p], vl, vs);
+  }
+};
+
+/// Both phases' P2G of a two-phase body, in one pass after the solid pass (weights at
+/// x_p^{k+1}): the solid pass of a two-phase body gathers and updates only (its scatter
+/// flags off; Solver::step_two_phase), and this pass scatters
+///   the solid:  m_s N (eq. 5 of the solid pass), m_s N v_s (eq. 6; APIC: v_s + C dx),
+///   the mixture force  F_mix = -V (sigma' - S_l p_w I) grad N + N (m_s + m_lm) g
+///     (top of file), added as one value per node and axis,
+///   the liquid: porosity from J, M_l, M_lm, the drag and conductance sums, the liquid
+///     momentum, F_l = V p_w grad N + N m_l g, sum N V,
+/// and counts the points per cell. The fields read only at surface nodes follow in
+/// SurfaceScatter.
+/// One pass for both phases builds the stencil and the warp's runs once, and the mixture
+/// force takes one atomic per node and axis where the solid's scatter and a separate liquid
+/// pass took two (performance log entry 28).
+/// A point whose stencil at x^{k+1} leaves the grid adds nothing; the next step's gather
+/// (or the run's last flush) freezes and reports it (ParticlePass::lost), one step later
+/// than a single-phase pass would.
 template <int D, class Shape>
-struct PoreScatter {
+struct MixtureScatter {
   PassParams<D> pp;
   PorePassParams<D> lp;
   ParticleArrays<D> pa;
@@ -449,35 +523,40 @@ struct PoreScatter {
 
   /// Warp-collective (parallel_for_warps): points sorted by cell share their stencil's
   /// nodes, so the lanes of a warp with the same first node add their values per warp first
-  /// and one lane makes the atomic add (WarpSegment, as the solid pass's scatter): 15 fields
-  /// x the stencil's nodes of plain atomics per point were 1.4x the solid pass on an H100.
+  /// and one lane makes the atomic add (WarpSegment, as the solid pass's scatter).
   SCREE_HD void operator()(Index p, bool valid) const {
     bool active = valid && pa.volume0[p] >= 0;
     Vec<D> x = Vec<D>::zero(), vs = Vec<D>::zero(), vl = Vec<D>::zero();
+    Mat<D> C = Mat<D>::zero();
+    Sym3 sig = Sym3::zero();
     Real V = 0, n = 0, S = 0, pw = 0;
+    const bool apic = pp.transfer == Transfer::apic;
     if (active) {
       for (int d = 0; d < D; ++d) {
         x[d] = pa.x[d][p];
         vs[d] = pa.v[d][p];
         vl[d] = col(kLiquidVelocity + d, p);
       }
+      if (apic)
+        for (int i = 0; i < D * D; ++i) C.a[i / D][i % D] = pa.C[i][p];
       Mat<D> F;
       for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
       const Real J = det(F);
       V = pa.volume0[p] * J;
-      n = detail::clamp01(1 - (1 - lp.pore.n0) / J, Real(1e-3), Real(0.999));
+      sig = detail::load_stress<D>(pa.sigma, p);
       S = col(kSaturation, p);
       pw = col(kPorePressure, p);
-      col(kPorosity, p) = n;
-      for (int d = 0; d < D; ++d) col(kSeepage<D> + d, p) = n * S * (vl[d] - vs[d]);
+      n = store_pore_columns<D>(lp, pa.n, p, J, S, vl, vs);
     }
+    // The total stress's share in the mixture force: sigma = sigma' - S_l p_w I (Bishop).
+    for (int d = 0; d < 3; ++d) sig[d] -= S * pw;
     const Real rho_l = lp.pore.rho_l;
     const Real m_lm = n * S * rho_l * V, m_l = rho_l * V, m_s = active ? pa.mass[p] : Real(0);
     const Real krel = active ? lp.pore.table.relative_permeability(S) : Real(0);
     const Real q = V * n * S * lp.pore.viscosity / lp.pore.kappa;
 
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
-    active = active && st.inside;  // outside: the solid pass froze it
+    active = active && st.inside;  // outside: frozen by the next gather (above)
     if (active && lp.cells) atomic_add(lp.cells + cell_of<D>(pp.grid, x), Real(1), pp.serial);
     const bool serial = pp.serial;
 #if defined(__CUDA_ARCH__)
@@ -494,32 +573,39 @@ struct PoreScatter {
       if (active && value != 0) atomic_add(field, value, serial);
 #endif
     };
+SCREE_UNROLL
     for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
       Index I = 0;
       Real N = 0;
       Vec<D> gradN = Vec<D>::zero(), dx = Vec<D>::zero();
       if (active) st.node(k, pp.grid, x, I, N, gradN, dx);
 #if !defined(__CUDA_ARCH__)
-      if (!active || N == 0) continue;
+      if (!active) continue;
 #endif
+      Vec<D> vI = vs;
+      if (apic) vI += C * dx;
+      add(pp.scatter.mass + I, N * m_s);
       add(lp.scatter.mass + I, N * m_l);
       add(lp.scatter.mass_mix + I, N * m_lm);
       add(lp.scatter.drag + I, N * q);
       add(lp.scatter.conductance + I, N * V * krel);
+      add(lp.scatter.volume + I, N * V);
       for (int d = 0; d < D; ++d) {
+        Real s = 0;
+        for (int e = 0; e < D; ++e) s += sig(d, e) * gradN[e];
+        add(pp.scatter.momentum[d] + I, N * m_s * vI[d]);
+        add(pp.scatter.force[d] + I, -V * s + N * (m_s + m_lm) * pp.gravity[d]);
         add(lp.scatter.momentum[d] + I, N * m_l * vl[d]);
         add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d]);
-        add(pp.scatter.force[d] + I, V * S * pw * gradN[d] + N * m_lm * pp.gravity[d]);
       }
-      add(lp.scatter.volume + I, N * V);
     }
     // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
     // (C rho_mix) with the storage C = n S_l / K_l + n dS_l/dp (K_l / (n rho_mix) when
     // saturated), plus |v_l|. The step takes the larger of it and the skeleton's.
     if (active && speed_wanted(pp) && V > 0) {
-      const Real C = lp.pore.storage(n, S, pw);
+      const Real Cs = lp.pore.storage(n, S, pw);
       const Real rho_mix = (m_s + m_lm) / V;
-      const Real c = sqrt(S * S / (C * rho_mix)) + norm(vl);
+      const Real c = sqrt(S * S / (Cs * rho_mix)) + norm(vl);
       // One global address for every point: read it first, and only a larger speed takes
       // the atomic (after the first warps, almost none): unconditional, the 1e6 atomics on
       // one word serialised and made this pass 6x the solid pass (H100, 1e6 points).
@@ -531,7 +617,8 @@ struct PoreScatter {
 
 /// Which nodes lie on a surface of the points (surface_node, without the walls and with the
 /// node's mass of either phase: a superset of the nodes any hydraulic law treats as
-/// surface), from this step's points per cell, for SurfaceScatter.
+/// surface), from this step's points per cell, for SurfaceScatter, the grid update and
+/// SurfaceInflow.
 template <int D>
 struct SurfaceMask {
   GridGeometry<D> grid;
@@ -641,6 +728,9 @@ struct TwoPhaseGridUpdate {
   const WallMask* masks = nullptr;
   const WallMask* liquid_masks = nullptr;  ///< the walls the liquid cannot cross
   const Real* cells = nullptr;             ///< this step's points per cell (surface nodes)
+  /// This step's SurfaceMask: a superset of the surface nodes below (the same test without
+  /// the walls), so that surface_node's cells are read only where the mask says so.
+  const std::uint8_t* surface = nullptr;
   const std::uint32_t* open_masks = nullptr;  ///< per node: the open surfaces selecting it
   OpenSurfaceWindow open[kMaxOpenSurfaces];   ///< their time windows
   Real mass_eps = 0;
@@ -685,7 +775,7 @@ struct TwoPhaseGridUpdate {
     bool closed = false;  // a closed surface node: no seepage through it (below)
     bool inflow_face = false;  // an open surface node where the liquid flows in
     bool outflow_only = false; // open as a seepage face only: closed again if the liquid would enter
-    if (cells && ml > 0 && surface_node<D>(grid, cells, I, walls, mask, t, true)) {
+    if (cells && ml > 0 && surface[I] && surface_node<D>(grid, cells, I, walls, mask, t, true)) {
       bool is_open = (mask & ~lmask) != 0;  // on a drained wall
       bool seepage = false;                 // open as a seepage face
       for (std::uint32_t m = open_masks ? open_masks[I] : 0u; m; m &= m - 1) {
@@ -797,7 +887,8 @@ struct SurfaceInflow {
   GridGeometry<D> grid;
   GridFields<D> solid;
   LiquidFields<D> liquid;
-  const Real* cells = nullptr;
+  /// This step's SurfaceMask: where a node has mass it is surface_node without the walls
+  const std::uint8_t* surface = nullptr;
   const StepControl* control = nullptr;
   int parity = 0;
   Real* totals = nullptr;
@@ -805,8 +896,7 @@ struct SurfaceInflow {
 
   SCREE_HD void operator()(Index I) const {
     const Real ml = liquid.mass[I], vol = liquid.volume[I];
-    if (!(ml > 0) || !(vol > 0) || !(solid.mass[I] > 0) || !surface_node<D>(grid, cells, I, nullptr, 0, 0, true))
-      return;
+    if (!(ml > 0) || !(vol > 0) || !(solid.mass[I] > 0) || !surface[I]) return;
     const Real nS = liquid.mass_mix[I] / ml;
     Real qa = 0;
     for (int d = 0; d < D; ++d)
