@@ -315,8 +315,8 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
   auto go = [&](const auto& sh) {
     using Shape = std::decay_t<decltype(sh)>;
     for (const PorousBody& b : bodies_)
-      parallel_for(exec_, b.body->arrays().n, PoreRate<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
-                                                                 b.body->arrays(), sh});
+      parallel_for(exec_, b.body->arrays().n, PoreRate<D, Shape>{{pp, pass_params(b, gather_set, scatter_set),
+                                                                 b.body->arrays(), sh}});
     if (!bodies_.empty()) {
       const PorePassParams<D> lp = pass_params(bodies_.front(), gather_set, scatter_set);
       parallel_for(exec_, n_cells_,
@@ -324,8 +324,8 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
                                    pp.gather_parity});
     }
     for (const PorousBody& b : bodies_)
-      parallel_for(exec_, b.body->arrays().n, PorePressure<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
-                                                                     b.body->arrays(), sh});
+      parallel_for(exec_, b.body->arrays().n, PorePressure<D, Shape>{{pp, pass_params(b, gather_set, scatter_set),
+                                                                     b.body->arrays(), sh}});
   };
   switch (shape_) {
     case ShapeKind::linear: go(ShapeLinear{inv_h}); break;
@@ -343,13 +343,13 @@ void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatte
     using Shape = std::decay_t<decltype(sh)>;
     for (const PorousBody& b : bodies_)
       parallel_for_warps(exec_, b.body->arrays().n,
-                         MixtureScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh});
+                         MixtureScatter<D, Shape>{{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh}});
     parallel_for(exec_, grid_.num_nodes(),
                  SurfaceMask<D>{grid_, cells_[scatter_set].data(), pp.scatter.mass, sets_[scatter_set].mass,
                                 surface_.data()});
     for (const PorousBody& b : bodies_)
-      parallel_for_warps(exec_, b.body->arrays().n, SurfaceScatter<D, Shape>{pp, pass_params(b, gather_set, scatter_set),
-                                                                             b.body->arrays(), sh});
+      parallel_for_warps(exec_, b.body->arrays().n, SurfaceScatter<D, Shape>{{pp, pass_params(b, gather_set, scatter_set),
+                                                                             b.body->arrays(), sh}});
   };
   switch (shape_) {
     case ShapeKind::linear: go(ShapeLinear{inv_h}); break;

@@ -265,6 +265,18 @@ SCREE_INLINE Index cell_of(const GridGeometry<D>& grid, const Vec<D>& x, int* ci
   return cell;
 }
 
+/// What every pass over a two-phase body's points holds: the solid pass's parameters (grid,
+/// sets, control, PIC fraction), the liquid's, the body's arrays and the shape functions.
+template <int D, class Shape>
+struct PorePass {
+  PassParams<D> pp;
+  PorePassParams<D> lp;
+  ParticleArrays<D> pa;
+  Shape shape;
+  /// Column c (PoreColumn order) of point p.
+  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+};
+
 /// The pore pressure. The liquid mass balance (top of file) holds per cell c of the grid,
 /// a finite volume of the points it holds, for the storage-weighted mean pressure P_c:
 ///   C_c dP_c/dt = sum_{p in c} V_p r_p,   C_c = sum_{p in c} V_p C_p,
@@ -298,13 +310,9 @@ SCREE_INLINE Index cell_of(const GridGeometry<D>& grid, const Vec<D>& x, int* ci
 /// liquid velocity's G2P, r_p and the cell's moments), CellPressure (per cell: P_c, x_c,
 /// g_c), then PorePressure (p_w, the prescribed pore pressures, S_l(p_w)).
 template <int D, class Shape>
-struct PoreRate {
-  PassParams<D> pp;        ///< the solid pass's (grid, sets, control, PIC fraction)
-  PorePassParams<D> lp;
-  ParticleArrays<D> pa;
-  Shape shape;
-
-  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+struct PoreRate : PorePass<D, Shape> {
+  using Base = PorePass<D, Shape>;
+  using Base::col, Base::lp, Base::pa, Base::pp, Base::shape;
 
   SCREE_HD void operator()(Index p) const {
     if (!(pa.volume0[p] >= 0)) return;  // frozen
@@ -406,13 +414,9 @@ struct CellPressure {
 /// The pore pressure from its cell's reconstruction (CellPressure), then the prescribed
 /// pore pressures, and S_l(p_w).
 template <int D, class Shape>
-struct PorePressure {
-  PassParams<D> pp;
-  PorePassParams<D> lp;
-  ParticleArrays<D> pa;
-  Shape shape;
-
-  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+struct PorePressure : PorePass<D, Shape> {
+  using Base = PorePass<D, Shape>;
+  using Base::col, Base::lp, Base::pa, Base::pp, Base::shape;
 
   SCREE_HD void operator()(Index p) const {
     if (!(pa.volume0[p] >= 0)) return;  // frozen
@@ -513,13 +517,9 @@ struct PoreColumns {
 /// (or the run's last flush) freezes and reports it (ParticlePass::lost), one step later
 /// than a single-phase pass would.
 template <int D, class Shape>
-struct MixtureScatter {
-  PassParams<D> pp;
-  PorePassParams<D> lp;
-  ParticleArrays<D> pa;
-  Shape shape;
-
-  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+struct MixtureScatter : PorePass<D, Shape> {
+  using Base = PorePass<D, Shape>;
+  using Base::col, Base::lp, Base::pa, Base::pp, Base::shape;
 
   /// Warp-collective (parallel_for_warps): points sorted by cell share their stencil's
   /// nodes, so the lanes of a warp with the same first node add their values per warp first
@@ -639,13 +639,9 @@ struct SurfaceMask {
 /// pass's atomics for nodes that are never read (performance log entry 27). Weights at
 /// x^{k+1}, as PoreScatter's (whose porosity it reads).
 template <int D, class Shape>
-struct SurfaceScatter {
-  PassParams<D> pp;
-  PorePassParams<D> lp;
-  ParticleArrays<D> pa;
-  Shape shape;
-
-  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+struct SurfaceScatter : PorePass<D, Shape> {
+  using Base = PorePass<D, Shape>;
+  using Base::col, Base::lp, Base::pa, Base::pp, Base::shape;
 
   SCREE_HD void operator()(Index p, bool valid) const {
     bool active = valid && pa.volume0[p] >= 0;
