@@ -20,6 +20,9 @@
 // plus S_s h dS/dt, which is smaller than d(theta)/dt by the factor |S_s h|/n (1e-5 per
 // metre of head for water). Keeping W as the conserved quantity makes the scheme exactly
 // mass conservative with or without compressibility.
+// With a deformable skeleton (Soil::E_oed > 0, oedometric, Bishop chi = S) W also holds the
+// skeleton's volume change: W = S (n0 - eps) + S_s S h per unit reference volume, with
+// eps = (dsigma - (S p_w - S_0 p_w0))/E_oed (richards1d.cpp, "Skeleton storage").
 #pragma once
 
 #include <filesystem>
