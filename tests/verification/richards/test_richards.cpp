@@ -534,6 +534,23 @@ TEST(Config, ErrorsNameFileLineAndKey) {
   EXPECT_NE(all.find("porosity"), std::string::npos);
 }
 
+// The deformable skeleton's keys: a modulus >= 0 [Pa] (0: rigid), waterLoad only with one.
+TEST(Config, SkeletonKeys) {
+  EXPECT_FALSE(parse_config(kValid, "case.conf").soil.deformable());
+  const Settings s = parse_config(kValid + "oedometricModulus 5e6; waterLoad no;", "case.conf");
+  EXPECT_EQ(s.soil.E_oed, 5e6);
+  EXPECT_FALSE(s.soil.water_load);
+  EXPECT_TRUE(parse_config(kValid + "oedometricModulus 5e6;", "case.conf").soil.water_load);
+  EXPECT_NE(config_error(kValid + "oedometricModulus -1;").find("key 'oedometricModulus': value -1 is out of range"),
+            std::string::npos);
+  EXPECT_NE(config_error(kValid + "oedometricModulus 5e6; waterLoad maybe;").find("'maybe' is not one of yes, no"),
+            std::string::npos);
+  std::vector<std::string> warnings;
+  parse_config(kValid + "waterLoad no;", "case.conf", {}, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("key 'waterLoad' is not used"), std::string::npos);
+}
+
 TEST(Config, SeedCaseReadsBothPermeabilities) {
   const Settings a = config("infiltration1D/kappa_ponding.conf");
   EXPECT_NEAR(a.soil.K_sat, 2e-10 * 1000 * 9.81 / 1e-3, 1e-15);  // K = kappa rho_w g / mu
