@@ -63,6 +63,12 @@ const std::vector<KeySpec>& specs() {
       {"viscosity", Kind::number, "Pa s", "1e-3", "dynamic viscosity mu (with intrinsicPermeability)", 0, kInf, true},
       {"specificStorage", Kind::number, "1/m", "0", "S_s (or liquidBulkModulus)", 0, kInf},
       {"liquidBulkModulus", Kind::number, "Pa", "", "K_l: S_s = n rho_w g / K_l", 0, kInf, true},
+      {"oedometricModulus", Kind::number, "Pa", "0",
+       "E_oed of a deformable skeleton (oedometric, Bishop chi = S): its storage S (S + p dS/dp)/E_oed; "
+       "0: rigid", 0, kInf},
+      {"waterLoad", Kind::word, "", "yes",
+       "oedometricModulus > 0: the weight of the water gained or lost changes the total stress", -kInf, kInf,
+       false, false, {"yes", "no"}},
       {"initial", Kind::word, "", "", "initial condition (required)", -kInf, kInf, false, false,
        {"hydrostatic", "uniform", "steadyFlux"}},
       {"waterTable", Kind::number, "m", "0", "hydrostatic: h = waterTable - z", -kInf, kInf},
@@ -353,6 +359,10 @@ Settings build(Parser& p, const std::string& name, std::vector<std::string>* war
   } else {
     soil.S_s = p.number("specificStorage", 0);
   }
+
+  // Deformable skeleton (richards1d.cpp, "Skeleton storage"): E_oed = E (1 - nu)/((1 + nu)(1 - 2 nu)).
+  soil.E_oed = p.number("oedometricModulus", 0);
+  if (soil.E_oed > 0) soil.water_load = p.word("waterLoad", "yes") == "yes";
 
   const std::string initial = p.word("initial", "");
   const std::string bottom = p.word("bottom", "");

@@ -75,7 +75,11 @@ int main(int argc, char** argv) {
     if (!quiet) {
       std::cout << "scree-richards: " << config << ": L = " << s.height << " m, " << s.cells
                 << " cells, K_sat = " << s.soil.K_sat << " m/s, S_s = " << s.soil.S_s << " 1/m, to t = "
-                << s.end_time << " s\n";
+                << s.end_time << " s";
+      if (s.soil.deformable())
+        std::cout << ", deformable skeleton E_oed = " << s.soil.E_oed << " Pa (water load "
+                  << (s.soil.water_load ? "on" : "off") << ")";
+      std::cout << '\n';
     }
     run(s, out, quiet ? nullptr : &std::cout);
   } catch (const std::exception& e) {

@@ -84,6 +84,18 @@ double Soil::capacity(double h) const {
   return porosity * dS + S_s * (S + h * dS);
 }
 
+double Soil::stored_water(double h, double eps) const {
+  const double S = saturation(h);
+  return S * (porosity - eps) + S_s * S * h;
+}
+
+double Soil::capacity(double h, double eps) const {
+  // d/dh of S (n0 - eps(h)) + S_s S h at fixed total stress, with
+  // eps = (dsigma - (S p_w - S_0 p_w0))/E_oed, p_w = rho_w g h: deps/dh = -rho_w g (S + h dS/dh)/E_oed.
+  const double S = saturation(h), dS = dS_dh(h), dSp = S + h * dS;
+  return dS * (porosity - eps) + S * rho_w * g * dSp / E_oed + S_s * dSp;
+}
+
 double Soil::saturation_for_flux(double q) const {
   if (!(q > 0 && q < K_sat)) throw std::invalid_argument("saturation_for_flux: needs 0 < q < K_sat");
   // k_rel(S_e) is increasing: bisection on S_e in (0, 1).
@@ -199,10 +211,15 @@ void Column::set_initial_head(std::vector<double> h) {
   h_old_ = h_;
   W_old_.resize(h_.size());
   S0_.resize(h_.size());
+  Sp0_.resize(h_.size());
   for (std::size_t i = 0; i < h_.size(); ++i) {
-    W_old_[i] = s_.soil.stored_water(h_[i]);
+    W_old_[i] = s_.soil.stored_water(h_[i]);  // eps = 0, dsigma = 0 at t = 0
     S0_[i] = s_.soil.saturation(h_[i]);
+    Sp0_[i] = s_.soil.rho_w * s_.soil.g * S0_[i] * h_[i];
   }
+  W0_ = W_ = W_old_;
+  eps_.assign(h_.size(), 0.0);
+  dsig_.assign(h_.size(), 0.0);
   rate_.assign(h_.size(), 0.0);
   rate_valid_ = false;
   t_ = 0;
@@ -222,7 +239,7 @@ std::vector<double> Column::saturation() const {
 
 double Column::storage() const {
   double W = 0;
-  for (int i = 0; i <= s_.cells; ++i) W += cell(i) * s_.soil.stored_water(h_[i]);
+  for (int i = 0; i <= s_.cells; ++i) W += cell(i) * W_[i];
   return W;
 }
 
@@ -230,6 +247,65 @@ double Column::interface_K(double Ka, double Kb) const {
   // Celia et al. (1990) use the arithmetic mean; the geometric mean is offered for
   // comparisons. Either is consistent (first order in the jump of K across a cell).
   return s_.mean == ConductivityMean::arithmetic ? 0.5 * (Ka + Kb) : std::sqrt(Ka * Kb);
+}
+
+// ---------------------------------------------------------------------------------------
+// Skeleton storage (Settings::soil.E_oed > 0)
+// ---------------------------------------------------------------------------------------
+// The two-phase MPM's liquid mass balance (framework/include/scree/porous/two_phase.hpp:
+// incompressible grains, liquid bulk modulus K_l, p_w compression positive)
+//   (n S/K_l + n dS/dp_w) dp_w/dt = -(S div v_s + dq/dz)
+// with Bishop's effective stress (chi = S, compression positive) sigma' = sigma - S p_w and an
+// oedometric, small-strain, quasi-static skeleton: the compressive strain rate is
+// deps/dt = (dsigma/dt - d(S p_w)/dt)/E_oed and div v_s = -deps/dt, so
+//   [n S/K_l + n dS/dp_w + S (S + p_w dS/dp_w)/E_oed] dp_w/dt = -dq/dz + S (dsigma/dt)/E_oed.
+// Conservative form. In the solid's reference frame (Z, the initial elevation) a unit of
+// reference volume holds n J S of water (J = 1 - eps its volume; the grains' volume
+// (1 - n) J = 1 - n0 is conserved, so n J = n0 - eps exactly), and with the liquid's
+// compressibility, at the reference density,
+//   W = S (n0 - eps) + S_s S h,    eps = (dsigma - (S p_w - S_0 p_w0))/E_oed            (*)
+// (eps and the stress change dsigma since t = 0; S_0 p_w0 the initial state, where the
+// skeleton is in equilibrium under the initial stress: eps = 0). dW/dt = -dq/dZ is the
+// balance above: dW/dt = (n dS/dh + S_s (S + h dS/dh)) dh/dt - S deps/dt, and
+// -S deps/dt = S rho_w g (S + h dS/dh)/E_oed dh/dt - S (dsigma/dt)/E_oed. The scheme
+// conserves W (the residual of the Picard iteration is the balance of W), so the water
+// balance, stored water including the skeleton's, closes as in the rigid case.
+// The total vertical stress is the weight above (quasi-static, no inertia); per unit
+// reference area the grains' weight never changes and the water's is rho_w g W, so
+//   dsigma(Z) = rho_w g integral_Z^L (W - W(t=0)) dZ'
+// (the solid density drops out). On the grid: the nodes above z_i and the upper half of node
+// i's own cell (none for the surface node, all of the base node's half cell):
+//   dsigma_i = rho_w g [ sum_{j>i} V_j (W_j - W0_j) + c_i (W_i - W0_i) ],  c_i = dz/2 (i < N), 0 (i = N)
+// so that dsigma_0 = rho_w g (storage - storage(0)). Evaluated from the surface down, (*) is
+// linear in W_i at given h_i and dsigma from above: W_i is solved for exactly, and W is a
+// function of the head profile alone (no lag in the residual, so the balance still closes).
+// The Picard matrix takes the local capacity dW_i/dh_i at fixed stress (Soil::capacity(h, eps));
+// the dependence of W_i on the heads above (the weight) is left out of the matrix: lagged
+// by one iteration. With water_load off dsigma = 0 (the skeleton responds to S p_w only).
+// Neglected (README, "Skeleton storage"): the change of the geometry (gradients in the
+// current length, the surface's rise), the porosity's effect on K, inertia.
+void Column::stored_water(const std::vector<double>& h, std::vector<double>& W) {
+  const Soil& soil = s_.soil;
+  const int N = s_.cells;
+  if (!soil.deformable()) {
+    for (int i = 0; i <= N; ++i) W[i] = soil.stored_water(h[i]);
+    return;
+  }
+  const double E = soil.E_oed, rg = soil.rho_w * soil.g;
+  double above = 0;  // rho_w g sum_{j>i} V_j (W_j - W0_j) [Pa]
+  for (int i = N; i >= 0; --i) {
+    const double S = soil.saturation(h[i]), dSp = rg * S * h[i] - Sp0_[i];
+    const double c = soil.water_load && i < N ? rg * 0.5 * dz() : 0.0;  // [Pa] per unit of W
+    // W = S n0 - S (above + c (W - W0) - dSp)/E + S_s S h, solved for W:
+    W[i] = (S * soil.porosity - S * (above - c * W0_[i] - dSp) / E + soil.S_s * S * h[i]) / (1.0 + S * c / E);
+    dsig_[i] = above + c * (W[i] - W0_[i]);
+    eps_[i] = (dsig_[i] - dSp) / E;
+    if (soil.water_load) above += rg * cell(i) * (W[i] - W0_[i]);
+  }
+}
+
+double Column::capacity(int i) const {
+  return s_.soil.deformable() ? s_.soil.capacity(h_[i], eps_[i]) : s_.soil.capacity(h_[i]);
 }
 
 // One backward-Euler step of length dt from (h_old_, W_old_): the modified Picard
@@ -269,6 +345,7 @@ bool Column::picard(double dt, int& iterations) {
       flux[i] = -Kf_[i] * ((h_[i + 1] - h_[i]) / dz + 1.0);  // q_{i+1/2}, upward positive
     }
     Kbase_ = Kn[0];
+    stored_water(h_, W_);
     // Boundary fluxes (upward positive) for nodes whose balance is solved.
     const double q_base = s_.bottom == BottomCondition::freeDrainage ? -Kn[0] : 0.0;  // noFlux: 0
     const double q_top = -s_.top_flux;  // flux top, not ponded
@@ -276,7 +353,7 @@ bool Column::picard(double dt, int& iterations) {
       const double V = cell(i);
       const double q_below = i == 0 ? q_base : flux[i - 1];
       const double q_above = i == N ? q_top : flux[i];
-      double diag = V * soil.capacity(h_[i]) / dt;
+      double diag = V * capacity(i) / dt;
       a_[i] = c_[i] = 0.0;
       if (i > 0) {
         diag += Kf_[i - 1] / dz;
@@ -287,7 +364,7 @@ bool Column::picard(double dt, int& iterations) {
         if (i + 1 <= hi) c_[i] = -Kf_[i] / dz;
       }
       b_[i] = diag;
-      rhs[i] = -V * (soil.stored_water(h_[i]) - W_old_[i]) / dt + q_below - q_above;
+      rhs[i] = -V * (W_[i] - W_old_[i]) / dt + q_below - q_above;
     }
     // Thomas algorithm (the matrix is symmetric and diagonally dominant: no pivoting).
     for (int i = lo + 1; i <= hi; ++i) {
@@ -305,7 +382,10 @@ bool Column::picard(double dt, int& iterations) {
       dmax = std::max(dmax, std::abs(delta_[i]));
     }
     if (!std::isfinite(dmax)) return false;
-    if (dmax < s_.picard_tolerance) return true;
+    if (dmax < s_.picard_tolerance) {
+      stored_water(h_, W_);  // of the converged heads: the boundary fluxes and the balance use it
+      return true;
+    }
   }
   --iterations;
   return false;
@@ -318,11 +398,10 @@ bool Column::picard(double dt, int& iterations) {
 //   surface: q_{N+1/2} = q_{N-1/2} - V_N (W_N^{n+1} - W_N^n)/dt
 void Column::account(double dt) {
   const double dz = this->dz();
-  const Soil& soil = s_.soil;
   const auto flux = [&](int i) { return -Kf_[i] * ((h_[i + 1] - h_[i]) / dz + 1.0); };
   double q_base = 0, q_top = 0;  // upward positive
   switch (s_.bottom) {
-    case BottomCondition::head: q_base = cell(0) * (soil.stored_water(h_[0]) - W_old_[0]) / dt + flux(0); break;
+    case BottomCondition::head: q_base = cell(0) * (W_[0] - W_old_[0]) / dt + flux(0); break;
     case BottomCondition::noFlux: q_base = 0; break;
     case BottomCondition::freeDrainage: q_base = -Kbase_; break;
   }
@@ -341,7 +420,7 @@ void Column::account(double dt) {
 double Column::surface_flux_under_head(double dt) const {
   const int N = s_.cells;
   const double q_below = -Kf_[N - 1] * ((h_[N] - h_[N - 1]) / dz() + 1.0);
-  return q_below - cell(N) * (s_.soil.stored_water(h_[N]) - W_old_[N]) / dt;  // upward positive
+  return q_below - cell(N) * (W_[N] - W_old_[N]) / dt;  // upward positive
 }
 
 void Column::step(double t_limit) {
@@ -409,7 +488,7 @@ void Column::step(double t_limit) {
         std::ostringstream m;
         m << "Picard iteration failed at t = " << t_ << " s with dt = " << dt << " s (dtMin " << s_.dt_min
           << " s, " << it << " iterations, tolerance " << s_.picard_tolerance << " m)";
-        if (s_.soil.S_s == 0) m << "; a saturated column without a head boundary needs specificStorage > 0";
+        if (s_.soil.S_s == 0 && !s_.soil.deformable()) m << "; a saturated column without a head boundary needs specificStorage > 0";
         throw std::runtime_error(m.str());
       }
       dt_ = std::max(dt * s_.dt_cut, s_.dt_min);
@@ -422,7 +501,7 @@ void Column::step(double t_limit) {
     for (int i = 0; i <= N; ++i) rate_[i] = (h_[i] - h_old_[i]) / dt;
     rate_valid_ = ponded_ == ponded_at_start;
     h_old_ = h_;
-    for (int i = 0; i <= N; ++i) W_old_[i] = s_.soil.stored_water(h_[i]);
+    W_old_ = W_;
     ++cnt_.steps;
     cnt_.max_iterations = std::max<long>(cnt_.max_iterations, it);
     // Step-size control on the iteration count. A step shortened to land on t_limit does
@@ -473,8 +552,7 @@ RunSummary run(const Settings& s, const std::filesystem::path& out, std::ostream
 
   auto profiles = open_csv(out / "profiles.csv");
   profiles << "# scree-richards head profiles. z [m] elevation (up), h [m] pressure head, p_w = rho_w g h [Pa],\n"
-              "# S [-] saturation, theta = n S [-], k_rel [-], K = K_sat k_rel [m/s]\n"
-              "time,z,h,p_w,S,theta,k_rel,K\n";
+              "# S [-] saturation, theta = n S [-], k_rel [-], K = K_sat k_rel [m/s]\n";
   auto surface = open_csv(out / "surface.csv");
   surface << "# scree-richards water balance. Rates [m/s] are averages since the previous row, downward positive;\n"
              "# cumulative amounts and storage [m] of water per unit area; storage = integral of theta + S_s S h dz;\n"
@@ -489,12 +567,22 @@ RunSummary run(const Settings& s, const std::filesystem::path& out, std::ostream
            "# stops at the first node whose target does not exceed S_0 (nothing to wet there); depth = L - z_front\n"
            "time,z_front,depth,z_front_steady,S_surface\n";
 
+  const bool deformable = s.soil.deformable();
+  if (deformable)
+    profiles << "# deformable skeleton (E_oed = " << s.soil.E_oed << " Pa): theta = (n0 - eps) S the water per unit\n"
+             << "# reference volume; eps [-] the compressive volumetric strain since t = 0, n = 1 - (1 - n0)/(1 - eps)\n"
+             << "# the porosity, dsigma [Pa] the change of the total vertical stress (compression positive)\n";
+  profiles << "time,z,h,p_w,S,theta,k_rel,K" << (deformable ? ",eps,n,dsigma" : "") << '\n';
   auto write_profile = [&] {
     const auto& h = col.head();
     for (std::size_t i = 0; i < h.size(); ++i) {
       const double S = s.soil.saturation(h[i]), kr = s.soil.k_rel(h[i]);
+      const double eps = col.strain()[i];
       profiles << col.time() << ',' << col.z()[i] << ',' << h[i] << ',' << s.soil.rho_w * s.soil.g * h[i] << ','
-               << S << ',' << s.soil.porosity * S << ',' << kr << ',' << s.soil.K_sat * kr << '\n';
+               << S << ',' << (s.soil.porosity - eps) * S << ',' << kr << ',' << s.soil.K_sat * kr;
+      if (deformable)
+        profiles << ',' << eps << ',' << 1.0 - (1.0 - s.soil.porosity) / (1.0 - eps) << ',' << col.stress_change()[i];
+      profiles << '\n';
     }
   };
   Balance prev = col.balance();

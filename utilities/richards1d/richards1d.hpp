@@ -20,6 +20,9 @@
 // plus S_s h dS/dt, which is smaller than d(theta)/dt by the factor |S_s h|/n (1e-5 per
 // metre of head for water). Keeping W as the conserved quantity makes the scheme exactly
 // mass conservative with or without compressibility.
+// With a deformable skeleton (Soil::E_oed > 0, oedometric, Bishop chi = S) W also holds the
+// skeleton's volume change: W = S (n0 - eps) + S_s S h per unit reference volume, with
+// eps = (dsigma - (S p_w - S_0 p_w0))/E_oed (richards1d.cpp, "Skeleton storage").
 #pragma once
 
 #include <filesystem>
@@ -50,6 +53,10 @@ struct Soil {
   double g = 9.81;       // [m/s^2]
   double kr_min = 1e-12; // floor on k_rel [-]
   double S_s = 0;        // specific storage [1/m]
+  // Deformable skeleton (oedometric, small strain; richards1d.cpp "Skeleton storage"):
+  double E_oed = 0;        // oedometric modulus [Pa]; 0: rigid skeleton (the classic Richards equation)
+  bool water_load = true;  // E_oed > 0: the weight of the water gained or lost loads the skeleton
+  bool deformable() const { return E_oed > 0; }
 
   double n_vg() const { return 1.0 / (1.0 - lambda); }
   double saturation(double h) const;            // S(h) [-]
@@ -59,8 +66,13 @@ struct Soil {
   double k_rel_of_Se(double Se) const;          // the same as a function of S_e (no floor)
   double conductivity(double h) const { return K_sat * k_rel(h); }  // [m/s]
   double water_content(double h) const { return porosity * saturation(h); }
-  double stored_water(double h) const;          // W(h) [-]
-  double capacity(double h) const;              // dW/dh [1/m]
+  double stored_water(double h) const;          // W(h) [-] (rigid skeleton)
+  double capacity(double h) const;              // dW/dh [1/m] (rigid skeleton)
+  /// Deformable skeleton: the stored water per unit reference volume at head h and
+  /// compressive volumetric strain eps (richards1d.cpp, "Skeleton storage"), and its
+  /// derivative in h at fixed total stress [1/m].
+  double stored_water(double h, double eps) const;
+  double capacity(double h, double eps) const;
   /// The saturation at which K_sat k_rel(S) = q (0 < q < K_sat): the unit-gradient state.
   double saturation_for_flux(double q) const;
 };
@@ -178,6 +190,13 @@ class Column {
   const std::vector<double>& head() const { return h_; }
   std::vector<double> saturation() const;
   const std::vector<double>& initial_saturation() const { return S0_; }
+  /// Deformable skeleton: the compressive volumetric strain since t = 0 and the change of
+  /// the total vertical stress [Pa] (compression positive) at the nodes now; zeros when rigid.
+  const std::vector<double>& strain() const { return eps_; }
+  const std::vector<double>& stress_change() const { return dsig_; }
+  /// The stored water per unit reference volume at the nodes now (theta + S_s S h, and the
+  /// skeleton's share when deformable) [-].
+  const std::vector<double>& stored() const { return W_; }
   bool ponded() const { return ponded_; }
   const Balance& balance() const { return bal_; }
   const Counters& counters() const { return cnt_; }
@@ -204,8 +223,16 @@ class Column {
   double interface_K(double Ka, double Kb) const;
   bool top_is_head() const { return s_.top == TopCondition::head || ponded_; }
   double storage() const;
+  /// W_i for the head profile h (rigid: the local W(h_i); deformable: top down through the
+  /// stress change, "Skeleton storage" in richards1d.cpp); fills W, and eps_, dsig_.
+  void stored_water(const std::vector<double>& h, std::vector<double>& W);
+  double capacity(int i) const;  // dW_i/dh_i at the current iterate (the Picard matrix)
 
   Settings s_;
+  std::vector<double> W_;     // stored water of the current iterate / state
+  std::vector<double> W0_;    // stored water at t = 0 (the reference of the stress change)
+  std::vector<double> Sp0_;   // S p_w at t = 0 [Pa] (the reference of the effective stress)
+  std::vector<double> eps_, dsig_;  // strain and stress change of W_'s evaluation
   std::vector<double> z_, h_, h_old_, W_old_, S0_, S_inf_;
   std::vector<double> rate_;  // (h^n - h^{n-1})/dt of the last step [m/s]
   bool rate_valid_ = false;   // false at the start and after a switch of the top condition

@@ -5,6 +5,7 @@
 // Each suite runs in a few seconds on one core.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -331,6 +332,165 @@ TEST(SteadyState, SaturationBehindTheFrontGivesUnitGradientFlux) {
 }
 
 // =========================================================================================
+// Consolidation: the deformable skeleton's storage in the saturated limit (Terzaghi)
+// =========================================================================================
+//
+// With S = 1 (p_w >= 0 everywhere) and no change of the total stress (waterLoad no), the
+// stored water of the deformable skeleton (richards1d.cpp, "Skeleton storage") is
+// W = n0 - eps + S_s h with eps = -(p_w - p_w0)/E_oed, so dW/dt = m dp_w/dt with
+// m = n0/K_l + 1/E_oed, and the balance dW/dt = d/dz[K_sat (dh/dz + 1)] becomes Terzaghi's
+//   du/dt = c_v d2u/dz2,   c_v = K_sat/(rho_w g m),   u = p_w - rho_w g (L - z),
+// the excess over the hydrostatic state of a water table at the surface. The column:
+// L = 1 m, u = u0 = rho_w g * 1 m at t = 0 (initial hydrostatic, waterTable L + 1 m),
+// drained top (h = 0), impermeable base. Terzaghi's series, depth d = L - z from the
+// drained top, T_v = c_v t/L^2:
+//   u/u0 = sum_k (2/M) sin(M d/L) exp(-M^2 T_v),   M = (2k + 1) pi/2,
+// and the stored water: integral of (W - W0) dz = -m u0 L U(T_v),
+//   U = 1 - sum_k (2/M^2) exp(-M^2 T_v).
+// Measured (largest |u - u_exact|/u0 over the nodes at T_v = 0.05 / 0.1 / 0.2 / 0.5):
+//    50 cells: 1.2e-4 / 1.3e-4 / 3.6e-5 / 1.0e-4
+//   100 cells: 6.2e-5 / 5.5e-5 / 4.0e-5 / 9.7e-5
+//   200 cells: 5.5e-5 / 5.2e-5 / 4.2e-5 / 9.6e-5
+// The grid error (second order) is below the time error of backward Euler under
+// timeTolerance 1e-7 m from 100 cells on. Asserted: 1e-3 of u0 on every grid (ten times the
+// largest measured). A c_v 1% off moves the isochrones by 0.24 / 0.24 / 0.36 / 0.45% of u0
+// (from the series), so this bound catches a storage term off by about 0.4% (the skeleton's
+// 1/E_oed is 99% of m here); 1% of u0 would let one 3% off through. And less error on 200
+// cells than on 50. The
+// stored water lost within 1e-3 of -m u0 L U(T_v) (measured 8e-5), water out = stored water
+// lost within 1e-6 (measured 3e-13 relative).
+std::string terzaghi_config(int cells) {
+  std::ostringstream c;
+  c << "height 1; cells " << cells << "; porosity 0.33; rhoW 1000; g 9.81;\n"
+    << "retention vanGenuchten; p0 22295; lambda 0.671; Smin 0.23; Smax 1;\n"
+    << "Ksat 1e-5; liquidBulkModulus 2e8; oedometricModulus 5e6; waterLoad no;\n"
+    << "initial hydrostatic; waterTable 2; top head; topHead 0; bottom noFlux;\n"
+    << "endTime 200; dtInitial 1e-4; timeTolerance 1e-7;\n";
+  return c.str();
+}
+
+struct Terzaghi {
+  double L, u0, cv, m;
+  double u(double z, double t) const {  // the excess pore pressure [Pa]
+    const double T = cv * t / (L * L), d = (L - z) / L;
+    double sum = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const double M = (2 * k + 1) * std::numbers::pi / 2;
+      const double term = 2 / M * std::sin(M * d) * std::exp(-M * M * T);
+      sum += term;
+      if (M * M * T > 50) break;
+    }
+    return u0 * sum;
+  }
+  double degree(double t) const {  // U(T_v)
+    const double T = cv * t / (L * L);
+    double sum = 0;
+    for (int k = 0; k < 100000; ++k) {
+      const double M = (2 * k + 1) * std::numbers::pi / 2;
+      sum += 2 / (M * M) * std::exp(-M * M * T);
+      if (M * M * T > 50) break;
+    }
+    return 1 - sum;
+  }
+};
+
+Terzaghi terzaghi(const Settings& s) {
+  const Soil& so = s.soil;
+  Terzaghi t;
+  t.L = s.height;
+  t.u0 = so.rho_w * so.g * (s.water_table - s.height);
+  t.m = so.S_s / (so.rho_w * so.g) + 1 / so.E_oed;  // n0/K_l + 1/E_oed [1/Pa]
+  t.cv = so.K_sat / (so.rho_w * so.g * t.m);
+  return t;
+}
+
+// Runs to the isochrones T_v = 0.05, 0.1, 0.2, 0.5; the largest |u - u_exact| / u0 at each.
+std::vector<double> terzaghi_errors(Column& col, const Terzaghi& tz, Balance* b = nullptr) {
+  std::vector<double> err;
+  const Soil& so = col.settings().soil;
+  for (double Tv : {0.05, 0.1, 0.2, 0.5}) {
+    const double t = Tv * tz.L * tz.L / tz.cv;
+    col.advance_to(t);
+    double e = 0;
+    for (std::size_t i = 0; i < col.z().size(); ++i) {
+      const double u = so.rho_w * so.g * (col.head()[i] - (tz.L - col.z()[i]));
+      e = std::max(e, std::abs(u - tz.u(col.z()[i], t)) / tz.u0);
+    }
+    err.push_back(e);
+  }
+  if (b) *b = col.balance();
+  return err;
+}
+
+TEST(Consolidation, SaturatedColumnFollowsTerzaghi) {
+  std::vector<double> worst;
+  for (int cells : {50, 100, 200}) {
+    const Settings s = parse_config(terzaghi_config(cells), "terzaghi.conf");
+    ASSERT_TRUE(s.soil.deformable());
+    const Terzaghi tz = terzaghi(s);
+    Column col(s);
+    Balance b;
+    const auto err = terzaghi_errors(col, tz, &b);
+    const double t_end = col.time();
+    // Water out through the top = the stored water lost, the skeleton's included.
+    const double out = -b.inflow, lost = b.storage0 - b.storage;
+    const double lost_exact = tz.m * tz.u0 * tz.L * tz.degree(t_end);
+    std::printf("Terzaghi, %d cells (c_v = %.4e m^2/s, m = %.4e 1/Pa): max |u - u_exact|/u0 at T_v = 0.05 / 0.1 / "
+                "0.2 / 0.5: %.2e / %.2e / %.2e / %.2e; water out %.6e m, stored water lost %.6e m (exact "
+                "%.6e), balance error %.1e relative; %ld steps\n",
+                cells, tz.cv, tz.m, err[0], err[1], err[2], err[3], out, lost, lost_exact, b.error() / out,
+                col.counters().steps);
+    EXPECT_LT(std::abs(b.error()), 1e-6 * out);
+    EXPECT_EQ(b.outflow, 0.0);  // impermeable base
+    EXPECT_NEAR(lost, lost_exact, 1e-3 * lost_exact);
+    worst.push_back(*std::max_element(err.begin(), err.end()));
+    EXPECT_LT(worst.back(), 1e-3);
+  }
+  EXPECT_LT(worst[2], worst[0]);  // converges with the grid
+}
+
+// The weight of the water: as the column drains, the total stress falls by rho_w g times
+// the water lost above, and the skeleton unloads a little (m_v rho_w g (lost water) ~ 2e-4
+// of u0 here). Still within the Terzaghi tolerance, and the balance closes the same way.
+TEST(Consolidation, WaterLoadKeepsTheBalance) {
+  const Settings s = parse_config(terzaghi_config(100), "terzaghi.conf", {"waterLoad=yes"});
+  ASSERT_TRUE(s.soil.water_load);
+  const Terzaghi tz = terzaghi(s);
+  Column col(s);
+  Balance b;
+  const auto err = terzaghi_errors(col, tz, &b);
+  std::printf("Terzaghi with the water load, 100 cells: max err/u0 %.2e / %.2e / %.2e / %.2e, balance error %.1e "
+              "relative, base stress change %.2f Pa\n",
+              err[0], err[1], err[2], err[3], b.error() / -b.inflow, col.stress_change()[0]);
+  EXPECT_LT(std::abs(b.error()), 1e-6 * -b.inflow);
+  EXPECT_NEAR(col.stress_change()[0], s.soil.rho_w * s.soil.g * (b.storage - b.storage0), 1e-9);
+  for (double e : err) EXPECT_LT(e, 0.01);
+}
+
+// The unsaturated seed column with Table A's skeleton (E_oed = 5 MPa): the water balance,
+// stored water including the skeleton's, closes as in the rigid case, with and without the
+// weight of the water; and the skeleton stores more (it swells as the suction goes).
+TEST(Consolidation, SoftSkeletonSeedColumnKeepsTheBalance) {
+  double stored_rigid = 0;
+  {
+    Column col(config("infiltration1D/kappa_ponding.conf", {"endTime=2"}));
+    col.advance_to(2);
+    stored_rigid = col.balance().storage - col.balance().storage0;
+  }
+  for (const char* load : {"waterLoad=yes", "waterLoad=no"}) {
+    Column col(config("infiltration1D/kappa_ponding.conf", {"endTime=2", "oedometricModulus=5e6", load}));
+    col.advance_to(2);
+    const Balance& b = col.balance();
+    const double stored = b.storage - b.storage0;
+    std::printf("seed column, kappa, ponded, E_oed 5 MPa, %s: inflow %.6e m, outflow %.6e m, stored %.6e m "
+                "(rigid %.6e m), balance error %.1e relative\n",
+                load, b.inflow, b.outflow, stored, stored_rigid, b.error() / b.inflow);
+    EXPECT_LT(std::abs(b.error()), 1e-9 * b.inflow);
+    EXPECT_GT(stored, 1.1 * stored_rigid);
+  }
+}
+
+// =========================================================================================
 // Config files and the command line
 // =========================================================================================
 
@@ -372,6 +532,23 @@ TEST(Config, ErrorsNameFileLineAndKey) {
   const std::string all = config_error(kValid + "lamda 0.4;\nporosity 2;");
   EXPECT_NE(all.find("lamda"), std::string::npos);
   EXPECT_NE(all.find("porosity"), std::string::npos);
+}
+
+// The deformable skeleton's keys: a modulus >= 0 [Pa] (0: rigid), waterLoad only with one.
+TEST(Config, SkeletonKeys) {
+  EXPECT_FALSE(parse_config(kValid, "case.conf").soil.deformable());
+  const Settings s = parse_config(kValid + "oedometricModulus 5e6; waterLoad no;", "case.conf");
+  EXPECT_EQ(s.soil.E_oed, 5e6);
+  EXPECT_FALSE(s.soil.water_load);
+  EXPECT_TRUE(parse_config(kValid + "oedometricModulus 5e6;", "case.conf").soil.water_load);
+  EXPECT_NE(config_error(kValid + "oedometricModulus -1;").find("key 'oedometricModulus': value -1 is out of range"),
+            std::string::npos);
+  EXPECT_NE(config_error(kValid + "oedometricModulus 5e6; waterLoad maybe;").find("'maybe' is not one of yes, no"),
+            std::string::npos);
+  std::vector<std::string> warnings;
+  parse_config(kValid + "waterLoad no;", "case.conf", {}, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("key 'waterLoad' is not used"), std::string::npos);
 }
 
 TEST(Config, SeedCaseReadsBothPermeabilities) {
