@@ -224,6 +224,13 @@ void PorousMedia<D>::attach(Body<D>* body) {
   pending_.erase(pending_.begin());
   b.body = body;
   bodies_.push_back(std::move(b));
+  // PorePassParams::drag_per_mass: mu_l / (kappa rho_l) when every body has the same rho_l
+  // and mu_l / kappa (compared exactly), else 0.
+  const PoreParams& p0 = bodies_.front().params;
+  drag_per_mass_ = p0.viscosity / (p0.kappa * p0.rho_l);
+  for (const PorousBody& o : bodies_)
+    if (o.params.rho_l != p0.rho_l || o.params.viscosity / o.params.kappa != p0.viscosity / p0.kappa)
+      drag_per_mass_ = 0;
 }
 
 template <int D>
@@ -302,6 +309,7 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   lp.capacity = lp.inflow + nn;
   lp.moments = lp.inflow + 2 * nn;
   lp.cell_pressure = const_cast<Real*>(cell_pressure_.data());
+  lp.drag_per_mass = drag_per_mass_;
   lp.n_cells = nn;
   lp.totals = const_cast<Real*>(totals_.data());
   return lp;
@@ -385,6 +393,8 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.damping = damping;
   u.damping_start = damping_start;
   u.damping_end = damping_end;
+  u.drag_per_mass = drag_per_mass_;
+  u.rho_l = bodies_.empty() ? Real(0) : bodies_.front().params.rho_l;
   parallel_for(exec_, grid_.num_nodes(), u);
   TwoPhaseNodes<D> g;
   g.grid = grid_;
@@ -406,6 +416,8 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   f.parity = parity;
   f.totals = totals_.data();
   f.serial = exec_.device == Device::cpu && exec_.threads == 1;
+  f.drag_per_mass = u.drag_per_mass;
+  f.rho_l = u.rho_l;
   parallel_for(exec_, grid_.num_nodes(), f);
 }
 

@@ -89,6 +89,7 @@ class PorousMedia {
   Buffer<Real> cells_[2];
   Buffer<std::uint8_t> surface_;  // per node: on a surface of the points (SurfaceMask)
   Buffer<Real> balance_;  // per node: the liquid mass balance's inflow, then its capacity
+  Real drag_per_mass_ = 0;  // PorePassParams::drag_per_mass
   Buffer<Real> cell_pressure_;  // per cell: P_c, x_c, g_c (CellPressure)
   Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals)
   Index n_cells_ = 0;

@@ -80,14 +80,25 @@ struct LiquidFields {
   Real* mass_mix;         ///< M_lm = sum N n S_l rho_l V [kg]
   Real* momentum[D];      ///< sum N rho_l V v_l [kg m/s]
   Real* force[D];         ///< F_l [N]
-  Real* drag;             ///< sum N V n S_l mu_l / kappa [kg/s]: Q at k_rel = 1
+  Real* drag;             ///< sum N V n S_l mu_l / kappa [kg/s]: Q at k_rel = 1 (see drag_per_mass)
   Real* conductance;      ///< sum N V k_rel [m^3]; over `volume`: the node's mean k_rel
   Real* velocity_new[D];  ///< v_l^{k+1} [m/s]
   Real* gradient[D];      ///< sum (m_s + m_lm) grad N [kg/m], the mixture density's (eq. A)
   Real* area[D];          ///< sum V grad N [m^2 per unit thickness]: the surface's share, int N n dGamma
   Real* pressure;         ///< sum N V p_w [Pa m^3]; over `volume`: the nodal pore pressure
-  Real* volume;           ///< sum N V [m^3]
+  Real* volume;           ///< sum N V [m^3] (see drag_per_mass)
 };
+
+/// A node's sum N V [m^3] and drag at k_rel = 1 [kg/s] (LiquidFields::volume, drag), from
+/// the scattered sums or, with PorePassParams::drag_per_mass > 0, from M_l and M_lm.
+template <int D>
+SCREE_INLINE Real nodal_volume(const LiquidFields<D>& f, Index I, Real drag_per_mass, Real rho_l) {
+  return drag_per_mass > 0 ? f.mass[I] / rho_l : f.volume[I];
+}
+template <int D>
+SCREE_INLINE Real nodal_drag(const LiquidFields<D>& f, Index I, Real drag_per_mass) {
+  return drag_per_mass > 0 ? f.mass_mix[I] * drag_per_mass : f.drag[I];
+}
 template <int D>
 inline constexpr int kLiquidFieldCount = 6 + 5 * D;
 
@@ -241,6 +252,12 @@ struct PorePassParams {
   /// [m] and the slope g_c [Pa/m] per axis, n_cells apart (1 + 2 D of them).
   Real* cell_pressure = nullptr;
   Index n_cells = 0;
+  /// Every two-phase body of the case has the same rho_l and mu_l / kappa (the common case,
+  /// one soil and water): the nodal drag at k_rel = 1 is then Q_I = M_lm,I mu_l / (kappa
+  /// rho_l) and sum N V = M_l,I / rho_l, so neither is scattered (two of the eleven nodal sums
+  /// per node in 2D; performance log entry 28). This factor mu_l / (kappa rho_l) [1/s], or 0
+  /// when the bodies differ: both are then scattered (LiquidFields::drag, volume).
+  Real drag_per_mass = 0;
   /// Cumulative liquid mass [kg] since t = 0: [0] through the surfaces (SurfaceInflow),
   /// [1] added by the prescribed pore pressures. Null: not counted.
   Real* totals = nullptr;
@@ -374,29 +391,36 @@ struct CellPressure {
   const StepControl* control = nullptr;
   int gather_parity = 0;
 
-  SCREE_INLINE Real mean_pressure(Index cell, Real dt) const {
-    return (moments[cell] + dt * inflow[cell]) / capacity[cell];
-  }
   SCREE_HD void operator()(Index cell) const {
     const Real dt = control->dt[gather_parity];
     const Real c0 = capacity[cell];
     if (!(dt > 0) || !(c0 > 0)) return;
-    int ci[D];
-    grid.unflat(cell, ci);
-    const Real P0 = mean_pressure(cell, dt);
+    // One reciprocal per cell read (a double division is a chain of about ten dependent
+    // instructions on a GPU), and the cell's coordinates in 32-bit arithmetic (a 64-bit
+    // division is emulated: with both, this pass took 21 us at 4.6e5 cells on an H100).
+    // A grid has far fewer than 2^32 nodes (a node's fields alone are over 200 B).
+    const Real r0 = 1 / c0;
+    const Real P0 = (moments[cell] + dt * inflow[cell]) * r0;
     out[cell] = P0;
+    std::uint32_t rest = static_cast<std::uint32_t>(cell);
     Index stride = 1;
     for (int d = 0; d < D; ++d) {
-      const Real xc = moments[(d + 1) * n_cells + cell] / c0;
+      const std::uint32_t nd = static_cast<std::uint32_t>(grid.n[d]);
+      const int cd = static_cast<int>(rest % nd);
+      rest /= nd;
+      const Real* xm = moments + (d + 1) * n_cells;  // sum V C x_d per cell
+      const Real xc = xm[cell] * r0;
       Real lo = 0, hi = 0;
       bool has_lo = false, has_hi = false;
       const Index a = cell - stride, b = cell + stride;
-      if (ci[d] > 0 && capacity[a] > 0) {
-        lo = (P0 - mean_pressure(a, dt)) / (xc - moments[(d + 1) * n_cells + a] / capacity[a]);
+      if (cd > 0 && capacity[a] > 0) {
+        const Real ra = 1 / capacity[a];
+        lo = (P0 - (moments[a] + dt * inflow[a]) * ra) / (xc - xm[a] * ra);
         has_lo = true;
       }
-      if (ci[d] + 2 < grid.n[d] && capacity[b] > 0) {
-        hi = (mean_pressure(b, dt) - P0) / (moments[(d + 1) * n_cells + b] / capacity[b] - xc);
+      if (cd + 2 < grid.n[d] && capacity[b] > 0) {
+        const Real rb = 1 / capacity[b];
+        hi = ((moments[b] + dt * inflow[b]) * rb - P0) / (xm[b] * rb - xc);
         has_hi = true;
       }
       Real slope = 0;
@@ -557,13 +581,21 @@ struct MixtureScatter : PorePass<D, Shape> {
 
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
     active = active && st.inside;  // outside: frozen by the next gather (above)
-    if (active && lp.cells) atomic_add(lp.cells + cell_of<D>(pp.grid, x), Real(1), pp.serial);
     const bool serial = pp.serial;
 #if defined(__CUDA_ARCH__)
     const WarpSegment seg(active ? static_cast<long long>(pp.grid.flat(st.base))
                                  : -1 - static_cast<long long>(threadIdx.x));
+    if (lp.cells) {
+      // The points per cell: the lanes of one cell (sorted points share it) add their count
+      // in one atomic (one per point serialised on a few addresses per warp).
+      const long long cell = active ? static_cast<long long>(cell_of<D>(pp.grid, x)) : -1;
+      const unsigned peers = __match_any_sync(0xffffffffu, cell);
+      if (active && __ffs(peers) - 1 == static_cast<int>(threadIdx.x & 31u))
+        atomic_add(lp.cells + cell, Real(__popc(peers)), serial);
+    }
 #else
     const WarpSegment seg(0);
+    if (active && lp.cells) atomic_add(lp.cells + cell_of<D>(pp.grid, x), Real(1), serial);
 #endif
     auto add = [&](Real* field, Real value) {
 #if defined(__CUDA_ARCH__)
@@ -587,9 +619,11 @@ SCREE_UNROLL
       add(pp.scatter.mass + I, N * m_s);
       add(lp.scatter.mass + I, N * m_l);
       add(lp.scatter.mass_mix + I, N * m_lm);
-      add(lp.scatter.drag + I, N * q);
+      if (!(lp.drag_per_mass > 0)) {  // uniform across the bodies (uniform in a launch)
+        add(lp.scatter.drag + I, N * q);
+        add(lp.scatter.volume + I, N * V);
+      }
       add(lp.scatter.conductance + I, N * V * krel);
-      add(lp.scatter.volume + I, N * V);
       for (int d = 0; d < D; ++d) {
         Real s = 0;
         for (int e = 0; e < D; ++e) s += sig(d, e) * gradN[e];
@@ -731,6 +765,7 @@ struct TwoPhaseGridUpdate {
   OpenSurfaceWindow open[kMaxOpenSurfaces];   ///< their time windows
   Real mass_eps = 0;
   Real damping = 0, damping_start = 0, damping_end = 0;
+  Real drag_per_mass = 0, rho_l = 0;  ///< PorePassParams::drag_per_mass and the bodies' rho_l
 
   SCREE_HD void operator()(Index I) const {
     if (I == 0) advance_clock(control, parity);
@@ -784,7 +819,7 @@ struct TwoPhaseGridUpdate {
       }
       outflow_only = seepage && !is_open;
       is_open = is_open || seepage;
-      const Real vol = liquid.volume[I];
+      const Real vol = nodal_volume<D>(liquid, I, drag_per_mass, rho_l);
       closed = !is_open;
       if (!is_open && vol > 0) {
         const Real pb = liquid.pressure[I] / vol;
@@ -800,8 +835,9 @@ struct TwoPhaseGridUpdate {
       inflow_face = is_open && !outflow_only && vol > 0 && liquid.pressure[I] < 0;
     }
     // The drag coefficient with the node's mean relative permeability (top of file).
-    const Real kI = inflow_face ? Real(1) : (liquid.volume[I] > 0 ? liquid.conductance[I] / liquid.volume[I] : Real(1));
-    const Real Q = liquid.drag[I] / (kI > Real(1e-300) ? kI : Real(1e-300));
+    const Real volI = nodal_volume<D>(liquid, I, drag_per_mass, rho_l);
+    const Real kI = inflow_face ? Real(1) : (volI > 0 ? liquid.conductance[I] / volI : Real(1));
+    const Real Q = nodal_drag<D>(liquid, I, drag_per_mass) / (kI > Real(1e-300) ? kI : Real(1e-300));
     Real probe = 0;  // health: both phases' nodal velocities and forces (report_nonfinite_node)
     for (int d = 0; d < D; ++d) {
       Real fm = solid.force[d][I], fl = liquid.force[d][I] + boundary[d];
@@ -853,22 +889,23 @@ struct TwoPhaseGridUpdate {
       solid.velocity_new[d][I] = ws[d];
       liquid.velocity_new[d][I] = wl[d];
     }
-    // The next step's P2G adds into the other sets.
+    // The next step's P2G adds into the other sets. The fields only SurfaceScatter adds
+    // (gradient, area, pressure: at surface nodes) are cleared where they were added, after
+    // their last reader (SurfaceInflow).
     solid_other.mass[I] = 0;
     liquid_other.mass[I] = 0;
     liquid_other.mass_mix[I] = 0;
-    liquid_other.drag[I] = 0;
     liquid_other.conductance[I] = 0;
+    if (!(drag_per_mass > 0)) {
+      liquid_other.drag[I] = 0;
+      liquid_other.volume[I] = 0;
+    }
     for (int d = 0; d < D; ++d) {
       solid_other.momentum[d][I] = 0;
       solid_other.force[d][I] = 0;
       liquid_other.momentum[d][I] = 0;
       liquid_other.force[d][I] = 0;
-      liquid_other.gradient[d][I] = 0;
-      liquid_other.area[d][I] = 0;
     }
-    liquid_other.pressure[I] = 0;
-    liquid_other.volume[I] = 0;
   }
 };
 
@@ -878,6 +915,9 @@ struct TwoPhaseGridUpdate {
 /// (outward n, the divergence theorem), rho_l = M_l / sum N V. Interior nodes carry no
 /// boundary, so what the points' storage gains beyond this sum is the discretisation's
 /// imbalance (the water-balance function object reports it).
+/// The last reader of the fields SurfaceScatter adds at the surface nodes: it clears them
+/// there, so that the set is zero everywhere when its turn comes again (cleared at every
+/// node by the grid update, they were a seventh of its memory traffic).
 template <int D>
 struct SurfaceInflow {
   GridGeometry<D> grid;
@@ -889,16 +929,24 @@ struct SurfaceInflow {
   int parity = 0;
   Real* totals = nullptr;
   bool serial = false;
+  Real drag_per_mass = 0, rho_l = 0;  ///< as TwoPhaseGridUpdate's
 
   SCREE_HD void operator()(Index I) const {
-    const Real ml = liquid.mass[I], vol = liquid.volume[I];
-    if (!(ml > 0) || !(vol > 0) || !(solid.mass[I] > 0) || !surface[I]) return;
-    const Real nS = liquid.mass_mix[I] / ml;
-    Real qa = 0;
-    for (int d = 0; d < D; ++d)
-      qa += nS * (liquid.velocity_new[d][I] - solid.velocity_new[d][I]) * liquid.area[d][I];
-    const Real dt = control->dt[parity];
-    if (qa != 0) atomic_add(totals, -dt * (ml / vol) * qa, serial);
+    if (!surface[I]) return;
+    const Real ml = liquid.mass[I], vol = nodal_volume<D>(liquid, I, drag_per_mass, rho_l);
+    if (ml > 0 && vol > 0 && solid.mass[I] > 0) {
+      const Real nS = liquid.mass_mix[I] / ml;
+      Real qa = 0;
+      for (int d = 0; d < D; ++d)
+        qa += nS * (liquid.velocity_new[d][I] - solid.velocity_new[d][I]) * liquid.area[d][I];
+      const Real dt = control->dt[parity];
+      if (qa != 0) atomic_add(totals, -dt * (ml / vol) * qa, serial);
+    }
+    for (int d = 0; d < D; ++d) {
+      liquid.gradient[d][I] = 0;
+      liquid.area[d][I] = 0;
+    }
+    liquid.pressure[I] = 0;
   }
 };
 
