@@ -161,5 +161,27 @@ TEST(MemoryEstimate, ALargeGridNamesCellSizeAndTheSmallestThatFits) {
   EXPECT_FALSE(with_cell(h * 0.98)) << what;
 }
 
+TEST(MemoryEstimate, AnAllocationThatFailsNamesItsEntryAndSize) {
+  // Unchecked (check_setup off), a grid of 4e12 nodes: its fields (288 TB) exceed any
+  // address space, so the allocation fails on every machine and whatever its overcommit.
+  TempCase tc("memory_alloc");
+  write_block(tc, "5e-5", "1");
+  tc.write("system/gridDict", "dimension 2;\nlower (0 0);\nupper (100 100);\ncellSize 5e-5;");
+  const Case c = Case::read(tc.dir(), runtime());
+  RunOptions o = options(1);
+  o.device = Device::cpu;
+  o.check_setup = false;
+  std::string what;
+  try {
+    Simulation sim(c, runtime(), o);
+  } catch (const InputError& e) {
+    what = e.what();
+  }
+  EXPECT_EQ(what.rfind("system/gridDict:4:1: cellSize: the grid's 4000020000025 nodes need about ", 0), 0u) << what;
+  EXPECT_NE(what.find(" of host memory, and an allocation for them failed (out of host memory: 288 TB ("),
+            std::string::npos)
+      << what;
+}
+
 }  // namespace
 }  // namespace scree::test
