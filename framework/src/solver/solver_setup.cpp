@@ -179,12 +179,16 @@ InputError Solver<D>::out_of_memory(std::size_t part, const std::bad_alloc& e) c
   // The estimate check_setup made passed (or was not run): say what the part needs.
   const MemoryEstimate m = estimate_memory(case_, rt_.registry(), exec_.device, opt_.output);
   const MemoryPart& p = m.parts.at(part);
-  const double bytes = p.backend() + (exec_.device == Device::cpu ? p.host() : 0);
+  // A Buffer's allocation says its space; another one (a host vector) is the host's.
+  const auto* oom = dynamic_cast<const mem::OutOfMemory*>(&e);
+  const Device space = oom ? oom->device() : Device::cpu;
+  const double bytes =
+      space == Device::cuda ? p.backend() : p.host() + (exec_.device == Device::cpu ? p.backend() : 0);
   const std::string what = part == 0 ? "the grid's " + std::to_string(grid_.num_nodes()) + " nodes"
                                      : "the particles of " + p.what + " (about " +
                                            std::to_string(static_cast<long long>(p.count)) + ")";
   return InputError(p.where, p.key + ": " + what + " need about " + mem::format_bytes(bytes) + " of " +
-                                 (exec_.device == Device::cuda ? "GPU" : "host") +
+                                 (space == Device::cuda ? "GPU" : "host") +
                                  " memory, and an allocation for them failed (" + e.what() +
                                  "); nothing was run. scree --check compares the case's memory with what is free");
 }
