@@ -53,8 +53,9 @@ void track_free(Device d, void* p) {
     u.sizes.erase(it);
   }
 }
-/// The first number in file `path` after `key` (a line of /proc/meminfo: "MemAvailable:
-/// 123 kB"), times `unit`; or the whole file as a number ("max" and errors: false).
+/// The number after `key` at the start of a line of file `path` ("MemAvailable: 123 kB" of
+/// /proc/meminfo), times `unit`; or, key null, the file's first word as a number ("max"
+/// and a missing file or key: false).
 bool read_number(const char* path, const char* key, double unit, double& out) {
   std::ifstream f(path);
   if (!f) return false;
@@ -136,11 +137,13 @@ Available available(Device d) {
     a.source = "MemAvailable in /proc/meminfo";
     a.known = true;
   }
-  // cgroup v2: the group's limit less what it uses ("max": no limit).
-  double limit = 0, used = 0;
+  // cgroup v2: the group's limit less what it uses ("max": no limit), its inactive page
+  // cache aside (reclaimed before the limit is hit, as MemAvailable counts it).
+  double limit = 0, used = 0, cache = 0;
   if (read_number("/sys/fs/cgroup/memory.max", nullptr, 1, limit) &&
       read_number("/sys/fs/cgroup/memory.current", nullptr, 1, used)) {
-    const double left = std::max(0.0, limit - used);
+    read_number("/sys/fs/cgroup/memory.stat", "inactive_file ", 1, cache);
+    const double left = std::max(0.0, limit - std::max(0.0, used - cache));
     if (!a.known || left < static_cast<double>(a.bytes)) {
       a.bytes = static_cast<std::size_t>(left);
       a.source = "memory.max less memory.current of the cgroup (/sys/fs/cgroup)";
