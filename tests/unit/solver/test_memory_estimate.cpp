@@ -39,6 +39,22 @@ double allocated(const Case& c) {
   return static_cast<double>(mem::bytes_in_use(Device::cpu) - before);
 }
 
+TEST(MemoryEstimate, FreeMemoryIsReadAndTheTestVariableReplacesIt) {
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+  const mem::Available host = mem::available(Device::cpu);
+  ASSERT_TRUE(host.known) << "Linux: /proc/meminfo";
+  EXPECT_GT(host.bytes, 0u);
+  EXPECT_FALSE(host.source.empty());
+  ::setenv("SCREE_TEST_FREE_MEMORY", "2e9", 1);
+  EXPECT_EQ(mem::available(Device::cpu).bytes, 2000000000u);
+  EXPECT_EQ(mem::available(Device::cuda).bytes, 2000000000u);
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+  EXPECT_EQ(mem::format_bytes(152), "152 bytes");
+  EXPECT_EQ(mem::format_bytes(2e9), "2.00 GB");
+  EXPECT_EQ(mem::format_bytes(43.84e9), "43.8 GB");
+  EXPECT_EQ(mem::format_bytes(288e12), "288 TB");
+}
+
 TEST(MemoryEstimate, BytesPerNodeAndPointAreTheSolversArrays) {
   TempCase tc("memory_counts");
   write_block(tc);
