@@ -248,11 +248,12 @@ std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device 
     bool fewer_points = false;
     if (top > 0) {
       const int body = static_cast<int>(top) - 1;
-      for (int ppc = m.bodies[body].ppc - 1; ppc >= 1 && fit.empty(); --ppc) {
+      for (int ppc = m.bodies[body].ppc - 1; ppc >= 1 && !fewer_points; --ppc) {
         const MemoryEstimate f = evaluate(m, m.grid.cell_size, body, ppc);
-        if (total(f, space) <= free && (fewer_points = true))
-          fit = "particlesPerCell " + std::to_string(ppc) + " fits (" + count_text(f.parts[top].count) +
-                " particles, about " + mem::format_bytes(total(f, space)) + ")";
+        if (total(f, space) > free) continue;
+        fewer_points = true;
+        fit = "particlesPerCell " + std::to_string(ppc) + " fits (" + count_text(f.parts[top].count) +
+              " particles, about " + mem::format_bytes(total(f, space)) + ")";
       }
       if (fit.empty() && m.bodies[body].ppc > 1) fit = "particlesPerCell 1 does not fit either";
     }
