@@ -15,6 +15,8 @@ variant.json:
                 (default: tests/broken/base), e.g. "cases/elasticColumn"; a copy of it
                 without its results (VTK/, postProcessing/)
   "args":       scree's arguments besides --case (e.g. ["--check"])
+  "env":        optional: environment variables set for scree, e.g.
+                {"SCREE_TEST_FREE_MEMORY": "2e9"} (the free memory its check assumes)
   "exit":       the expected exit status
   "stderr", "stdout":          regular expressions that must each match (re.MULTILINE)
   "not_stderr", "not_stdout":  regular expressions that must not match
@@ -110,7 +112,8 @@ def run_scree(scree, case, spec, out_path, err_path):
     signalled = False
     start = time.monotonic()
     with open(out_path, "wb") as out, open(err_path, "wb") as err:
-        proc = subprocess.Popen(cmd, stdout=out, stderr=err, start_new_session=True)
+        env = dict(os.environ, **spec.get("env", {}))
+        proc = subprocess.Popen(cmd, stdout=out, stderr=err, start_new_session=True, env=env)
         while True:
             rc = proc.poll()
             elapsed = time.monotonic() - start

@@ -11,7 +11,13 @@
 // there), and a case that already has results (the files of its writers, its
 // postProcessing/) is not run over unless --overwrite is given.
 //
-// Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message),
+// The memory the run needs is estimated in that check, before anything is allocated; a
+// case that does not fit in the free host (or GPU) memory is an error at the entry that
+// drives it (memory_estimate.hpp). SCREE_TEST_FREE_MEMORY=<bytes> in the environment sets
+// the free memory that check assumes: for tests only.
+//
+// Exit status: 0 success, 1 errors in the case (each printed as file:line:col: message,
+// among them a case too large for the memory, or an allocation of its setup that failed),
 // 2 bad command line, 3 a failure while running, 4 the case has results of an earlier run
 // that this run would replace (nothing was run: move them, or give --overwrite), 5 the run
 // went wrong (a non-finite field, particles leaving the grid en masse, an unstable step) and
@@ -27,6 +33,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -167,13 +174,19 @@ int main(int argc, char** argv) {
   const fs::path dir = vm["case"].as<std::string>();
   try {
     scree::Case c = scree::Case::read(dir, rt);
-    // The setup's checks (the run would reject what they find), reported together.
-    scree::SetupReport setup = scree::check_setup(c, rt, opt.output);
+    // The setup's checks (the run would reject what they find), reported together. The
+    // memory's is against the backend the run would take (without a word of it here).
+    const scree::Device memory_backend =
+        device == "cuda" || (device.empty() && scree::mem::cuda_compiled() && scree::mem::cuda_available())
+            ? scree::Device::cuda
+            : scree::Device::cpu;
+    scree::SetupReport setup = scree::check_setup(c, rt, opt.output, memory_backend);
     for (const auto& w : setup.warnings) std::cout << "warning: " << w.what() << "\n";
     if (!setup.errors.empty()) throw scree::InputErrors(std::move(setup.errors));
     const auto results = opt.output ? scree::existing_results(c, rt.registry()) : std::vector<fs::path>{};
     if (vm.count("check")) {
       std::cout << "scree: case " << dir.string() << " is valid\n";
+      std::cout << "scree: a run needs " << setup.memory << "\n";
       if (!results.empty())
         std::cout << "scree: note: it has results of an earlier run (" << results.front().string()
                   << (results.size() > 1 ? ", ..." : "") << "): a run replaces them only with --overwrite\n";
@@ -247,6 +260,12 @@ int main(int argc, char** argv) {
   } catch (const scree::InputError& e) {
     std::cerr << e.what() << "\nscree: error in case " << dir.string() << "\n";
     return 1;
+  } catch (const std::bad_alloc& e) {
+    // An allocation after the setup (the setup's own name their entry: InputError above).
+    std::cout << std::flush;
+    std::cerr << "scree: " << e.what() << "; the run failed (the case's memory estimate is checked before the run: "
+              << "scree --check)\n";
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "scree: " << e.what() << "\n";
     return 3;

@@ -3,12 +3,17 @@
 // runtime (DESIGN.md: shared cudart, one primary context).
 #include "scree/exec/memory.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <mutex>
 #include <new>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 
@@ -48,6 +53,23 @@ void track_free(Device d, void* p) {
     u.sizes.erase(it);
   }
 }
+/// The number after `key` at the start of a line of file `path` ("MemAvailable: 123 kB" of
+/// /proc/meminfo), times `unit`; or, key null, the file's first word as a number ("max"
+/// and a missing file or key: false).
+bool read_number(const char* path, const char* key, double unit, double& out) {
+  std::ifstream f(path);
+  if (!f) return false;
+  std::string line;
+  while (std::getline(f, line)) {
+    if (key && line.rfind(key, 0) != 0) continue;
+    std::istringstream in(key ? line.substr(std::strlen(key)) : line);
+    double v = 0;
+    if (!(in >> v)) return false;
+    out = v * unit;
+    return true;
+  }
+  return false;
+}
 #if defined(SCREE_HAVE_CUDA)
 void check(cudaError_t e, const char* what) {
   if (e != cudaSuccess)
@@ -69,16 +91,83 @@ void check_cuda_launch(const char* what) {
 
 namespace mem {
 
+OutOfMemory::OutOfMemory(std::size_t bytes, Device d)
+    : bytes_(bytes),
+      device_(d),
+      what_(std::string("out of ") + (d == Device::cuda ? "device (GPU)" : "host") + " memory: " +
+            format_bytes(static_cast<double>(bytes)) + " (" + std::to_string(bytes) + " bytes) could not be allocated") {}
+
+std::string format_bytes(double bytes) {
+  static const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB", "EB"};
+  int u = 0;
+  while (bytes >= 999.5 && u < 6) {
+    bytes /= 1000;
+    ++u;
+  }
+  char buf[32];
+  if (u == 0) std::snprintf(buf, sizeof buf, "%.0f bytes", bytes);
+  else std::snprintf(buf, sizeof buf, bytes < 9.995 ? "%.2f %s" : (bytes < 99.95 ? "%.1f %s" : "%.0f %s"), bytes, units[u]);
+  return buf;
+}
+
+Available available(Device d) {
+  Available a;
+  if (const char* t = std::getenv("SCREE_TEST_FREE_MEMORY"); t && *t) {  // tests only (memory.hpp)
+    a.bytes = static_cast<std::size_t>(std::strtod(t, nullptr));
+    a.source = "SCREE_TEST_FREE_MEMORY, set for a test";
+    a.known = true;
+    return a;
+  }
+  if (d == Device::cuda) {
+#if defined(SCREE_HAVE_CUDA)
+    std::size_t free = 0, total = 0;
+    if (cudaMemGetInfo(&free, &total) == cudaSuccess) {
+      a.bytes = free;
+      a.source = "free memory of the GPU (cudaMemGetInfo)";
+      a.known = true;
+    } else {
+      cudaGetLastError();  // no device: no limit known
+    }
+#endif
+    return a;
+  }
+  double v = 0;
+  if (read_number("/proc/meminfo", "MemAvailable:", 1024, v)) {
+    a.bytes = static_cast<std::size_t>(v);
+    a.source = "MemAvailable in /proc/meminfo";
+    a.known = true;
+  }
+  // cgroup v2: the group's limit less what it uses ("max": no limit), its inactive page
+  // cache aside (reclaimed before the limit is hit, as MemAvailable counts it).
+  double limit = 0, used = 0, cache = 0;
+  if (read_number("/sys/fs/cgroup/memory.max", nullptr, 1, limit) &&
+      read_number("/sys/fs/cgroup/memory.current", nullptr, 1, used)) {
+    read_number("/sys/fs/cgroup/memory.stat", "inactive_file ", 1, cache);
+    const double left = std::max(0.0, limit - std::max(0.0, used - cache));
+    if (!a.known || left < static_cast<double>(a.bytes)) {
+      a.bytes = static_cast<std::size_t>(left);
+      a.source = "memory.max less memory.current of the cgroup (/sys/fs/cgroup)";
+      a.known = true;
+    }
+  }
+  return a;
+}
+
 void* allocate(std::size_t bytes, Device d) {
   if (bytes == 0) return nullptr;
   void* p = nullptr;
   if (d == Device::cpu) {
     // 64-byte alignment: whole cache lines, and SIMD-friendly.
     p = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
-    if (!p) throw std::bad_alloc();
+    if (!p) throw OutOfMemory(bytes, d);
   } else {
 #if defined(SCREE_HAVE_CUDA)
-    check(cudaMalloc(&p, bytes), "cudaMalloc");
+    if (const cudaError_t e = cudaMalloc(&p, bytes); e == cudaErrorMemoryAllocation) {
+      cudaGetLastError();  // clear it: the run may report and go on
+      throw OutOfMemory(bytes, d);
+    } else {
+      check(e, "cudaMalloc");
+    }
 #else
     no_cuda();
 #endif
@@ -136,7 +225,7 @@ void* allocate_pinned(std::size_t bytes) {
   }
 #endif
   void* p = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
-  if (!p) throw std::bad_alloc();
+  if (!p) throw OutOfMemory(bytes, Device::cpu);
   return p;
 }
 

@@ -244,6 +244,26 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
 }
 
 template <int D>
+double estimate_particle_count(const Dictionary& body, Real cell_size, int particles_per_cell) {
+  Shape<D> shape;
+  try {
+    shape = read_shape<D>(body.sub("region"));
+  } catch (const InputError&) {
+    return 0;
+  }
+  double measure = 1;
+  if (!shape.poly.empty()) {  // the shoelace formula
+    double twice = 0;
+    for (std::size_t i = 0, j = shape.poly.size() - 1; i < shape.poly.size(); j = i++)
+      twice += shape.poly[j][0] * shape.poly[i][1] - shape.poly[i][0] * shape.poly[j][1];
+    measure = std::fabs(twice) / 2;
+  } else {
+    for (int d = 0; d < D; ++d) measure *= std::max(0.0, static_cast<double>(shape.hi[d] - shape.lo[d]));
+  }
+  return measure * std::pow(particles_per_cell / static_cast<double>(cell_size), D);
+}
+
+template <int D>
 void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vector<InputError>& errors) {
   struct Placed {
     std::string name;
@@ -308,6 +328,8 @@ template GeneratedParticles<2> generate_particles<2>(const Dictionary&, const Gr
                                                      const Vec<2>&);
 template GeneratedParticles<3> generate_particles<3>(const Dictionary&, const GridGeometry<3>&, Real,
                                                      const Vec<3>&);
+template double estimate_particle_count<2>(const Dictionary&, Real, int);
+template double estimate_particle_count<3>(const Dictionary&, Real, int);
 template void check_bodies<2>(const Dictionary&, const GridGeometry<2>&, std::vector<InputError>&);
 template void check_bodies<3>(const Dictionary&, const GridGeometry<3>&, std::vector<InputError>&);
 

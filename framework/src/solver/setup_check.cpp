@@ -11,6 +11,7 @@
 
 #include "scree/boundary/boundary_condition.hpp"
 #include "scree/plugin/context.hpp"
+#include "scree/solver/memory_estimate.hpp"
 #include "scree/solver/particle_generation.hpp"
 
 namespace fs = std::filesystem;
@@ -146,8 +147,20 @@ void check_output(const Case& c, const Registry& reg, SetupReport& report) {
 
 }  // namespace
 
-SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output) {
+SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output, Device device) {
   SetupReport report;
+  report.errors = check_memory(c, rt.registry(), device, with_output);
+  if (!report.errors.empty()) return report;
+  {
+    const MemoryEstimate m = estimate_memory(c, rt.registry(), device, with_output);
+    auto space = [](double need, Device d) {
+      const mem::Available a = mem::available(d);
+      return "about " + mem::format_bytes(need) + " of " + (d == Device::cuda ? "GPU" : "host") + " memory" +
+             (a.known ? " (" + mem::format_bytes(static_cast<double>(a.bytes)) + " free)" : std::string());
+    };
+    report.memory = space(m.host_bytes(), Device::cpu);
+    if (device == Device::cuda) report.memory += " and " + space(m.device_bytes(), Device::cuda);
+  }
   if (c.dimension() == 3)
     check_geometry<3>(c, rt, report);
   else

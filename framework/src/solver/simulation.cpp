@@ -30,7 +30,7 @@ Simulation::Simulation(const Case& c, PluginRuntime& rt, const RunOptions& o) : 
   if (o.check_setup) {
     // What the setup below would reject, all of it with file:line, before it allocates
     // or writes anything (the same checks as scree --check).
-    SetupReport report = check_setup(c, rt, o.output);
+    SetupReport report = check_setup(c, rt, o.output, o.device);
     std::ostream& log = o.log ? *o.log : std::cout;
     for (const InputError& w : report.warnings) log << "warning: " << w.what() << "\n";
     if (!report.errors.empty()) throw InputErrors(std::move(report.errors));

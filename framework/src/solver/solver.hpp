@@ -29,6 +29,7 @@
 
 #include <iosfwd>
 #include <memory>
+#include <new>
 #include <optional>
 #include <vector>
 
@@ -69,6 +70,11 @@ class Solver {
   void setup_streams();
   void setup_grid();
   void setup_bodies();
+  /// One body of constant/bodies: its particles generated, its material's body made.
+  void setup_body(const Entry& e, int& id, std::int64_t& next_id, Real& min_mass);
+  /// The error for an allocation of part `part` of the memory estimate (0: the grid, then
+  /// the bodies) that failed: its entry, its size (memory_estimate.hpp) and `e`.
+  InputError out_of_memory(std::size_t part, const std::bad_alloc& e) const;
   void setup_boundaries();
   void setup_split();
   void setup_output();

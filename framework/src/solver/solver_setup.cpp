@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <new>
 #include <stdexcept>
 
+#include "scree/solver/memory_estimate.hpp"
 #include "scree/solver/particle_generation.hpp"
 #include "solver.hpp"
 
@@ -102,11 +104,15 @@ void Solver<D>::setup_grid() {
   const Index nn = grid_.num_nodes();
   const int fields = 1 + 4 * D;
   for (int s = 0; s < 2; ++s) {
-    grid_data_[s].resize(static_cast<std::size_t>(nn) * fields, exec_.device);
+    try {
+      grid_data_[s].resize(static_cast<std::size_t>(nn) * fields, exec_.device);
+      tile_stamps_[s].resize(static_cast<std::size_t>(Tiles<D>::total(grid_)), exec_.device);
+    } catch (const std::bad_alloc& e) {
+      throw out_of_memory(0, e);
+    }
     Real* b = grid_data_[s].data();
     int k = 0;
     auto next = [&] { return b + static_cast<std::size_t>(k++) * nn; };
-    tile_stamps_[s].resize(static_cast<std::size_t>(Tiles<D>::total(grid_)), exec_.device);
     sets_[s].mass = next();
     for (int d = 0; d < D; ++d) sets_[s].momentum[d] = next();
     for (int d = 0; d < D; ++d) sets_[s].force[d] = next();
@@ -147,47 +153,83 @@ void Solver<D>::setup_bodies() {
                        "updateScheme: a case with a two-phase body (" + e.key() +
                            ", twoPhase) runs the USL scheme; set `updateScheme USL;`");
     }
-    porous_ = std::make_unique<PorousMedia<D>>(reg, grid_, exec_, gravity_, sch.shape,
-                                               Real(0.5) / BodySettings::read(e.dict()).particles_per_cell);
+    try {  // the pore liquid's nodal fields
+      porous_ = std::make_unique<PorousMedia<D>>(reg, grid_, exec_, gravity_, sch.shape,
+                                                 Real(0.5) / BodySettings::read(e.dict()).particles_per_cell);
+    } catch (const std::bad_alloc& err) {
+      throw out_of_memory(0, err);
+    }
     break;
   }
+  std::size_t part = 0;  // the body's part of the memory estimate (0: the grid)
   for (const Entry& e : case_.bodies().entries()) {
     if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
-    const Dictionary& b = e.dict();
-    const BodySettings bs = BodySettings::read(b);
-    const Dictionary& mat = case_.materials().sub(bs.material);
-    const Entry& type = mat.at("type");
-    const PluginEntry& pe = reg.get(PluginKind::material, type.as_word(), type.where());
-    const Real density = pe.material.point(mat)->density();
-
-    GeneratedParticles<D> gp = generate_particles<D>(b, grid_, density, gravity_);
-    BodySetup<D> s;
-    s.name = e.key();
-    s.body_id = id++;
-    s.material_name = bs.material;
-    s.exec = exec_;
-    s.shape = sch.shape;
-    s.gimp_half_length = Real(0.5) / bs.particles_per_cell;
-    s.transfer = sch.transfer;
-    s.cell_size = grid_.h;
-    s.x = std::move(gp.x);
-    s.v = std::move(gp.v);
-    s.volume = std::move(gp.volume);
-    s.sigma = std::move(gp.sigma);
-    s.velocity_gradient = gp.velocity_gradient;
-    s.first_id = next_id;
-    next_id += static_cast<std::int64_t>(s.x.size());
-    const bool porous = porous_ && porous_->prepare(b, s, density);
-    for (Real v : s.volume) min_mass = std::min(min_mass, v * density * s.mass_factor);
-    std::unique_ptr<Body<D>> body;
-    if constexpr (D == 2) body = pe.material.body2(mat, s);
-    else body = pe.material.body3(mat, s);
-    if (porous) porous_->attach(body.get());
-    ctx_.body_names.push_back(e.key());
-    material_names_.push_back(bs.material);
-    bodies_.push_back(std::move(body));
+    ++part;
+    try {
+      setup_body(e, id, next_id, min_mass);
+    } catch (const std::bad_alloc& err) {
+      throw out_of_memory(part, err);
+    }
   }
   mass_eps_ = sch.mass_tolerance * min_mass;
+}
+
+template <int D>
+InputError Solver<D>::out_of_memory(std::size_t part, const std::bad_alloc& e) const {
+  // The estimate check_setup made passed (or was not run): say what the part needs.
+  const MemoryEstimate m = estimate_memory(case_, rt_.registry(), exec_.device, opt_.output);
+  const MemoryPart& p = m.parts.at(part);
+  // A Buffer's allocation says its space; another one (a host vector) is the host's.
+  const auto* oom = dynamic_cast<const mem::OutOfMemory*>(&e);
+  const Device space = oom ? oom->device() : Device::cpu;
+  const double bytes =
+      space == Device::cuda ? p.backend() : p.host() + (exec_.device == Device::cpu ? p.backend() : 0);
+  const std::string what = part == 0 ? "the grid's " + std::to_string(grid_.num_nodes()) + " nodes"
+                                     : "the particles of " + p.what + " (about " +
+                                           std::to_string(static_cast<long long>(p.count)) + ")";
+  return InputError(p.where, p.key + ": " + what + " need about " + mem::format_bytes(bytes) + " of " +
+                                 (space == Device::cuda ? "GPU" : "host") +
+                                 " memory, and an allocation for them failed (" + e.what() +
+                                 "); nothing was run. scree --check compares the case's memory with what is free");
+}
+
+template <int D>
+void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real& min_mass) {
+  const Registry& reg = rt_.registry();
+  const SchemeSettings& sch = settings_.schemes;
+  const Dictionary& b = e.dict();
+  const BodySettings bs = BodySettings::read(b);
+  const Dictionary& mat = case_.materials().sub(bs.material);
+  const Entry& type = mat.at("type");
+  const PluginEntry& pe = reg.get(PluginKind::material, type.as_word(), type.where());
+  const Real density = pe.material.point(mat)->density();
+
+  GeneratedParticles<D> gp = generate_particles<D>(b, grid_, density, gravity_);
+  BodySetup<D> s;
+  s.name = e.key();
+  s.body_id = id++;
+  s.material_name = bs.material;
+  s.exec = exec_;
+  s.shape = sch.shape;
+  s.gimp_half_length = Real(0.5) / bs.particles_per_cell;
+  s.transfer = sch.transfer;
+  s.cell_size = grid_.h;
+  s.x = std::move(gp.x);
+  s.v = std::move(gp.v);
+  s.volume = std::move(gp.volume);
+  s.sigma = std::move(gp.sigma);
+  s.velocity_gradient = gp.velocity_gradient;
+  s.first_id = next_id;
+  next_id += static_cast<std::int64_t>(s.x.size());
+  const bool porous = porous_ && porous_->prepare(b, s, density);
+  for (Real v : s.volume) min_mass = std::min(min_mass, v * density * s.mass_factor);
+  std::unique_ptr<Body<D>> body;
+  if constexpr (D == 2) body = pe.material.body2(mat, s);
+  else body = pe.material.body3(mat, s);
+  if (porous) porous_->attach(body.get());
+  ctx_.body_names.push_back(e.key());
+  material_names_.push_back(bs.material);
+  bodies_.push_back(std::move(body));
 }
 
 template <int D>

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,8 +23,38 @@ enum class Device { cpu, cuda };
 SCREE_API const char* to_string(Device d);
 
 namespace mem {
-/// Allocate/free/copy raw bytes in the memory of `d`. Throw std::runtime_error on failure
-/// (with the CUDA error string), or when the CUDA backend is not compiled in.
+/// An allocation that failed for want of memory: its size and memory space are in what()
+/// ("out of host memory: 12.0 GB (12000000000 bytes) could not be allocated").
+class SCREE_API OutOfMemory : public std::bad_alloc {
+ public:
+  OutOfMemory(std::size_t bytes, Device d);
+  const char* what() const noexcept override { return what_.c_str(); }
+  std::size_t bytes() const noexcept { return bytes_; }
+  Device device() const noexcept { return device_; }
+
+ private:
+  std::size_t bytes_;
+  Device device_;
+  std::string what_;
+};
+
+/// Memory a run may still take in the space of `d`: bytes, and where the figure comes
+/// from (for messages). Host: MemAvailable of /proc/meminfo, or less where the cgroup's
+/// memory.max (cgroup v2) leaves less; device: cudaMemGetInfo's free memory of the
+/// current GPU. The environment variable SCREE_TEST_FREE_MEMORY (bytes), for tests only,
+/// replaces both, so that a test can exceed it without allocating anything.
+struct Available {
+  std::size_t bytes = 0;
+  std::string source;  ///< "MemAvailable in /proc/meminfo", "memory.max of the cgroup", ...
+  bool known = false;  ///< false: nothing could be read (no limit is applied)
+};
+SCREE_API Available available(Device d);
+/// "1.5 GB", "312 MB", "64 kB" (decimal units, 3 significant digits).
+SCREE_API std::string format_bytes(double bytes);
+
+/// Allocate/free/copy raw bytes in the memory of `d`. Throw OutOfMemory when the memory is
+/// not there, std::runtime_error on another failure (with the CUDA error string), or when
+/// the CUDA backend is not compiled in.
 SCREE_API void* allocate(std::size_t bytes, Device d);
 SCREE_API void deallocate(void* p, Device d) noexcept;
 SCREE_API void copy(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes);

@@ -36,6 +36,15 @@ template <int D>
 SCREE_API GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& grid,
                                                    Real density, const Vec<D>& gravity);
 
+/// The number of particles generate_particles makes for `body` with `particles_per_cell`
+/// points per cell along each axis on cells of size `cell_size`, estimated without making
+/// them: the region's area (volume in 3D) times (particles_per_cell / cell_size)^D, the
+/// points' density (the cut cells along the region's edge aside). 0 for a region that
+/// does not fit the case (check_bodies reports it). A double: a case may ask for more
+/// points than any integer type holds.
+template <int D>
+SCREE_API double estimate_particle_count(const Dictionary& body, Real cell_size, int particles_per_cell);
+
 /// The checks of every body of constant/bodies against the grid, without keeping any
 /// particle (scree --check runs them, and every run before it allocates anything):
 ///   - each region fits the case (rectangle in 2D, box in 3D, a polygon of 3 or more

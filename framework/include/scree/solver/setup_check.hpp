@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "scree/exec/memory.hpp"
 #include "scree/io/dictionary.hpp"
 #include "scree/mpm/grid.hpp"
 #include "scree/plugin/loader.hpp"
@@ -33,9 +34,14 @@ SCREE_API GridGeometry<D> grid_geometry(const GridSettings& grid);
 struct SetupReport {
   std::vector<InputError> errors;    ///< what the run would reject (file:line each)
   std::vector<InputError> warnings;  ///< what the run accepts but is probably a mistake
+  std::string memory;  ///< the memory the run needs and what is free, e.g. "about 2.10 MB of host memory (23.4 GB free)"
 };
 
 /// For a case Case::read accepted:
+///   memory       the run's estimated memory fits in what is free on the host and, on
+///                `device` cuda, on the GPU (check_memory, memory_estimate.hpp); where it
+///                does not, the checks below are not run (they visit every node and
+///                particle position, which such a case has too many of);
 ///   bodies       each region fits the case and the grid, holds particles, and does not
 ///                overlap another body (check_bodies, particle_generation.hpp);
 ///   boundaries   each boundary condition builds on this grid (a face zMin in 2D, a
@@ -44,7 +50,8 @@ struct SetupReport {
 ///   output       (with_output) every writer's and function object's directory can be
 ///                created and written (nothing is created); one outside the case
 ///                directory is a warning.
-SCREE_API SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output = true);
+SCREE_API SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output = true,
+                                  Device device = Device::cpu);
 
 /// Where a writer or function object writes.
 struct OutputPlace {

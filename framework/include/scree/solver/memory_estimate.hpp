@@ -1,0 +1,69 @@
+// How much memory a case's run takes, estimated from its dictionaries before anything is
+// allocated, and the check that it fits in the memory that is free.
+//
+// The grid: its nodes (system/gridDict: the domain over cellSize, plus the ghost layers)
+// times the bytes the solver keeps per node (solver_setup.cpp: two sets of 1 + 4 D nodal
+// fields; the tiles' stamps; the wall masks; with a two-phase body the liquid's two sets of
+// kLiquidFieldCount fields, its cell counts, surface flags, balance and masks,
+// porous_media.cpp). The points: each body's region area (volume) times
+// (particlesPerCell / cellSize)^D (estimate_particle_count), times the bytes per point:
+// the particle block (particle_storage.hpp: 3 D + D^2 + the stress components + 3 columns,
+// D^2 more with APIC, the material's state Reals, a two-phase body's 4 + 2 D extra
+// columns), the elastic-first split's list, the sort's keys, permutation and scratch
+// (particle_sort.hpp) and, on the GPU, the snapshot's device copy (snapshot_copy.hpp); on
+// the host, the larger of the setup's copies (the generated positions, velocities,
+// volumes and stresses, and the host block uploaded) and the output's (the host copy of
+// the block, and three snapshots' fields: one written, the writer's copy of it, one being
+// taken, output/snapshot.hpp).
+//
+//   MemoryEstimate m = estimate_memory(c, rt.registry(), Device::cpu, true);
+//   std::vector<InputError> e = check_memory(c, rt.registry(), Device::cpu, true);
+//
+// check_memory compares the peaks with mem::available (MemAvailable, the cgroup's limit,
+// cudaMemGetInfo) and, where one does not fit, names the entry that drives it (cellSize
+// for the grid, a body's particlesPerCell for its points) with the bytes needed and free
+// and what would fit. check_setup runs it first (scree --check, and every run).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scree/exec/memory.hpp"
+#include "scree/io/dictionary.hpp"
+#include "scree/plugin/registry.hpp"
+#include "scree/solver/case.hpp"
+
+namespace scree {
+
+/// One part of a case's memory: the grid, or a body's points.
+struct MemoryPart {
+  std::string what;      ///< "the grid", "body 'column'"
+  std::string key;       ///< the entry that sets how many: "cellSize", "particlesPerCell"
+  SourceLocation where;  ///< that entry's file:line (its dictionary's where it is defaulted)
+  double count = 0;      ///< nodes or points
+  double backend_each = 0;  ///< bytes per node or point in the backend's memory (mem::allocate)
+  double host_each = 0;     ///< bytes per node or point on the host at the peak, besides the backend's
+  double backend() const { return count * backend_each; }
+  double host() const { return count * host_each; }
+};
+
+struct SCREE_API MemoryEstimate {
+  Device device = Device::cpu;
+  std::vector<MemoryPart> parts;  ///< the grid first, then each body
+  /// What goes through mem::allocate on the backend: nodal fields, particle arrays, sort
+  /// buffers, masks (mem::peak_bytes(device) counts the same).
+  double backend_bytes() const;
+  /// The peaks: host (the backend's bytes too on the CPU backend) and device (0 on the CPU).
+  double host_bytes() const;
+  double device_bytes() const;
+};
+
+/// The estimate for a case Case::read accepted, on `device`; `with_output`: writers and
+/// function objects take snapshots.
+SCREE_API MemoryEstimate estimate_memory(const Case& c, const Registry& reg, Device device, bool with_output);
+
+/// An error per memory space (host; the device's with Device::cuda) the estimate does not
+/// fit in, at the entry that drives it; empty when it fits or the free memory is unknown.
+SCREE_API std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device device, bool with_output);
+
+}  // namespace scree

@@ -1,0 +1,275 @@
+// estimate_memory and check_memory (see memory_estimate.hpp).
+#include "scree/solver/memory_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+
+#include "scree/material/material.hpp"
+#include "scree/mpm/grid.hpp"
+#include "scree/mpm/wall_law.hpp"
+#include "scree/porous/two_phase.hpp"
+#include "scree/solver/particle_generation.hpp"
+
+namespace scree {
+
+double MemoryEstimate::backend_bytes() const {
+  double b = 0;
+  for (const MemoryPart& p : parts) b += p.backend();
+  return b;
+}
+double MemoryEstimate::host_bytes() const {
+  double b = device == Device::cpu ? backend_bytes() : 0;
+  for (const MemoryPart& p : parts) b += p.host();
+  return b;
+}
+double MemoryEstimate::device_bytes() const { return device == Device::cuda ? backend_bytes() : 0; }
+
+namespace {
+
+constexpr double kReal = sizeof(Real);
+
+bool is_body(const Entry& e) { return e.is_dict() && e.key() != "FoamFile" && !e.key().empty() && e.key()[0] != '_'; }
+
+/// What the estimate depends on, read once; evaluate() gives the estimate for any cell
+/// size, and for another particlesPerCell of one body (what would fit).
+struct Model {
+  struct Body {
+    std::string name;
+    const Dictionary* dict = nullptr;
+    SourceLocation where;  ///< its particlesPerCell (its dictionary where defaulted)
+    int ppc = 2;
+    int state_reals = 0;   ///< the material's State (K columns)
+    int output_reals = 0;  ///< the material's output fields' components
+    bool two_phase = false;
+  };
+  int dim = 2;
+  Device device = Device::cpu;
+  bool output = false;  ///< snapshots are taken (writers or function objects)
+  GridSettings grid;
+  SourceLocation cell_size_where;
+  bool walls = false, two_phase = false, apic = false, sorts = false;
+  std::vector<Body> bodies;
+};
+
+Model read_model(const Case& c, const Registry& reg, Device device, bool with_output) {
+  const CaseSettings& s = c.settings();
+  Model m;
+  m.dim = c.dimension();
+  m.device = device;
+  m.output = with_output && (c.control().has("writers") || c.control().has("functions"));
+  m.grid = s.grid;
+  m.cell_size_where = c.grid().has("cellSize") ? c.grid().at("cellSize").where() : c.grid().where();
+  for (const Entry& e : c.boundaries().entries()) m.walls = m.walls || is_body(e);
+  m.apic = s.schemes.transfer == Transfer::apic;
+  m.sorts = s.schemes.sort_interval > 0;
+  for (const Entry& e : c.bodies().entries()) {
+    if (!is_body(e)) continue;
+    const Dictionary& d = e.dict();
+    Model::Body b;
+    b.name = e.key();
+    b.dict = &d;
+    const Entry* ppc = d.find("particlesPerCell");
+    b.where = ppc ? ppc->where() : d.where();
+    b.two_phase = d.has("twoPhase");
+    m.two_phase = m.two_phase || b.two_phase;
+    try {
+      const BodySettings bs = BodySettings::read(d);
+      b.ppc = bs.particles_per_cell;
+      const auto point = reg.make_point_material(c.materials().sub(bs.material));
+      b.state_reals = static_cast<int>(point->state().size());
+      for (const OutputField& f : point->output_fields()) b.output_reals += f.components;
+    } catch (const std::exception&) {
+      // Case::read reported it; the estimate takes the columns every material has.
+    }
+    m.bodies.push_back(std::move(b));
+  }
+  return m;
+}
+
+double grid_nodes(const GridSettings& g, double h) {
+  double n = 1;
+  for (int d = 0; d < g.dimension && d < static_cast<int>(g.lower.size()) && d < static_cast<int>(g.upper.size()); ++d)
+    n *= std::ceil((g.upper[d] - g.lower[d]) / h - 1e-9) + 1 + 2 * g.ghost_layers;  // setup_grid's n[d]
+  return n;
+}
+
+template <int D>
+double points(const Dictionary& body, double h, int ppc) {
+  return estimate_particle_count<D>(body, static_cast<Real>(h), ppc);
+}
+
+/// The estimate for cell size h, with `ppc` particles per cell in body `body` (-1: as given).
+MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
+  MemoryEstimate e;
+  e.device = m.device;
+  const int D = m.dim;
+  const bool gpu = m.device == Device::cuda;
+
+  MemoryPart g{"the grid", "cellSize", m.cell_size_where, grid_nodes(m.grid, h)};
+  // solver_setup.cpp: two sets of 1 + 4 D nodal fields, and a stamp (uint32) per tile of
+  // Tiles<D>::kNodes nodes for each set.
+  g.backend_each = 2.0 * (1 + 4 * D) * kReal + 2.0 * sizeof(std::uint32_t) / (D == 2 ? Tiles<2>::kNodes : Tiles<3>::kNodes);
+  if (m.walls) {  // a WallMask per node on the backend, and the WallSet's on the host while it is built
+    g.backend_each += sizeof(WallMask);
+    g.host_each += sizeof(WallMask);
+  }
+  if (m.two_phase) {
+    // porous_media.cpp: the liquid's two sets of kLiquidFieldCount fields, two cell counts,
+    // the surface flags (a byte), the balance ((3 + D) Reals, zeroed from a host copy) and
+    // the liquid's wall masks.
+    const int liquid = D == 2 ? kLiquidFieldCount<2> : kLiquidFieldCount<3>;
+    g.backend_each += 2.0 * liquid * kReal + 2 * kReal + 1 + (3 + D) * kReal + (m.walls ? sizeof(WallMask) : 0);
+    g.host_each += (3 + D) * kReal;
+  }
+  e.parts.push_back(g);
+
+  for (std::size_t i = 0; i < m.bodies.size(); ++i) {
+    const Model::Body& b = m.bodies[i];
+    const int n_ppc = static_cast<int>(i) == body ? ppc : b.ppc;
+    MemoryPart p{"body '" + b.name + "'", "particlesPerCell", b.where,
+                 D == 2 ? points<2>(*b.dict, h, n_ppc) : points<3>(*b.dict, h, n_ppc)};
+    // particle_storage.hpp: x, v, x0 (D each), F (D^2), sigma (4 in 2D, 6 in 3D), mass,
+    // volume0, id, C (D^2, APIC), the state, a two-phase body's 4 + 2 D extra columns.
+    const double columns = 3 * D + D * D + (D == 2 ? 4 : 6) + 3 + (m.apic ? D * D : 0) + b.state_reals +
+                           (b.two_phase ? 4 + 2 * D : 0);
+    const double block = columns * kReal;
+    // particle_sort.hpp: keys and permutation (2 uint32 each, double-buffered), and a
+    // scratch block of every column (a block up to 64 MiB) or 4 of them.
+    const double chunk = p.count * block <= double(64 << 20) ? columns : std::min(columns, 4.0);
+    p.backend_each = block + sizeof(Index) /* the elastic-first split's list */ +
+                     (m.sorts ? 4 * sizeof(std::uint32_t) + chunk * kReal : 0) +
+                     (gpu ? block : 0) /* the snapshot's device copy (snapshot_copy.hpp) */;
+    // Host, the larger of the setup's and the output's copies. Setup (particle_generation,
+    // material_body.hpp): positions and volumes grown by push_back (capacity the next power
+    // of 2), velocities and stresses (Sym3), the host block; a two-phase body's pore
+    // pressure, saturation, porosity and suction and their copies in the extra columns.
+    const double growth = p.count >= 1 ? std::exp2(std::ceil(std::log2(p.count))) / p.count : 1;
+    const double setup = growth * (D + 1) * kReal + (D + 6) * kReal + block + (b.two_phase ? 8 * kReal : 0);
+    // Output: the host copy of the block (pinned on the GPU), and the fields of three
+    // snapshots (one being written, the writer's own copy of it, the next one being
+    // taken): position (3), id, velocity, displacement (3 each), stress (6), pressure,
+    // deviatoric stress, volume, mass, density, bodyId, the material's and a two-phase
+    // body's (4 scalars, 2 vectors of 3).
+    const double fields = (3 + 1 + 3 + 3 + 6 + 6 + b.output_reals + (b.two_phase ? 10 : 0)) * kReal;
+    const double output = m.output ? block + 3 * fields : block /* the time step's check reads a host copy */;
+    p.host_each = std::max(setup, output);
+    e.parts.push_back(p);
+  }
+  return e;
+}
+
+/// "12,345,678", or "5.71e+10" beyond what is read at a glance.
+std::string count_text(double n) {
+  char buf[48];
+  if (n >= 1e15) {
+    std::snprintf(buf, sizeof buf, "%.3g", n);
+    return buf;
+  }
+  std::snprintf(buf, sizeof buf, "%.0f", n);
+  std::string s = buf, out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (i > 0 && (s.size() - i) % 3 == 0) out += ',';
+    out += s[i];
+  }
+  return out;
+}
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+/// The bytes of the space checked (host or device) that part `p` takes.
+double part_bytes(const MemoryPart& p, Device space, Device backend) {
+  if (space == Device::cuda) return p.backend();
+  return (backend == Device::cpu ? p.backend() : 0) + p.host();
+}
+double total(const MemoryEstimate& e, Device space) { return space == Device::cuda ? e.device_bytes() : e.host_bytes(); }
+
+/// The smallest cell size (3 significant digits, rounded up) at which the case fits in
+/// `free` bytes of `space`, or 0 where none found.
+double fitting_cell_size(const Model& m, Device space, double free) {
+  double lo = m.grid.cell_size, hi = lo;
+  for (int i = 0; i < 64 && total(evaluate(m, hi), space) > free; ++i) hi *= 2;
+  if (total(evaluate(m, hi), space) > free) return 0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = std::sqrt(lo * hi);
+    (total(evaluate(m, mid), space) > free ? lo : hi) = mid;
+  }
+  const double scale = std::pow(10.0, std::floor(std::log10(hi)) - 2);
+  double h = std::ceil(hi / scale) * scale;
+  if (total(evaluate(m, h), space) > free) h = hi;
+  return h;
+}
+
+}  // namespace
+
+MemoryEstimate estimate_memory(const Case& c, const Registry& reg, Device device, bool with_output) {
+  const Model m = read_model(c, reg, device, with_output);
+  return evaluate(m, m.grid.cell_size);
+}
+
+std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device device, bool with_output) {
+  std::vector<InputError> errors;
+  const Model m = read_model(c, reg, device, with_output);
+  const MemoryEstimate e = evaluate(m, m.grid.cell_size);
+  std::vector<Device> spaces{Device::cpu};
+  if (device == Device::cuda) spaces.push_back(Device::cuda);
+  for (Device space : spaces) {
+    const mem::Available a = mem::available(space);
+    const double need = total(e, space);
+    if (!a.known || need <= static_cast<double>(a.bytes)) continue;
+    const double free = static_cast<double>(a.bytes);
+    // The driver: the part that takes most of this space.
+    std::size_t top = 0;
+    for (std::size_t i = 1; i < e.parts.size(); ++i)
+      if (part_bytes(e.parts[i], space, device) > part_bytes(e.parts[top], space, device)) top = i;
+    const MemoryPart& driver = e.parts[top];
+    const char* space_name = space == Device::cuda ? "GPU" : "host";
+    std::string msg = driver.key + ": the run needs about " + mem::format_bytes(need) + " of " + space_name +
+                      " memory, more than the " + mem::format_bytes(free) + " free (" + a.source + "): ";
+    for (std::size_t i = 0; i < e.parts.size(); ++i) {
+      const MemoryPart& p = e.parts[i];
+      const double bytes = part_bytes(p, space, device);
+      msg += i ? ", " : "";
+      if (i == 0)
+        msg += "the grid's " + count_text(p.count) + " nodes (cellSize " + number_text(m.grid.cell_size) + " m at " +
+               p.where.str() + ") take " + mem::format_bytes(bytes);
+      else
+        msg += "the " + count_text(p.count) + " particles of " + p.what + " (particlesPerCell " +
+               std::to_string(m.bodies[i - 1].ppc) + " at " + p.where.str() + ") take " + mem::format_bytes(bytes);
+      if (p.count > 0) msg += " (" + count_text(std::round(bytes / p.count)) + " bytes each)";
+    }
+    // What would fit: fewer points in the driving body, or else larger cells.
+    std::string fit;
+    bool fewer_points = false;
+    if (top > 0) {
+      const int body = static_cast<int>(top) - 1;
+      for (int ppc = m.bodies[body].ppc - 1; ppc >= 1 && !fewer_points; --ppc) {
+        const MemoryEstimate f = evaluate(m, m.grid.cell_size, body, ppc);
+        if (total(f, space) > free) continue;
+        fewer_points = true;
+        fit = "particlesPerCell " + std::to_string(ppc) + " fits (" + count_text(f.parts[top].count) +
+              " particles, about " + mem::format_bytes(total(f, space)) + ")";
+      }
+      if (fit.empty() && m.bodies[body].ppc > 1) fit = "particlesPerCell 1 does not fit either";
+    }
+    if (!fewer_points) {
+      const double h = fitting_cell_size(m, space, free);
+      if (h > 0) {
+        const MemoryEstimate f = evaluate(m, h);
+        const std::string cells = "a cellSize of at least " + number_text(h) + " m (" + m.cell_size_where.str() +
+                                  ") fits (about " + mem::format_bytes(total(f, space)) + ")";
+        fit = fit.empty() ? cells : fit + "; " + cells;
+      }
+    }
+    msg += "; " + (fit.empty() ? std::string("nothing smaller was found to fit") : fit);
+    errors.emplace_back(driver.where, msg);
+  }
+  return errors;
+}
+
+}  // namespace scree

@@ -1,0 +1,203 @@
+// The memory estimate (solver/memory_estimate.hpp): its bytes per node and per point
+// against hand-computed counts of the solver's arrays, its backend total against the
+// bytes a small case really allocates (mem::bytes_in_use counts every Buffer), single-
+// and two-phase, and check_memory's error at the entry that drives the memory. (scree
+// itself: tests/broken/variants/memory_*.)
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "scree/solver/memory_estimate.hpp"
+#include "scree/solver/setup_check.hpp"
+#include "scree_test.hpp"
+
+namespace scree::test {
+namespace {
+
+/// A 1 m x 1 m grid of 1 cm cells (105 x 105 nodes with the ghost layers), a block of
+/// 0.5 m x 0.5 m at 2 x 2 points per cell (10,000 points), a floor, sorted every step.
+void write_block(const TempCase& tc, const std::string& cell = "0.01", const std::string& ppc = "2") {
+  tc.write("system/controlDict", "endTime 0.01; deltaT 1e-5; writeInterval 0.01;");
+  tc.write("system/mpmSchemes", "sortInterval 1;");
+  tc.write("system/gridDict", "dimension 2;\nlower (0 0);\nupper (1 1);\ncellSize " + cell + ";");
+  tc.write("constant/g", "value (0 -9.81);");
+  tc.write("constant/materialProperties", "sand { type linearElastic; E 1e6; nu 0.3; rho 1000; }");
+  tc.write("constant/bodies", "block\n{\n  material sand;\n  region { type rectangle; lower (0.25 0.25); upper (0.75 0.75); }\n"
+                              "  particlesPerCell " + ppc + ";\n}\n");
+  tc.write("constant/boundaryConditions", "floor { type fixed; face yMin; }");
+}
+
+/// The bytes the case's Simulation holds on the CPU backend after setting up and taking
+/// a step with a sort (every Buffer: grid, particles, sort buffers, masks).
+double allocated(const Case& c) {
+  const std::size_t before = mem::bytes_in_use(Device::cpu);
+  RunOptions o = options(1);
+  o.device = Device::cpu;
+  Simulation sim(c, runtime(), o);
+  sim.run_steps(2);
+  return static_cast<double>(mem::bytes_in_use(Device::cpu) - before);
+}
+
+TEST(MemoryEstimate, FreeMemoryIsReadAndTheTestVariableReplacesIt) {
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+  const mem::Available host = mem::available(Device::cpu);
+  ASSERT_TRUE(host.known) << "Linux: /proc/meminfo";
+  EXPECT_GT(host.bytes, 0u);
+  EXPECT_FALSE(host.source.empty());
+  ::setenv("SCREE_TEST_FREE_MEMORY", "2e9", 1);
+  EXPECT_EQ(mem::available(Device::cpu).bytes, 2000000000u);
+  EXPECT_EQ(mem::available(Device::cuda).bytes, 2000000000u);
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+  EXPECT_EQ(mem::format_bytes(152), "152 bytes");
+  EXPECT_EQ(mem::format_bytes(2e9), "2.00 GB");
+  EXPECT_EQ(mem::format_bytes(43.84e9), "43.8 GB");
+  EXPECT_EQ(mem::format_bytes(288e12), "288 TB");
+}
+
+TEST(MemoryEstimate, BytesPerNodeAndPointAreTheSolversArrays) {
+  TempCase tc("memory_counts");
+  write_block(tc);
+  const Case c = Case::read(tc.dir(), runtime());
+  const MemoryEstimate m = estimate_memory(c, runtime().registry(), Device::cpu, false);
+  ASSERT_EQ(m.parts.size(), 2u);
+  const MemoryPart& grid = m.parts[0];
+  EXPECT_EQ(grid.key, "cellSize");
+  EXPECT_EQ(grid.where.str(), "system/gridDict:4:1");
+  EXPECT_DOUBLE_EQ(grid.count, 105.0 * 105.0);  // 100 cells + 1 + 2 x 2 ghost layers per axis
+  // Two sets of 1 + 4 D = 9 Reals, a uint32 stamp per 128-node tile and set, a wall mask.
+  EXPECT_DOUBLE_EQ(grid.backend_each, 2 * 9 * 8 + 2 * 4.0 / 128 + 4);
+  EXPECT_DOUBLE_EQ(grid.host_each, 4);  // the WallSet's masks while the walls are built
+  const MemoryPart& body = m.parts[1];
+  EXPECT_EQ(body.key, "particlesPerCell");
+  EXPECT_EQ(body.where.str(), "constant/bodies:5:3");
+  EXPECT_DOUBLE_EQ(body.count, 10000);
+  // linearElastic in 2D, FLIP: x, v, x0 (2 each), F (4), sigma (4), mass, volume0, id:
+  // 17 Reals; the split's list (8), keys and permutation (16), a scratch copy of all 17
+  // columns (the block is under 64 MiB).
+  EXPECT_DOUBLE_EQ(body.backend_each, 17 * 8 + 8 + 16 + 17 * 8);
+  // Host, without output: the setup's copies, positions and volumes at a capacity of
+  // 16,384 (push_back), velocities and stresses, the host block.
+  EXPECT_DOUBLE_EQ(body.host_each, 16384.0 / 10000 * 3 * 8 + 8 * 8 + 17 * 8);
+}
+
+TEST(MemoryEstimate, BackendBytesAreWhatASmallCaseAllocates) {
+  TempCase tc("memory_single");
+  write_block(tc);
+  const Case c = Case::read(tc.dir(), runtime());
+  const double estimate = estimate_memory(c, runtime().registry(), Device::cpu, false).backend_bytes();
+  const double actual = allocated(c);
+  std::cout << "single-phase: estimate " << estimate << " bytes, allocated " << actual << " bytes\n";
+  EXPECT_GT(estimate, actual / 1.1);
+  EXPECT_LT(estimate, actual * 1.1);
+}
+
+TEST(MemoryEstimate, BackendBytesOfATwoPhaseCaseAreWhatItAllocates) {
+  TempCase tc("memory_two_phase");
+  tc.write("system/controlDict", "endTime 0.01; deltaT 1e-5; writeInterval 0.01;");
+  tc.write("system/mpmSchemes", "updateScheme USL; sortInterval 1;");
+  tc.write("system/gridDict", "dimension 2; lower (0 0); upper (0.1 1.1); cellSize 0.0125;");
+  tc.write("constant/g", "value (0 -9.81);");
+  tc.write("constant/materialProperties", "soil { type linearElastic; E 1e7; nu 0.3; rho 2650; }");
+  tc.write("constant/bodies",
+           "column { material soil; region { type rectangle; lower (0 0); upper (0.1 1.05); } particlesPerCell 2;\n"
+           "  twoPhase { porosity 0.33; liquidDensity 1000; liquidBulkModulus 2e8; viscosity 1e-3;\n"
+           "             intrinsicPermeability 2e-10; } }");
+  tc.write("constant/boundaryConditions",
+           "base { type fixed; face yMin; drained yes; }\nleft { type slip; face xMin; }\n"
+           "right { type slip; face xMax; }");
+  const Case c = Case::read(tc.dir(), runtime());
+  const MemoryEstimate m = estimate_memory(c, runtime().registry(), Device::cpu, false);
+  // The liquid's two sets of 6 + 5 D Reals, 2 cell counts, a surface flag, 3 + D balance
+  // Reals and its wall masks, besides the grid's.
+  EXPECT_DOUBLE_EQ(m.parts[0].backend_each, 2 * 9 * 8 + 2 * 4.0 / 128 + 4 + 2 * 16 * 8 + 2 * 8 + 1 + 5 * 8 + 4);
+  const double estimate = m.backend_bytes();
+  const double actual = allocated(c);
+  std::cout << "two-phase: estimate " << estimate << " bytes, allocated " << actual << " bytes\n";
+  EXPECT_GT(estimate, actual / 1.1);
+  EXPECT_LT(estimate, actual * 1.1);
+}
+
+/// check_memory with SCREE_TEST_FREE_MEMORY set to `bytes`.
+std::vector<InputError> check_with(const Case& c, const char* bytes) {
+  ::setenv("SCREE_TEST_FREE_MEMORY", bytes, 1);
+  auto e = check_memory(c, runtime().registry(), Device::cpu, true);
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+  return e;
+}
+
+TEST(MemoryEstimate, TooManyPointsNameTheBodysParticlesPerCellAndWhatFits) {
+  TempCase tc("memory_points");
+  write_block(tc, "0.01", "8");  // 160,000 points
+  const Case c = Case::read(tc.dir(), runtime());
+  const MemoryEstimate m = estimate_memory(c, runtime().registry(), Device::cpu, true);
+  EXPECT_TRUE(check_with(c, std::to_string(m.host_bytes() * 1.01).c_str()).empty());
+  const auto e = check_with(c, "50e6");
+  ASSERT_EQ(e.size(), 1u);
+  const std::string what = e[0].what();
+  EXPECT_EQ(e[0].where().str(), "constant/bodies:5:3") << what;
+  EXPECT_EQ(what.rfind("constant/bodies:5:3: particlesPerCell: the run needs about ", 0), 0u) << what;
+  EXPECT_NE(what.find("of host memory, more than the 50.0 MB free (SCREE_TEST_FREE_MEMORY, set for a test)"),
+            std::string::npos)
+      << what;
+  EXPECT_NE(what.find("the 160,000 particles of body 'block' (particlesPerCell 8 at constant/bodies:5:3)"),
+            std::string::npos)
+      << what;
+  EXPECT_NE(what.find("; particlesPerCell 6 fits (90,000 particles"), std::string::npos) << what;
+  // And the run refuses before it allocates anything.
+  ::setenv("SCREE_TEST_FREE_MEMORY", "50e6", 1);
+  const std::size_t before = mem::bytes_in_use(Device::cpu);
+  EXPECT_THROW(Simulation(c, runtime(), options(1)), InputErrors);
+  EXPECT_EQ(mem::bytes_in_use(Device::cpu), before);
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+}
+
+TEST(MemoryEstimate, ALargeGridNamesCellSizeAndTheSmallestThatFits) {
+  TempCase tc("memory_grid");
+  write_block(tc, "0.001", "1");  // 1,010,025 nodes, 250,000 points
+  const Case c = Case::read(tc.dir(), runtime());
+  const auto e = check_with(c, "100e6");
+  ASSERT_EQ(e.size(), 1u);
+  const std::string what = e[0].what();
+  EXPECT_EQ(what.rfind("system/gridDict:4:1: cellSize: the run needs about ", 0), 0u) << what;
+  EXPECT_NE(what.find("the grid's 1,010,025 nodes (cellSize 0.001 m at system/gridDict:4:1)"), std::string::npos)
+      << what;
+  const std::string fits = "; a cellSize of at least ";
+  const auto at = what.find(fits);
+  ASSERT_NE(at, std::string::npos) << what;
+  const double h = std::stod(what.substr(at + fits.size()));
+  EXPECT_GT(h, 0.001);
+  // That cell size fits, and one 2% smaller does not.
+  auto with_cell = [&](double cell) {
+    TempCase t("memory_grid_fit");
+    write_block(t, std::to_string(cell), "1");
+    return check_with(Case::read(t.dir(), runtime()), "100e6").empty();
+  };
+  EXPECT_TRUE(with_cell(h)) << what;
+  EXPECT_FALSE(with_cell(h * 0.98)) << what;
+}
+
+TEST(MemoryEstimate, AnAllocationThatFailsNamesItsEntryAndSize) {
+  // Unchecked (check_setup off), a grid of 4e12 nodes: its fields (288 TB) exceed any
+  // address space, so the allocation fails on every machine and whatever its overcommit.
+  TempCase tc("memory_alloc");
+  write_block(tc, "5e-5", "1");
+  tc.write("system/gridDict", "dimension 2;\nlower (0 0);\nupper (100 100);\ncellSize 5e-5;");
+  const Case c = Case::read(tc.dir(), runtime());
+  RunOptions o = options(1);
+  o.device = Device::cpu;
+  o.check_setup = false;
+  std::string what;
+  try {
+    Simulation sim(c, runtime(), o);
+  } catch (const InputError& e) {
+    what = e.what();
+  }
+  EXPECT_EQ(what.rfind("system/gridDict:4:1: cellSize: the grid's 4000020000025 nodes need about ", 0), 0u) << what;
+  EXPECT_NE(what.find(" of host memory, and an allocation for them failed (out of host memory: 288 TB ("),
+            std::string::npos)
+      << what;
+}
+
+}  // namespace
+}  // namespace scree::test
