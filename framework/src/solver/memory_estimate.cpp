@@ -117,10 +117,11 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
   }
   if (m.two_phase) {
     // porous_media.cpp: the liquid's two sets of kLiquidFieldCount fields, two cell counts,
-    // the surface flags (a byte), the balance ((3 + D) Reals, zeroed from a host copy) and
-    // the liquid's wall masks.
+    // the surface flags (a byte), the balance ((3 + D) Reals, zeroed from a host copy), the
+    // cells' reconstructed pressures (1 + 2 D Reals) and the liquid's wall masks.
     const int liquid = D == 2 ? kLiquidFieldCount<2> : kLiquidFieldCount<3>;
-    g.backend_each += 2.0 * liquid * kReal + 2 * kReal + 1 + (3 + D) * kReal + (m.walls ? sizeof(WallMask) : 0);
+    g.backend_each += 2.0 * liquid * kReal + 2 * kReal + 1 + (3 + D) * kReal + (1 + 2 * D) * kReal +
+                      (m.walls ? sizeof(WallMask) : 0);
     g.host_each += (3 + D) * kReal;
   }
   e.parts.push_back(g);
