@@ -33,8 +33,8 @@ RAIN_START = 0.5      # system/stages: _rainStart [s]
 RAIN = 1e-2           # _rainIntensity [m/s]
 RAIN_WIDTH = 3.1      # horizontal width under the rain box: crest 1.5 m + face 1.6 m [m]
 SPACING = 0.05        # initial point spacing: cellSize 0.1 / particlesPerCell 2 [m]
-SATURATION_TIMES = (0, 2, 5, 8, 10, 12.5)     # [s] before the rain, the front going down, failure
-DISPLACEMENT_TIMES = (5, 10, 11.5, 12.5, 14, 30)  # [s] creep, the slide starting, running, at rest
+SATURATION_TIMES = (0, 2, 5, 10, 14, 16)       # [s] before the rain, the front going down, failure
+DISPLACEMENT_TIMES = (10, 15, 16, 17, 18, 30)  # [s] creep, the slide starting, running, at rest
 
 
 def series(case):
