@@ -21,6 +21,14 @@ const FieldData& field(const BodySnapshot& b, const char* name) {
   return *f;
 }
 
+/// The seed's soil (Table A, K_sat 2e-4 m/s), hydrostatic above a water table at the base,
+/// and rain of 5e-4 m/s on the top of a 1.05 m column: the infiltration case's reading.
+const char* const kSeedSoil =
+    "porosity 0.33; liquidDensity 1000; liquidBulkModulus 2e8; viscosity 1e-3; hydraulicConductivity 2e-4; "
+    "retention { type vanGenuchten; p0 22295; lambda 0.671; Smin 0.23; Smax 1; } "
+    "permeability { type mualemVanGenuchten; } initialPorePressure { type hydrostatic; waterTable 0; }";
+const char* const kRainOnTop = "rain { type rainfall; box { min (-1 1.0); max (1 1.2); } intensity 5e-4; unit m/s; }";
+
 /// A column of two-phase soil, width w, height H, cells h, between slip walls on a fixed
 /// (impermeable) base; `two_phase` is the body's twoPhase block.
 void write_column(const TempCase& tc, double w, double H, double top, double h, const std::string& two_phase,
@@ -292,12 +300,7 @@ TEST(TwoPhase, SoftColumnUnderRainTakesTheRainAndNoMore) {
     TempCase tc(E < 1e7 ? "rain_soft" : "rain_stiff");
     const double H = 1.05, width = 0.025, w = 5e-4, Kl = 2e8, rho_l = 1000, end = 0.6;
     write_column(tc, width, H, 1.1, 0.025,
-                 "porosity 0.33; liquidDensity 1000; liquidBulkModulus 2e8; viscosity 1e-3; "
-                 "hydraulicConductivity 2e-4; "
-                 "retention { type vanGenuchten; p0 22295; lambda 0.671; Smin 0.23; Smax 1; } "
-                 "permeability { type mualemVanGenuchten; } "
-                 "initialPorePressure { type hydrostatic; waterTable 0; }",
-                 "", "rain { type rainfall; box { min (-1 1.0); max (1 1.2); } intensity 5e-4; unit m/s; }",
+                 kSeedSoil, "", kRainOnTop,
                  "soil { type linearElastic; E " + std::to_string(E) + "; nu 0; rho 2700; }", "gimp");
     tc.write("system/mpmSchemes", "updateScheme USL; shapeFunction gimp; massTolerance 0;");
     auto stored = [&](const BodySnapshot& b) {
@@ -348,12 +351,7 @@ TEST(TwoPhase, RunIsIndependentOfHowItsStepsAreChunked) {
   auto run = [](int interval) {
     TempCase tc("chunks_" + std::to_string(interval));
     write_column(tc, 0.025, 1.05, 1.1, 0.025,
-                 "porosity 0.33; liquidDensity 1000; liquidBulkModulus 2e8; viscosity 1e-3; "
-                 "hydraulicConductivity 2e-4; "
-                 "retention { type vanGenuchten; p0 22295; lambda 0.671; Smin 0.23; Smax 1; } "
-                 "permeability { type mualemVanGenuchten; } "
-                 "initialPorePressure { type hydrostatic; waterTable 0; }",
-                 "", "rain { type rainfall; box { min (-1 1.0); max (1 1.2); } intensity 5e-4; unit m/s; }",
+                 kSeedSoil, "", kRainOnTop,
                  "soil { type linearElastic; E 5e6; nu 0; rho 2700; }", "gimp");
     tc.write("system/controlDict", "endTime 1; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; maxDeltaT 1e-3; "
                                    "writeInterval 1; progressInterval " + std::to_string(interval) + ";");
