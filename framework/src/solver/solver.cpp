@@ -104,6 +104,12 @@ void Solver<D>::flush() {
   for (auto& b : bodies_) b->pass(pass_params(flags, last, last, last));
   if (porous_) porous_->finish_columns(last, last);
   pending_ = false;
+  // The gather may have updated the clock: USL's stress update of the last step records
+  // its signal speed (for the next step's dt), the position update counts lost points.
+  // The host's copy, which the next chunk's retarget writes back, must hold them: without
+  // them, the step after every write of an adaptive USL run was maxDeltaT (14 times the
+  // CFL step in tests/verification/restart), and lost points found here were forgotten.
+  sync_control_from_device();
 }
 
 template <int D>

@@ -70,6 +70,7 @@ bool TimeControl::start(StepControl& ctl, Real cmax, std::ostream& log) {
   const Real stable = h_ / cmax;
   if (adaptive()) {
     ctl.dt[0] = std::min<Real>(s_.delta_t, ctl.cfl * stable);
+    ctl.last_speed = cmax;  // until a step measures one (advance_clock)
     return true;
   }
   if (s_.delta_t > stable) {

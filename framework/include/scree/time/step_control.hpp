@@ -108,7 +108,11 @@ SCREE_INLINE Real cfl_step(const StepControl& c, Real max_speed) {
 SCREE_INLINE void advance_clock(StepControl* c, int par) {
   const Real t = c->t[par], dt = c->dt[par];
   const Real t1 = t + dt;
-  Real dt1 = cfl_step(*c, c->max_speed[par]);
+  // A step that measured no signal speed keeps the last one measured: USL's step after the
+  // start or after a flush (a write) has no stress update of its own (it ran in the flush,
+  // or runs in the next step's pass), and a cleared speed gave maxDeltaT, 2.4 times the
+  // CFL step in the second step of every adaptive USL run (tests/verification/restart).
+  Real dt1 = cfl_step(*c, c->max_speed[par] > 0 ? c->max_speed[par] : c->last_speed);
   const Real remaining = c->t_target - t1;
   // On the target (within round-off): stop until the host sets the next one.
   dt1 = remaining <= Real(1e-9) * dt1 ? Real(0) : land_on_target(dt1, remaining);
