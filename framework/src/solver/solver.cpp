@@ -131,7 +131,7 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   // The signal speed: for the adaptive step, and for the health check of a fixed one (stopCo).
   pp.need_speed = time_.adaptive() || policy_.reference || host_ctl_.stop_co > 0;
   // A fixed step wants the speed for the stopCo check alone: sampled (PassParams::speed_mask).
-  pp.speed_mask = time_.adaptive() || policy_.reference ? 0u : 15u;
+  pp.speed_mask = time_.adaptive() || policy_.reference ? 0u : static_cast<unsigned>(policy_.speed_every - 1);
   pp.tile_stamps = policy_.sparse() ? tile_stamps_[scatter_set].data() : nullptr;
   pp.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
   pp.split_elastic = split_;

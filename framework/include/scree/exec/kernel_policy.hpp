@@ -14,6 +14,8 @@
 //                 split_tuner.hpp; off on the CPU)
 //   stress cap    CUDA, 2D: the stress kernel's register cap, as blocks of 64 threads per SM
 //   elastic cap   CUDA, 2D: the split's elastic-only kernel's register cap
+//   speedEvery    fixed step: the signal speed (the stopCo health check's only use of it)
+//                 measured every this many steps; the adaptive step measures it every step
 //   sortInterval  is a case setting (system/mpmSchemes); the reference kernels never sort
 //
 // A register cap is a compile-time launch bound, so only the values a kernel was compiled
@@ -44,6 +46,11 @@ struct KernelPolicy {
   StressSplit split = StressSplit::automatic;
   int stress_blocks_per_sm = kStressCap;
   int elastic_blocks_per_sm = kElasticCap;
+  /// A power of 2. An unstable fixed step is then found within this many steps of its first
+  /// step above stopCo (a blow-up takes hundreds). Every 16th step left the phaseTransition
+  /// block, whose wave speed is the dearest, 4.9% slower than no check (performance log,
+  /// entries 27 and 29).
+  int speed_every = 64;
 
   /// The straightforward kernels (see the top of this file).
   static KernelPolicy reference_kernels() {
@@ -75,6 +82,8 @@ struct KernelPolicy {
     if (!in(elastic_blocks_per_sm, kElasticCaps))
       return "elastic kernel register cap " + std::to_string(elastic_blocks_per_sm) +
              " blocks per SM is not compiled; valid: " + list(kElasticCaps) + " (0: no cap)";
+    if (speed_every < 1 || (speed_every & (speed_every - 1)) != 0)
+      return "signal speed interval " + std::to_string(speed_every) + " steps: expected a power of 2 (1, 2, 4, ...)";
     return {};
   }
 };
