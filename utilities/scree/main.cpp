@@ -2,6 +2,7 @@
 //
 //   scree [--case DIR] [--device cpu|cuda] [--threads N]    run a case
 //   scree --case DIR --overwrite                              run it again, replacing its results
+//   scree --case DIR --restart                                continue it from its newest checkpoint
 //   scree --case DIR --check                                  validate a case and exit
 //   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
 //   scree --version | --help
@@ -9,7 +10,9 @@
 // Before anything runs, the case is validated as a whole (every dictionary, then the
 // setup: bodies against the grid, boundary conditions, output directories; --check stops
 // there), and a case that already has results (the files of its writers, its
-// postProcessing/) is not run over unless --overwrite is given.
+// postProcessing/, checkpoints/) is not run over unless --overwrite is given. A run writes
+// checkpoints (solver/checkpoint.hpp); --restart, or `startFrom latestTime;` in
+// system/controlDict, continues from the newest, appending to the results.
 //
 // The memory the run needs is estimated in that check, before anything is allocated; a
 // case that does not fit in the free host (or GPU) memory is an error at the entry that
@@ -40,6 +43,7 @@
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/case.hpp"
+#include "scree/solver/checkpoint.hpp"
 #include "scree/solver/setup_check.hpp"
 #include "scree/solver/simulation.hpp"
 
@@ -98,6 +102,8 @@ int main(int argc, char** argv) {
                 "conditions, output directories) and exit")
       ("overwrite", "run even though the case has results of an earlier run (the writers' files, postProcessing/): "
                     "they are replaced. Without it scree refuses to start, so that finished results are not lost")
+      ("restart", "continue the case from its newest checkpoint (checkpoints/<time>.ckpt), appending to its results "
+                  "(the same as `startFrom latestTime;` in system/controlDict)")
       ("list-plugins", po::value<std::string>()->implicit_value(""),
        "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
@@ -183,10 +189,26 @@ int main(int argc, char** argv) {
     scree::SetupReport setup = scree::check_setup(c, rt, opt.output, memory_backend);
     for (const auto& w : setup.warnings) std::cout << "warning: " << w.what() << "\n";
     if (!setup.errors.empty()) throw scree::InputErrors(std::move(setup.errors));
-    const auto results = opt.output ? scree::existing_results(c, rt.registry()) : std::vector<fs::path>{};
+    // Restart: from the newest checkpoint (--restart, or startFrom latestTime).
+    if (vm.count("restart") || c.settings().control.start_from_latest) {
+      const auto checkpoints = scree::list_checkpoints(dir);
+      if (!checkpoints.empty()) {
+        opt.restart = checkpoints.back();
+      } else if (vm.count("restart")) {
+        std::cerr << "scree: --restart: case " << dir.string() << " has no checkpoint (" <<
+            scree::checkpoint_dir(dir).string() << "/<time>.ckpt) to continue from; run it from its start "
+            "without --restart\n";
+        return 2;
+      } else {
+        std::cout << "scree: startFrom latestTime: no checkpoint yet; the run starts from startTime" << std::endl;
+      }
+    }
+    const auto results = opt.output && opt.restart.empty() ? scree::existing_results(c, rt.registry())
+                                                           : std::vector<fs::path>{};
     if (vm.count("check")) {
       std::cout << "scree: case " << dir.string() << " is valid\n";
       std::cout << "scree: a run needs " << setup.memory << "\n";
+      if (!opt.restart.empty()) std::cout << "scree: a run continues from " << opt.restart.string() << "\n";
       if (!results.empty())
         std::cout << "scree: note: it has results of an earlier run (" << results.front().string()
                   << (results.size() > 1 ? ", ..." : "") << "): a run replaces them only with --overwrite\n";
@@ -245,7 +267,8 @@ int main(int argc, char** argv) {
       std::cout << "scree: warning: " << st.lost_particles << " particle(s) left the grid during the run\n";
   } catch (const scree::RunInterrupted& e) {
     std::cout << std::flush;
-    std::cerr << "scree: " << e.what() << "; the state at that time was written; the run did not reach endTime\n";
+    std::cerr << "scree: " << e.what() << "; the state at that time was written; the run did not reach endTime "
+                 "(scree --restart continues it from its newest checkpoint)\n";
     return 128 + e.signal();
   } catch (const scree::RunFailure& e) {
     // The health checks stopped a run gone wrong (non-finite fields, points leaving the

@@ -66,7 +66,8 @@ OutputSchedule::Due OutputSchedule::due(double t, std::int64_t step, bool force_
     return t >= clock.next_time - eps;
   };
   Due d;
-  d.write = !writers_.empty() && (force_all || is_due(write_schedule_, true));
+  d.write_time = force_all || is_due(write_schedule_, true);
+  d.write = !writers_.empty() && d.write_time;
   for (std::size_t i = 0; i < functions_.size(); ++i)
     if (force_all || is_due(function_schedule_[i], false)) d.functions.push_back(i);
   d.with_grid = wants_grid_ && d.write;
@@ -102,9 +103,30 @@ void OutputSchedule::bump(Scheduled& s, double t, std::int64_t step) const {
 }
 
 void OutputSchedule::done(const Due& d, double t, std::int64_t step) {
-  if (d.write) bump(write_schedule_, t, step);
+  if (d.write_time) bump(write_schedule_, t, step);
   for (auto i : d.functions)
     if (function_schedule_[i].control != Scheduled::Control::writeTime) bump(function_schedule_[i], t, step);
+}
+
+std::vector<double> OutputSchedule::state() const {
+  std::vector<double> s{write_schedule_.next_time, static_cast<double>(write_schedule_.next_step)};
+  for (const Scheduled& f : function_schedule_) {
+    s.push_back(f.next_time);
+    s.push_back(static_cast<double>(f.next_step));
+  }
+  return s;
+}
+
+bool OutputSchedule::restore(const std::vector<double>& s) {
+  if (s.size() < 2) return false;
+  write_schedule_.next_time = s[0];
+  write_schedule_.next_step = static_cast<std::int64_t>(s[1]);
+  if (s.size() != 2 + 2 * function_schedule_.size()) return false;
+  for (std::size_t i = 0; i < function_schedule_.size(); ++i) {
+    function_schedule_[i].next_time = s[2 + 2 * i];
+    function_schedule_[i].next_step = static_cast<std::int64_t>(s[3 + 2 * i]);
+  }
+  return true;
 }
 
 void OutputSchedule::finish() {

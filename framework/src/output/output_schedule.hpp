@@ -44,6 +44,7 @@ class OutputSchedule {
 
   /// What is due at time t and step `step` (everything when force_all).
   struct Due {
+    bool write_time = false;            ///< a write time (with or without writers: checkpoints)
     bool write = false;                 ///< the writers
     std::vector<std::size_t> functions; ///< indices of function objects
     bool any() const { return write || !functions.empty(); }
@@ -58,6 +59,16 @@ class OutputSchedule {
   /// Move the schedules of what ran past time t / step `step`.
   void done(const Due& d, double t, std::int64_t step);
 
+  /// When the writers and each function object are due next, for a checkpoint (taken before
+  /// done() of the write time it belongs to, so that a restart runs again what was due
+  /// then), and its restoration. A case whose function objects changed since the
+  /// checkpoint restores the writers' schedule only (returns false): its function objects
+  /// start on their schedules at the restart time.
+  std::vector<double> state() const;
+  bool restore(const std::vector<double>& s);
+
+  /// Run `job` on the output thread, after everything submitted before it.
+  void submit_job(std::function<void()> job) { thread_->submit(std::move(job)); }
   void drain() { thread_->drain(); }
   /// Drain, then let every writer and function object finish (close series files).
   void finish();

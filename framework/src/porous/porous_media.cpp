@@ -453,6 +453,14 @@ Real PorousMedia<D>::max_signal_speed() const {
   return c;
 }
 
+template <int D>
+void PorousMedia<D>::restore_state(const std::vector<Real>& s) {
+  if (s.size() != totals_.size())
+    throw std::invalid_argument("the pore liquid's state has " + std::to_string(s.size()) + " values, not " +
+                                std::to_string(totals_.size()));
+  totals_.copy_from_host(s);
+}
+
 template class PorousMedia<2>;
 template class PorousMedia<3>;
 

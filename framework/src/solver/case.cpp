@@ -39,7 +39,19 @@ const CoreSpecs& CoreSpecs::get() {
     // ---- system/controlDict ----
     auto c = std::make_shared<ParamSpec>("controlDict", "time control, output and plugins (system/controlDict)");
     c->word("application", "the solver (informational)").default_value("scree");
-    c->scalar("startTime", "s", "start time (restart is not supported yet: 0)").default_value(0.0).range(0, 0);
+    c->scalar("startTime", "s", "start time of a run from the case's initial state (0)").default_value(0.0).range(0, 0);
+    // Restart (solver/checkpoint.hpp): OpenFOAM's startFrom; `scree --restart` is latestTime.
+    c->word("startFrom", "startTime: a run starts from the case's initial state; latestTime: it continues "
+                         "from the newest checkpoint in checkpoints/ (from startTime when there is none)")
+        .choices({"startTime", "latestTime"})
+        .default_value("startTime");
+    c->integer("checkpointInterval", "a checkpoint (the whole state, for a restart) at every this many write "
+                                     "times, at endTime and when a signal stops the run (0: none)")
+        .default_value(1.0)
+        .non_negative();
+    c->integer("checkpointKeep", "the newest checkpoints kept in checkpoints/ (older ones are removed)")
+        .default_value(2.0)
+        .range(1, 1e9);
     c->scalar("endTime", "s", "end time").positive();
     c->scalar("deltaT", "s", "time step (the first step when adjustTimeStep is on)").positive();
     c->boolean("adjustTimeStep", "adapt the time step to the CFL condition with maxCo").default_value("no");

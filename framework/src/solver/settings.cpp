@@ -22,7 +22,10 @@ ControlSettings read_control(const ParamSpec& spec, const Dictionary& d) {
       .write_control = r.word("writeControl") == "timeStep" ? WriteControl::timeStep : WriteControl::runTime,
       .write_interval = r.scalar("writeInterval"),
       .progress_interval = r.integer("progressInterval"),
-      .max_lost_fraction = r.scalar("maxLostFraction")};
+      .max_lost_fraction = r.scalar("maxLostFraction"),
+      .start_from_latest = r.word("startFrom") == "latestTime",
+      .checkpoint_interval = r.integer("checkpointInterval"),
+      .checkpoint_keep = r.integer("checkpointKeep")};
 }
 
 /// damping { type local; coefficient ...; } (none: no damping)

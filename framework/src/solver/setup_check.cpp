@@ -11,6 +11,7 @@
 
 #include "scree/boundary/boundary_condition.hpp"
 #include "scree/plugin/context.hpp"
+#include "scree/solver/checkpoint.hpp"
 #include "scree/solver/memory_estimate.hpp"
 #include "scree/solver/particle_generation.hpp"
 
@@ -199,6 +200,10 @@ std::vector<OutputPlace> output_places(const Case& c, const Registry& reg) {
   };
   visit("writers", PluginKind::writer);
   visit("functions", PluginKind::functionObject);
+  if (c.settings().control.checkpoint_interval > 0) {  // solver/checkpoint.hpp
+    const Entry* e = c.control().find("checkpointInterval");
+    places.push_back({"the checkpoints", checkpoint_dir(c.dir()), e ? e->where() : c.control().where(), ""});
+  }
   return places;
 }
 

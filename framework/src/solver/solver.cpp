@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 namespace scree {
@@ -444,11 +445,23 @@ void Solver<D>::set_split(bool on) {
 }
 
 template <int D>
-void Solver<D>::output_due(bool force_all) {
+void Solver<D>::output_due(bool force_all, bool checkpoint) {
   if (!output_) return;
   const double t = time();
   const OutputSchedule::Due due = output_->due(t, step_, force_all);
-  if (!due.any()) return;
+  // Checkpoints at every checkpointInterval-th write time after the run's first output
+  // (the initial state, or the restart's own), and when asked (endTime, a signal).
+  const std::int64_t every = settings_.control.checkpoint_interval;
+  if (due.write_time && !first_output_) ++writes_;
+  checkpoint = every > 0 && !first_output_ && t != checkpoint_time_ &&
+               (checkpoint || (due.write_time && writes_ % every == 0));
+  first_output_ = false;
+  const std::vector<double> schedule = output_->state();  // before done(): a restart runs what is due now
+  if (!due.any()) {
+    if (checkpoint) write_checkpoint(schedule);
+    output_->done(due, t, step_);
+    return;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   std::shared_ptr<Snapshot> snap;
   std::vector<std::function<void(BodySnapshot&)>> finish;
@@ -470,8 +483,44 @@ void Solver<D>::output_due(bool force_all) {
     snap = std::make_shared<Snapshot>(snapshot(due.with_grid));
   }
   output_->submit(due, std::move(snap), std::move(finish));
+  if (checkpoint) write_checkpoint(schedule);
   output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   output_->done(due, t, step_);
+}
+
+template <int D>
+void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
+  flush();  // the particles as of now; the set the next step scatters into is all zeros
+  mem::synchronize(exec_.device);
+  auto ck = std::make_shared<Checkpoint>();
+  ck->dimension = D;
+  ck->time = time();
+  ck->step = step_;
+  ck->sorted_at = sorted_at_;
+  ck->writes = writes_;
+  StepControl clock{};
+  ctl_.copy_to_host(&clock);  // the device's: the flush's gather may have counted lost points
+  ck->clock.resize(sizeof clock);
+  std::memcpy(ck->clock.data(), &clock, sizeof clock);
+  ck->schedule = schedule;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Checkpoint::Body b;
+    b.name = ctx_.body_names[i];
+    b.material_type = bodies_[i]->material_type();
+    b.particles = static_cast<std::uint64_t>(bodies_[i]->size());
+    b.data = bodies_[i]->save_state();
+    b.columns = b.particles > 0 ? b.data.size() / b.particles : 1;
+    ck->bodies.push_back(std::move(b));
+  }
+  if (porous_) ck->liquid = porous_->save_state();
+  checkpoint_time_ = ck->time;
+  // Written after the frames of this time (the output thread runs its jobs in order).
+  const std::filesystem::path file = checkpoint_file(case_.dir(), ck->time), dir = case_.dir();
+  const std::size_t keep = static_cast<std::size_t>(settings_.control.checkpoint_keep);
+  output_->submit_job([ck, file, dir, keep] {
+    ck->write(file);
+    purge_checkpoints(dir, keep);
+  });
 }
 
 template <int D>
@@ -511,15 +560,18 @@ RunStats Solver<D>::run() {
     advance_chunked(time_.end_time(), opt_.max_steps, opt_.output);
   } catch (const RunFailure&) {
     // The state the run stopped in, written for the diagnosis (frozen on the device since
-    // the failing step: step_control.hpp), then the failure goes to the caller.
-    finish_output();
+    // the failing step: step_control.hpp), then the failure goes to the caller. No
+    // checkpoint of it: the newest is the last healthy write time, to restart from.
+    finish_output(false);
     throw;
   } catch (const RunInterrupted&) {
-    finish_output();  // the state at the stop: a run interrupted keeps its last time
+    finish_output(true);  // the state at the stop, and a checkpoint to continue from
     throw;
   }
   if (opt_.output) {
-    output_due(true);  // the final state (also when endTime is not on the write grid)
+    // The final state (also when endTime is not on the write grid) and its checkpoint,
+    // from which a later endTime continues.
+    output_due(true, true);
     const auto t0 = std::chrono::steady_clock::now();
     output_->finish();  // waits for the output thread: output time too
     output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -530,9 +582,9 @@ RunStats Solver<D>::run() {
 }
 
 template <int D>
-void Solver<D>::finish_output() {
+void Solver<D>::finish_output(bool checkpoint) {
   if (!opt_.output) return;
-  output_due(true);
+  output_due(true, checkpoint);
   output_->finish();
 }
 
@@ -607,7 +659,7 @@ template <int D>
 RunStats Solver<D>::stats() const {
   RunStats r;
   r.steps = step_;
-  r.simulated_time = time() - time_.start_time();
+  r.simulated_time = time() - run_start_;
   r.wall_seconds = wall_;
   r.output_seconds = output_wall_;
   for (auto& b : bodies_) {

@@ -44,6 +44,7 @@
 #include "scree/mpm/grid_update.hpp"
 #include "scree/plugin/context.hpp"
 #include "scree/solver/case.hpp"
+#include "scree/solver/checkpoint.hpp"
 #include "scree/solver/simulation.hpp"
 #include "scree/time/time_control.hpp"
 #include "split_tuner.hpp"
@@ -78,6 +79,9 @@ class Solver {
   void setup_boundaries();
   void setup_split();
   void setup_output();
+  /// Continue from a checkpoint (opt_.restart): the bodies', liquid's, clock's and
+  /// schedules' state, checked against the case.
+  void restore(const Checkpoint& ck);
 
   // the step
   void step();                        ///< launch one step (all its passes and grid updates)
@@ -96,8 +100,15 @@ class Solver {
   void after_chunk(bool with_output);
   void check_health();        ///< throws RunFailure when the device stopped the clock on a failure
   std::string diagnosis();    ///< what went wrong, which particle, body, material, field, step
-  void output_due(bool force_all);
-  void finish_output();  ///< write every writer's output of now and wait for the output thread
+  /// Write what is due now (everything when force_all); a checkpoint with the writes of
+  /// every checkpointInterval-th write time, or with these writes when `checkpoint`.
+  void output_due(bool force_all, bool checkpoint = false);
+  /// The checkpoint of now, queued on the output thread after the writes of now (a
+  /// killed run then has the frames of a checkpoint's time written before the checkpoint).
+  void write_checkpoint(const std::vector<double>& schedule);
+  /// Write every writer's output of now (and a checkpoint when asked), wait for the
+  /// output thread.
+  void finish_output(bool checkpoint);
   Snapshot snapshot_header() const;  ///< time, step and the bodies' material names
   void set_split(bool on);
   Real max_signal_speed() const;
@@ -156,6 +167,10 @@ class Solver {
 
   // Output, progress and statistics
   std::unique_ptr<OutputSchedule> output_;
+  std::int64_t writes_ = 0;          // write times since startTime (the first not counted)
+  bool first_output_ = true;         // the run's first output (the initial or restart state)
+  double checkpoint_time_ = -1;      // the time of the last checkpoint this run wrote
+  double run_start_ = 0;             // startTime, or the time of the checkpoint restarted from
   Progress progress_;
   PhaseProfile profile_;
   double wall_ = 0, output_wall_ = 0;

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <stdexcept>
 
 #include "scree/solver/memory_estimate.hpp"
@@ -37,6 +39,12 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   sort_interval_ = policy_.sort_interval(settings_.schemes.sort_interval);
 
   setup_grid();
+  run_start_ = settings_.control.time.start_time;
+  std::optional<Checkpoint> restart;
+  if (!opt_.restart.empty()) {  // read first: the writers continue their series from its time
+    restart = Checkpoint::read(opt_.restart);
+    run_start_ = ctx_.start_time = restart->time;
+  }
   host_ctl_ = time_.initial();
   ctl_.resize(1, exec_.device);
   sync_control_to_device();
@@ -50,7 +58,66 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   setup_split();
   setup_boundaries();
   if (opt_.output) setup_output();
+  if (restart) {
+    restore(*restart);
+    return;
+  }
+  // A run from startTime: the checkpoints of an earlier run are not its own.
+  if (opt_.output) purge_checkpoints(case_.dir(), 0);
   if (time_.start(host_ctl_, max_signal_speed(), log_)) sync_control_to_device();
+}
+
+template <int D>
+void Solver<D>::restore(const Checkpoint& ck) {
+  const std::string file = opt_.restart.string();
+  auto mismatch = [&](const std::string& what) {
+    return InputError(case_.bodies().where(),
+                      "the checkpoint " + file + " does not fit this case: " + what +
+                          ". The case changed since it was written: run it from startTime (without --restart "
+                          "or startFrom latestTime; --overwrite replaces the old results), or restore the case");
+  };
+  if (ck.dimension != D)
+    throw mismatch("it is " + std::to_string(ck.dimension) + "D, the case " + std::to_string(D) + "D");
+  if (ck.bodies.size() != bodies_.size())
+    throw mismatch("it has " + std::to_string(ck.bodies.size()) + " bodies, the case " +
+                   std::to_string(bodies_.size()));
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Checkpoint::Body& b = ck.bodies[i];
+    const std::string name = ctx_.body_names[i];
+    if (b.name != name) throw mismatch("its body " + std::to_string(i + 1) + " is '" + b.name + "', not '" + name + "'");
+    if (b.material_type != bodies_[i]->material_type())
+      throw mismatch("body '" + name + "' is of material type " + b.material_type + ", not " +
+                     bodies_[i]->material_type());
+    if (b.particles != static_cast<std::uint64_t>(bodies_[i]->size()) ||
+        b.data.size() != static_cast<std::size_t>(bodies_[i]->size()) * (bodies_[i]->bytes_per_particle() / sizeof(Real)))
+      throw mismatch("body '" + name + "' has " + std::to_string(b.particles) + " particles of " +
+                     std::to_string(b.columns) + " values, the case's " + std::to_string(bodies_[i]->size()) +
+                     " of " + std::to_string(bodies_[i]->bytes_per_particle() / sizeof(Real)));
+    bodies_[i]->restore_state(b.data);
+  }
+  if (static_cast<bool>(porous_) != !ck.liquid.empty())
+    throw mismatch(porous_ ? "it has no pore liquid, the case has two-phase bodies"
+                           : "it has a pore liquid, the case no two-phase body");
+  if (porous_) porous_->restore_state(ck.liquid);
+
+  // The clock as it was, with the case's settings of now: a restart may change deltaT,
+  // maxCo, maxDeltaT and the health limits (and endTime, which the loop aims at).
+  StepControl c{};
+  std::memcpy(&c, ck.clock.data(), sizeof c);
+  c.dt_max = host_ctl_.dt_max;
+  c.cfl = host_ctl_.cfl;
+  c.h = host_ctl_.h;
+  c.lost_stop = host_ctl_.lost_stop;
+  c.stop_co = host_ctl_.stop_co;
+  host_ctl_ = c;
+  sync_control_to_device();
+  step_ = ck.step;
+  sorted_at_ = ck.sorted_at;
+  writes_ = ck.writes;
+  if (output_ && !output_->restore(ck.schedule))
+    log_ << "note: the function objects differ from those of the checkpoint; they start on their schedules at t = "
+         << ck.time << " s\n";
+  log_ << "Restarting from " << file << ": t = " << ck.time << " s, " << c.steps_done << " steps" << std::endl;
 }
 
 template <int D>

@@ -87,6 +87,11 @@ class Body {
   /// Overwrite particle velocities (D values per particle, interleaved), e.g. to start
   /// from a mode shape (tests, scripted initial conditions). Only before the first step.
   virtual void set_velocities(const std::vector<Real>& v) = 0;
+  /// Checkpoints (solver/checkpoint.hpp): a host copy of every Real the body holds per
+  /// particle (its storage block: particle_storage.hpp), and the state restored from such
+  /// a copy; restore_state throws std::invalid_argument when `block` has another size.
+  virtual std::vector<Real> save_state() const = 0;
+  virtual void restore_state(const std::vector<Real>& block) = 0;
   /// Reorder particles by grid cell (locality for P2G atomics); ids move with them.
   virtual void sort_by_cell(const GridGeometry<D>& g) = 0;
   /// Whether the body's stress pass can run split (its material has update_elastic).

@@ -231,6 +231,15 @@ class MaterialBody final : public Body<D> {
     }
   }
 
+  std::vector<Real> save_state() const override { return store_.to_host(); }
+  void restore_state(const std::vector<Real>& block) override {
+    if (block.size() != store_.data().size())
+      throw std::invalid_argument("body '" + name_ + "': a state of " + std::to_string(block.size()) +
+                                  " values, not " + std::to_string(store_.data().size()));
+    store_.data().copy_from_host(block);  // same size: the arrays stay bound
+    reset_split();
+  }
+
   void sort_by_cell(const GridGeometry<D>& g) override { sorter_.sort(store_, exec_, g); }
 
  private:

@@ -32,6 +32,9 @@ struct ControlSettings {
   double write_interval = 0;    ///< writeInterval [s or steps]
   std::int64_t progress_interval = 0;  ///< progressInterval [steps] (0: automatic)
   double max_lost_fraction = 1;        ///< maxLostFraction: more points off the grid stop the run [-]
+  bool start_from_latest = false;      ///< startFrom latestTime: continue from the newest checkpoint
+  std::int64_t checkpoint_interval = 0;  ///< checkpointInterval: a checkpoint every this many writes (0: none)
+  std::int64_t checkpoint_keep = 0;      ///< checkpointKeep: the newest checkpoints kept
 };
 
 /// mpmSchemes damping { type local; ... }: Cundall's local non-viscous damping.

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <iosfwd>
 #include <memory>
 #include <stdexcept>
@@ -63,6 +64,9 @@ struct RunOptions {
   /// together as InputErrors before anything is allocated or written, and its warnings
   /// go to `log`. Off only for a caller that ran it itself (the scree executable).
   bool check_setup = true;
+  /// A checkpoint to continue from (solver/checkpoint.hpp; empty: start from the case's
+  /// initial state). The writers and function objects continue their series from its time.
+  std::filesystem::path restart;
 };
 
 struct RunStats {

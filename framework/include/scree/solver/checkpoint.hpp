@@ -1,0 +1,75 @@
+// Checkpoints: the whole state of a run at one of its write times, from which `scree
+// --restart` (or `startFrom latestTime;` in system/controlDict) continues it.
+//
+// A checkpoint holds everything a step reads that the case's dictionaries do not give
+// again: every body's particle block (positions, velocities, F, stress, mass, volume, ids,
+// the material's state variables and a formulation's extra columns: particle_storage.hpp),
+// the pore liquid's cumulative inflows, the clock on the device (time, step, the last
+// signal speed the next step is derived from, the lost-point count: step_control.hpp),
+// the step counters that decide when particles are sorted, and when each writer and
+// function object is due next. The grid is not in it: a checkpoint is taken after the
+// step's gather (Solver::flush), when the set the next step scatters into is all zeros,
+// as it is in a fresh grid. A restarted CPU run on one thread equals the uninterrupted run
+// bit for bit (tests/verification/restart).
+//
+// Where: <case>/checkpoints/<time>.ckpt, <time> as %.12g ("0.25.ckpt"). Written at every
+// checkpointInterval-th write time, at endTime and when a run is stopped by a signal
+// (not after a failure: the newest checkpoint is then the last healthy write, the one to
+// restart from with a smaller step); the newest checkpointKeep are kept.
+//
+// The file (little-endian, Reals as IEEE doubles): the magic "SCREE-CHECKPOINT", a format
+// version, sizeof(Real) and sizeof(StepControl), the sections below, and an FNV-1a 64-bit
+// checksum of everything before it. It is written to a temporary, flushed to disk (fsync)
+// and renamed into place, so that a killed run leaves the old checkpoint or the complete
+// new one, never half of one.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scree/core/config.hpp"
+
+namespace scree {
+
+struct SCREE_API Checkpoint {
+  static constexpr std::uint32_t kVersion = 1;
+
+  int dimension = 0;
+  double time = 0;              ///< the clock [s]
+  std::int64_t step = 0;        ///< every step taken (also those with dt = 0)
+  std::int64_t sorted_at = 0;   ///< steps that advanced the clock at the last particle sort
+  std::int64_t writes = 0;      ///< write times so far (the checkpoint interval counts them)
+  std::vector<unsigned char> clock;  ///< the StepControl, as its bytes
+  std::vector<double> schedule;      ///< OutputSchedule::state()
+  struct Body {
+    std::string name;           ///< as in constant/bodies
+    std::string material_type;  ///< the material's type (a check against the case)
+    std::uint64_t particles = 0;
+    std::uint64_t columns = 0;  ///< Reals per particle
+    std::vector<Real> data;     ///< columns x particles (the body's storage block)
+  };
+  std::vector<Body> bodies;
+  std::vector<Real> liquid;     ///< the pore liquid's state (PorousMedia::save_state; empty: none)
+
+  /// Write atomically (temporary, fsync, rename). Throws std::runtime_error naming the file
+  /// on an I/O failure (disk full, not writable).
+  void write(const std::filesystem::path& file) const;
+  /// Read and verify (magic, version, sizes, checksum). Throws std::runtime_error naming the
+  /// file and what is wrong with it.
+  static Checkpoint read(const std::filesystem::path& file);
+};
+
+/// <case>/checkpoints
+SCREE_API std::filesystem::path checkpoint_dir(const std::filesystem::path& case_dir);
+/// The file of a checkpoint at time t: <case>/checkpoints/<t as %.12g>.ckpt
+SCREE_API std::filesystem::path checkpoint_file(const std::filesystem::path& case_dir, double t);
+/// The checkpoints of a case (files named <time>.ckpt), oldest first by their time.
+SCREE_API std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& case_dir);
+/// Remove all but the newest `keep` checkpoints of a case (keep 0: every one; a run from
+/// startTime clears those of an earlier run), and the temporaries a killed run left.
+SCREE_API void purge_checkpoints(const std::filesystem::path& case_dir, std::size_t keep);
+
+}  // namespace scree

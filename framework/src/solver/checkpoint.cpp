@@ -1,0 +1,262 @@
+// Checkpoint files (see checkpoint.hpp).
+#include "scree/solver/checkpoint.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "scree/output/writer.hpp"
+#include "scree/time/step_control.hpp"
+
+namespace fs = std::filesystem;
+
+namespace scree {
+
+namespace {
+
+constexpr char kMagic[16] = {'S', 'C', 'R', 'E', 'E', '-', 'C', 'H', 'E', 'C', 'K', 'P', 'O', 'I', 'N', 'T'};
+constexpr const char* kSuffix = ".ckpt";
+
+/// FNV-1a, 64 bits (Fowler, Noll & Vo): a checksum that finds a torn or altered file.
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void add(const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  }
+};
+
+/// The file's bytes, built in memory (a checkpoint is the size of the particle data: a copy
+/// of it on the host is what the writers take at every write too).
+class Out {
+ public:
+  void bytes(const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    buf_.insert(buf_.end(), b, b + n);
+  }
+  template <class T>
+  void pod(const T& v) {
+    bytes(&v, sizeof v);
+  }
+  void text(const std::string& s) {
+    pod<std::uint64_t>(s.size());
+    bytes(s.data(), s.size());
+  }
+  template <class T>
+  void array(const std::vector<T>& v) {
+    pod<std::uint64_t>(v.size());
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  std::vector<unsigned char>& buffer() { return buf_; }
+
+ private:
+  std::vector<unsigned char> buf_;
+};
+
+class In {
+ public:
+  In(const std::vector<unsigned char>& b, const fs::path& file) : b_(b), file_(file) {}
+  void bytes(void* p, std::size_t n) {
+    if (n > b_.size() - pos_) fail("it ends early (truncated)");
+    std::memcpy(p, b_.data() + pos_, n);
+    pos_ += n;
+  }
+  template <class T>
+  T pod() {
+    T v;
+    bytes(&v, sizeof v);
+    return v;
+  }
+  std::string text() {
+    const auto n = count(1);
+    std::string s(n, '\0');
+    bytes(s.data(), n);
+    return s;
+  }
+  template <class T>
+  std::vector<T> array() {
+    std::vector<T> v(count(sizeof(T)));
+    bytes(v.data(), v.size() * sizeof(T));
+    return v;
+  }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw std::runtime_error(file_.string() + ": not a usable checkpoint: " + why);
+  }
+
+ private:
+  std::size_t count(std::size_t element) {
+    const auto n = pod<std::uint64_t>();
+    if (n > (b_.size() - pos_) / element) fail("a length field exceeds the file (truncated or corrupt)");
+    return static_cast<std::size_t>(n);
+  }
+  const std::vector<unsigned char>& b_;
+  const fs::path& file_;
+  std::size_t pos_ = 0;
+};
+
+std::string time_text(double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.12g", t == 0 ? 0.0 : t);
+  return buf;
+}
+
+/// The time of a checkpoint file from its name, or false when it is not one.
+bool checkpoint_time(const fs::path& file, double& t) {
+  const std::string name = file.filename().string();
+  if (name.size() <= std::strlen(kSuffix) || name[0] == '.' ||
+      name.compare(name.size() - std::strlen(kSuffix), std::string::npos, kSuffix) != 0)
+    return false;
+  const std::string stem = name.substr(0, name.size() - std::strlen(kSuffix));
+  char* end = nullptr;
+  t = std::strtod(stem.c_str(), &end);
+  return end && *end == '\0' && end != stem.c_str();
+}
+
+}  // namespace
+
+void Checkpoint::write(const fs::path& file) const {
+  Out o;
+  o.bytes(kMagic, sizeof kMagic);
+  o.pod<std::uint32_t>(kVersion);
+  o.pod<std::uint32_t>(sizeof(Real));
+  o.pod<std::uint32_t>(sizeof(StepControl));
+  o.pod<std::int32_t>(dimension);
+  o.pod(time);
+  o.pod(step);
+  o.pod(sorted_at);
+  o.pod(writes);
+  o.array(clock);
+  o.array(schedule);
+  o.pod<std::uint64_t>(bodies.size());
+  for (const Body& b : bodies) {
+    o.text(b.name);
+    o.text(b.material_type);
+    o.pod(b.particles);
+    o.pod(b.columns);
+    o.array(b.data);
+  }
+  o.array(liquid);
+  Fnv sum;
+  sum.add(o.buffer().data(), o.buffer().size());
+  o.pod(sum.h);
+
+  write_file_atomically(file, [&](const fs::path& tmp) {
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error("cannot write the checkpoint " + tmp.string() + ": " + std::strerror(errno));
+    const auto& b = o.buffer();
+    std::size_t done = 0;
+    while (done < b.size()) {
+      const ssize_t n = ::write(fd, b.data() + done, b.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        const int e = errno;
+        ::close(fd);
+        throw std::runtime_error("error writing the checkpoint " + file.string() + " (" + std::to_string(b.size()) +
+                                 " bytes): " + std::strerror(e));
+      }
+      done += static_cast<std::size_t>(n);
+    }
+    // On disk before the rename: after a crash of the machine the name holds the whole file.
+    if (::fsync(fd) != 0 || ::close(fd) != 0)
+      throw std::runtime_error("error writing the checkpoint " + file.string() + ": " + std::strerror(errno));
+  });
+}
+
+Checkpoint Checkpoint::read(const fs::path& file) {
+  std::vector<unsigned char> buf;
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw std::runtime_error(file.string() + ": cannot open the checkpoint: " + std::strerror(errno));
+    in.seekg(0, std::ios::end);
+    const auto size = in.tellg();
+    if (size < 0) throw std::runtime_error(file.string() + ": cannot read the checkpoint");
+    in.seekg(0);
+    buf.resize(static_cast<std::size_t>(size));
+    if (!in.read(reinterpret_cast<char*>(buf.data()), size))
+      throw std::runtime_error(file.string() + ": cannot read the checkpoint");
+  }
+  In in(buf, file);
+  char magic[sizeof kMagic];
+  if (buf.size() < sizeof kMagic + sizeof(std::uint64_t)) in.fail("it is too short");
+  in.bytes(magic, sizeof magic);
+  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) in.fail("it does not start with " + std::string(kMagic, 16));
+  {  // the checksum over everything before its own 8 bytes
+    Fnv sum;
+    sum.add(buf.data(), buf.size() - sizeof(std::uint64_t));
+    std::uint64_t stored;
+    std::memcpy(&stored, buf.data() + buf.size() - sizeof stored, sizeof stored);
+    if (stored != sum.h) in.fail("its checksum does not match (the file was altered or cut)");
+  }
+  const auto version = in.pod<std::uint32_t>();
+  if (version != kVersion)
+    in.fail("format version " + std::to_string(version) + ", this scree reads version " + std::to_string(kVersion));
+  if (in.pod<std::uint32_t>() != sizeof(Real)) in.fail("written with another size of Real");
+  if (in.pod<std::uint32_t>() != sizeof(StepControl))
+    in.fail("written by a scree with another clock layout (StepControl): restart with the scree that wrote it");
+  Checkpoint c;
+  c.dimension = in.pod<std::int32_t>();
+  c.time = in.pod<double>();
+  c.step = in.pod<std::int64_t>();
+  c.sorted_at = in.pod<std::int64_t>();
+  c.writes = in.pod<std::int64_t>();
+  c.clock = in.array<unsigned char>();
+  if (c.clock.size() != sizeof(StepControl)) in.fail("its clock has the wrong size");
+  c.schedule = in.array<double>();
+  const auto nb = in.pod<std::uint64_t>();
+  if (nb > buf.size()) in.fail("a body count exceeds the file");
+  for (std::uint64_t i = 0; i < nb; ++i) {
+    Body b;
+    b.name = in.text();
+    b.material_type = in.text();
+    b.particles = in.pod<std::uint64_t>();
+    b.columns = in.pod<std::uint64_t>();
+    b.data = in.array<Real>();
+    if (b.columns == 0 || b.data.size() / b.columns != b.particles || b.data.size() % b.columns != 0)
+      in.fail("body '" + b.name + "' has " + std::to_string(b.data.size()) + " values, not " +
+              std::to_string(b.columns) + " x " + std::to_string(b.particles));
+    c.bodies.push_back(std::move(b));
+  }
+  c.liquid = in.array<Real>();
+  return c;
+}
+
+fs::path checkpoint_dir(const fs::path& case_dir) { return case_dir / "checkpoints"; }
+
+fs::path checkpoint_file(const fs::path& case_dir, double t) {
+  return checkpoint_dir(case_dir) / (time_text(t) + kSuffix);
+}
+
+std::vector<fs::path> list_checkpoints(const fs::path& case_dir) {
+  std::vector<std::pair<double, fs::path>> found;
+  std::error_code ec;
+  for (const auto& de : fs::directory_iterator(checkpoint_dir(case_dir), ec)) {
+    double t = 0;
+    if (checkpoint_time(de.path(), t) && de.is_regular_file(ec)) found.emplace_back(t, de.path());
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<fs::path> out;
+  for (auto& f : found) out.push_back(std::move(f.second));
+  return out;
+}
+
+void purge_checkpoints(const fs::path& case_dir, std::size_t keep) {
+  const auto all = list_checkpoints(case_dir);
+  std::error_code ec;
+  for (std::size_t i = 0; i + keep < all.size(); ++i) fs::remove(all[i], ec);
+  // Temporaries of a killed run: ".<time>.ckpt.tmp<pid>_<n>" (write_file_atomically).
+  for (const auto& de : fs::directory_iterator(checkpoint_dir(case_dir), ec)) {
+    const std::string name = de.path().filename().string();
+    if (name.size() > 1 && name[0] == '.' && name.find(std::string(kSuffix) + ".tmp") != std::string::npos)
+      fs::remove(de.path(), ec);
+  }
+}
+
+}  // namespace scree
