@@ -1,6 +1,7 @@
 // PvdSeries (see PvdSeries.hpp).
 #include "PvdSeries.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -66,6 +67,14 @@ std::string time_text(double v) {
 void PvdSeries::truncate_from(double t) {
   const double eps = 1e-9 * std::max(1.0, std::fabs(t));
   std::erase_if(entries_, [&](const PvdEntry& e) { return e.time >= t - eps; });
+}
+
+void PvdSeries::put(double time, std::string relative_file) {
+  const double eps = 1e-9 * std::max(1.0, std::fabs(time));
+  std::erase_if(entries_, [&](const PvdEntry& e) { return e.file == relative_file || std::fabs(e.time - time) <= eps; });
+  const auto at = std::upper_bound(entries_.begin(), entries_.end(), time,
+                                   [](double t, const PvdEntry& e) { return t < e.time; });
+  entries_.insert(at, {time, std::move(relative_file)});
 }
 
 void PvdSeries::load() {

@@ -32,6 +32,9 @@ class PvdSeries {
   const std::vector<PvdEntry>& entries() const { return entries_; }
   void clear() { entries_.clear(); }
   void add(double time, std::string relative_file) { entries_.push_back({time, std::move(relative_file)}); }
+  /// Add an entry in time order, replacing one of the same file or the same time (a
+  /// restart writing again a frame the series lists).
+  void put(double time, std::string relative_file);
   /// Drop the entries at times >= t (a restart at t rewrites them).
   void truncate_from(double t);
 

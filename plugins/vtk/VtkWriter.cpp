@@ -6,8 +6,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <limits>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -248,32 +252,71 @@ void VtkWriter::start_series() {
   grid_series_ = PvdSeries(dir_ / (name_ + "_grid.pvd"));
   const std::string vtp_prefix = name_ + "_", grid_prefix = name_ + "_grid_";
   if (start_time_ > 0) {
-    // A run from a later time continues the series: keep the earlier entries, number
-    // the new files after them (later ones are overwritten as they come).
+    // A run from a later time (a restart) continues the series. Its frames are numbered
+    // after the entries before its time (it writes again the same frames under the same
+    // names, PvdSeries::put); later entries, frames of the run it continues, stay listed
+    // until it writes them again, so that a restart killed early unlists nothing.
     particles_.load();
     grid_series_.load();
-    particles_.truncate_from(start_time_);
-    grid_series_.truncate_from(start_time_);
-    for (const auto& e : particles_.entries()) index_ = std::max(index_, series_index(e.file, vtp_prefix, ".vtp") + 1);
+    const double eps = 1e-9 * std::max(1.0, start_time_);
+    for (const auto& e : particles_.entries())
+      if (e.time < start_time_ - eps) index_ = std::max(index_, series_index(e.file, vtp_prefix, ".vtp") + 1);
     for (const auto& e : grid_series_.entries())
-      index_ = std::max(index_, series_index(e.file, grid_prefix, ".vti") + 1);
-  } else {
-    // A run from t = 0 replaces this writer's old series (files of a longer earlier run
-    // would otherwise sit beside the new ones), and temporaries of a killed run.
-    std::error_code ec;
-    for (const auto& de : fs::directory_iterator(dir_, ec)) {
-      std::string f = de.path().filename().string();
-      if (!f.empty() && f[0] == '.') {
-        const auto tmp = f.find(".tmp");
-        if (tmp == std::string::npos) continue;
-        f = f.substr(1, tmp - 1);  // ".<target>.tmp<pid>_<n>" -> "<target>"
-      }
-      const bool ours = f == name_ + ".pvd" || f == name_ + "_grid.pvd" ||
-                        series_index(f, vtp_prefix, ".vtp") >= 0 || series_index(f, grid_prefix, ".vti") >= 0;
-      if (ours) fs::remove(de.path(), ec);
+      if (e.time < start_time_ - eps) index_ = std::max(index_, series_index(e.file, grid_prefix, ".vti") + 1);
+    // A run killed between a frame's rename and the rewrite of the .pvd left that frame
+    // complete but unlisted: list it (its time is the TimeValue in its header).
+    list_unlisted_frame(particles_, vtp_prefix, ".vtp");
+    list_unlisted_frame(grid_series_, grid_prefix, ".vti");
+  }
+  // This writer's files that its series does not list: from t = 0 every old one (files of a
+  // longer earlier run would otherwise sit beside the new ones), on a restart those no
+  // series lists; and the temporaries of a killed run.
+  std::set<std::string> listed;
+  for (const auto& e : particles_.entries()) listed.insert(e.file);
+  for (const auto& e : grid_series_.entries()) listed.insert(e.file);
+  std::error_code ec;
+  for (const auto& de : fs::directory_iterator(dir_, ec)) {
+    std::string f = de.path().filename().string();
+    bool temporary = false;
+    if (!f.empty() && f[0] == '.') {
+      const auto tmp = f.find(".tmp");
+      if (tmp == std::string::npos) continue;
+      f = f.substr(1, tmp - 1);  // ".<target>.tmp<pid>_<n>" -> "<target>"
+      temporary = true;
     }
+    const bool series = f == name_ + ".pvd" || f == name_ + "_grid.pvd";
+    const bool frame = series_index(f, vtp_prefix, ".vtp") >= 0 || series_index(f, grid_prefix, ".vti") >= 0;
+    if (!series && !frame) continue;
+    const bool stale = temporary || (start_time_ > 0 ? frame && !listed.count(f) : true);
+    if (stale) fs::remove(de.path(), ec);
   }
   started_ = true;
+}
+
+void VtkWriter::list_unlisted_frame(PvdSeries& series, const std::string& prefix, const std::string& suffix) {
+  std::int64_t last = -1;
+  for (const auto& e : series.entries()) last = std::max(last, series_index(e.file, prefix, suffix));
+  const std::string file = prefix + std::to_string(last + 1) + suffix;
+  std::ifstream in(dir_ / file, std::ios::binary);
+  if (!in) return;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  // Complete (it was renamed into place whole) and stamped with its time.
+  static const std::regex time_value(R"re(Name="TimeValue"[^>]*RangeMin="\s*([^"\s]+))re");
+  std::smatch m;
+  const auto tail = text.find_last_not_of(" \n\r");
+  if (tail == std::string::npos || tail + 1 < 10 || text.compare(tail + 1 - 10, 10, "</VTKFile>") != 0 ||
+      !std::regex_search(text, m, time_value))
+    return;
+  double t = 0;
+  try {
+    t = std::stod(m[1]);
+  } catch (const std::exception&) {
+    return;
+  }
+  series.put(t, file);
+  series.save();
 }
 
 void VtkWriter::resolve_fields(const Snapshot& s) {
@@ -337,12 +380,12 @@ void VtkWriter::write(const Snapshot& s) {
     const std::string base = name_ + "_" + std::to_string(index_);
     const fs::path vtp = dir_ / (base + ".vtp");
     write_file_atomically(vtp, [&](const fs::path& tmp) { write_particles(s, tmp); });
-    particles_.add(s.time, vtp.filename().string());
+    particles_.put(s.time, vtp.filename().string());
     particles_.save();
     if (grid_ && s.has_grid) {
       const fs::path vti = dir_ / (name_ + "_grid_" + std::to_string(index_) + ".vti");
       write_file_atomically(vti, [&](const fs::path& tmp) { write_grid(s, tmp); });
-      grid_series_.add(s.time, vti.filename().string());
+      grid_series_.put(s.time, vti.filename().string());
       grid_series_.save();
     }
   } catch (const std::exception& e) {

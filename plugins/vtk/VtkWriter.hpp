@@ -50,6 +50,9 @@ class VtkWriter final : public Writer {
 
  private:
   void start_series();                       // first write: clean up or continue the series
+  /// A restart's repair: the frame after the last one `series` lists, complete on disk but
+  /// never listed (a kill between its rename and the .pvd's rewrite), listed and saved.
+  void list_unlisted_frame(PvdSeries& series, const std::string& prefix, const std::string& suffix);
   void resolve_fields(const Snapshot& s);    // first write: the arrays to write
   void write_particles(const Snapshot& s, const std::filesystem::path& file) const;
   void write_grid(const Snapshot& s, const std::filesystem::path& file) const;

@@ -291,17 +291,25 @@ TEST(VtkWriter, FreshRunReplacesOldSeriesRestartContinuesIt) {
   std::ofstream(vtk / "notes.txt") << "mine";
   std::ofstream(vtk / "rr_1.vtp") << "another writer";
 
-  // A restart from t = 0.1 keeps t = 0 and renumbers after it.
+  // A restart from t = 0.1 keeps t = 0, numbers its frames after it (writing r_1 again),
+  // keeps the later frame listed until it writes it again (a restart killed early unlists
+  // no finished frame), and removes what no series lists: a killed run's temporary, a
+  // frame of a longer earlier run.
   {
     auto ctx = make_context(dir.path(), "r");
     ctx.start_time = 0.1;
     auto w = make_writer("type vtk;", ctx);
     w->write(two_bodies(0.1, 1));
     const auto series = read_pvd(vtk / "r.pvd");
-    ASSERT_EQ(series.size(), 2u);
+    ASSERT_EQ(series.size(), 3u);
     EXPECT_EQ(series[0].file, "r_0.vtp");
     EXPECT_EQ(series[1].file, "r_1.vtp");
     EXPECT_DOUBLE_EQ(series[1].time, 0.1);
+    EXPECT_EQ(series[2].file, "r_2.vtp");
+    EXPECT_FALSE(fs::exists(vtk / "r_7.vtp"));
+    EXPECT_FALSE(fs::exists(vtk / ".r_3.vtp.tmp123_0"));
+    w->write(two_bodies(0.2, 2));
+    EXPECT_EQ(read_pvd(vtk / "r.pvd").size(), 3u) << "r_2 written again replaces its entry";
   }
   // A fresh run removes the old series (and only it).
   {
@@ -315,4 +323,37 @@ TEST(VtkWriter, FreshRunReplacesOldSeriesRestartContinuesIt) {
   EXPECT_TRUE(fs::exists(vtk / "notes.txt"));
   EXPECT_TRUE(fs::exists(vtk / "rr_1.vtp"));
   EXPECT_EQ(read_pvd(vtk / "r.pvd").size(), 1u);
+}
+
+// A run killed between a frame's rename and the .pvd's rewrite leaves the frame complete but
+// unlisted (4 of 20 kill trials did, before restarts existed): the restart lists it at once,
+// with the time in its header, before it writes anything.
+TEST(VtkWriter, RestartListsTheFrameAKilledRunLeftUnlisted) {
+  TempDir dir;
+  const fs::path vtk = dir.path() / "VTK";
+  {
+    auto w = make_writer("type vtk;", make_context(dir.path(), "r"));
+    for (int i = 0; i < 4; ++i) w->write(two_bodies(0.1 * i, i));
+  }
+  {  // the .pvd as it was before the last frame's rewrite
+    std::ifstream in(vtk / "r.pvd");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    const auto at = text.find("file=\"r_3.vtp\"");
+    ASSERT_NE(at, std::string::npos);
+    const auto begin = text.rfind("<DataSet", at), end = text.find('\n', at);
+    text.erase(begin, end - begin + 1);
+    std::ofstream(vtk / "r.pvd") << text;
+  }
+  ASSERT_EQ(read_pvd(vtk / "r.pvd").size(), 3u);
+  auto ctx = make_context(dir.path(), "r");
+  ctx.start_time = 0.1;
+  auto w = make_writer("type vtk;", ctx);
+  w->write(two_bodies(0.1, 1));  // the restart's first write (the series is repaired before it)
+  const auto series = read_pvd(vtk / "r.pvd");
+  ASSERT_EQ(series.size(), 4u);
+  EXPECT_EQ(series[3].file, "r_3.vtp");
+  EXPECT_NEAR(series[3].time, 0.3, 1e-9);
+  EXPECT_TRUE(fs::exists(vtk / "r_3.vtp"));
 }
