@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# The CPU tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+#
+#   scripts/sanitize.sh                 # configure build-asan (preset asan), build, test
+#   scripts/sanitize.sh -R dictionary   # extra ctest arguments
+#   SCREE_JOBS=1 scripts/sanitize.sh    # build and test with one job (default: nproc)
+#
+# build-asan is the CMakePresets.json preset `asan`: clang 14, RelWithDebInfo, every
+# target (libscree, every plugin, the utilities, the tests) compiled with
+# -fsanitize=address,undefined -fno-sanitize-recover=all (cmake/ScreeSanitize.cmake).
+# The executables carry the sanitizer runtime, so the plugins that Boost.DLL loads
+# later are checked too. It then runs `ctest -L "unit|verification" -LE gpu`, and any
+# finding fails its test:
+#
+#   ASAN_OPTIONS
+#     halt_on_error=1             the first error ends the process with a non-zero status
+#                                 (ASan's default; said so that a user's setting does not win)
+#     detect_leaks=1              LeakSanitizer at exit: a leak is a finding. The tests
+#                                 and scree are short runs, so a leak costs nothing there,
+#                                 but the reader and the validation also run in long-lived
+#                                 callers (the fuzzers, a plugin host) where it adds up;
+#                                 and a leak often marks an ownership bug.
+#     detect_stack_use_after_return=1, check_initialization_order=1, strict_init_order=1
+#                                 the checks ASan leaves off by default: a pointer to a
+#                                 dead stack frame, a static initialised from another
+#                                 translation unit's static before that one is initialised.
+#     detect_odr_violation=2      a global defined twice (the core and a plugin linking the
+#                                 same code) is an error
+#   UBSAN_OPTIONS
+#     halt_on_error=1, print_stacktrace=1  (the build aborts on UB anyway: -fno-sanitize-recover)
+#
+# No suppressions. CI runs this as its own job (.ci/sanitize), not as part of .ci/run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+start=$(date +%s)
+
+# clang 14 with its sanitizer and libFuzzer runtimes and LLVM's OpenMP, from Debian 12;
+# the project's other dependencies are those of scripts/setup.sh.
+packages=(clang-14 libclang-rt-14-dev libomp-14-dev cmake ninja-build libeigen3-dev libboost-dev
+          libboost-program-options-dev libvtk9-dev libgtest-dev python3-numpy)
+if [ -z "${SCREE_NO_APT:-}" ]; then
+  missing=()
+  for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "sanitize: installing ${missing[*]}"
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+fi
+
+jobs=${SCREE_JOBS:-$(nproc)}
+[ -f build-asan/build.ninja ] || cmake --preset asan
+cmake --build build-asan -j "$jobs"
+
+export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1:detect_odr_violation=2${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+args=("$@")
+status=0
+ctest --test-dir build-asan --output-on-failure -j "$jobs" -L "unit|verification" -LE gpu "${args[@]}" || status=$?
+echo "sanitize: $(( $(date +%s) - start )) s wall in all (build and tests)"
+exit $status
