@@ -643,8 +643,16 @@ class Lexer {
   std::string read_word_bytes() {
     const std::size_t begin = pos_;
     while (!done() && is_word_byte(static_cast<unsigned char>(at(0))) &&
-           !(at(0) == '/' && (at(1) == '/' || at(1) == '*')))
+           !(at(0) == '/' && (at(1) == '/' || at(1) == '*'))) {
+      // A byte order mark is skipped at the start of the file only. Elsewhere (files
+      // joined with `cat`, an editor's paste) it is an invisible part of a word:
+      // "\uFEFFendTime" would be an unknown key that prints as 'endTime', and a key
+      // written back would lose it when read again (the writer's output starts with it).
+      if (text_.compare(pos_, 3, "\xEF\xBB\xBF") == 0)
+        fail(here(), "invisible character U+FEFF (a byte order mark, allowed only at the start of the file) "
+                     "inside a word: delete it");
       advance();
+    }
     return text_.substr(begin, pos_ - begin);
   }
 
