@@ -87,10 +87,14 @@ bool TimeControl::reached(double t, double target) {
 }
 
 std::int64_t TimeControl::steps_to(const StepControl& ctl, int p, double target) const {
-  const Real dt = std::max<Real>(ctl.dt[p], 1e-300);
-  std::int64_t n = static_cast<std::int64_t>(std::ceil((target - ctl.t[p]) / dt - 1e-9));
-  if (adaptive()) n += 1;
-  return std::max<std::int64_t>(n, 1);
+  // A clock stopped on the last target (dt = 0, until retarget derives the step): one step,
+  // after which the next chunk is sized from that step. (The step was clamped to 1e-300
+  // and the quotient, ~1e298, converted to int64: undefined behaviour, found by UBSan, that
+  // gave one step on x86.)
+  const Real dt = ctl.dt[p];
+  if (!(dt > 0)) return 1;
+  const double steps = std::ceil((target - ctl.t[p]) / dt - 1e-9) + (adaptive() ? 1 : 0);
+  return static_cast<std::int64_t>(std::clamp(steps, 1.0, kMaxSteps));
 }
 
 bool TimeControl::retarget(StepControl& ctl, int p, double target) const {

@@ -122,6 +122,18 @@ TEST(TimeControl, ChunksCoverTheTargetAndReachedToleratesRoundOff) {
   EXPECT_FALSE(TimeControl::reached(1.0 - 1e-9, 1.0));
 }
 
+// A clock stopped on a target (dt = 0) asks for one step; a tiny step for at most kMaxSteps.
+// Both were a float-to-int64 conversion of ~1e298 (undefined behaviour: UBSan stopped every
+// run of a case in the sanitizer build; on x86 it happened to give 1).
+TEST(TimeControl, StepsToAStoppedClockOrATinyStepStayInRange) {
+  TimeControl adaptive(adaptive_step(1e-3, 1.0, 1e-3, 0.5), 0.01);
+  StepControl c = adaptive.initial();
+  c.dt[0] = 0;
+  EXPECT_EQ(adaptive.steps_to(c, 0, 0.5), 1);
+  c.dt[0] = 1e-290;
+  EXPECT_EQ(adaptive.steps_to(c, 0, 0.5), static_cast<std::int64_t>(TimeControl::kMaxSteps));
+}
+
 TEST(TimeControl, TheWatchWarnsOnceWhenAFixedStepBecomesUnstable) {
   std::ostringstream log;
   TimeControl tc(fixed_step(1e-4, 1.0), 0.01);  // stable while c < 100 m/s
