@@ -306,8 +306,9 @@ void VtkWriter::list_unlisted_frame(PvdSeries& series, const std::string& prefix
   static const std::regex time_value(R"re(Name="TimeValue"[^>]*RangeMin="\s*([^"\s]+))re");
   std::smatch m;
   const auto tail = text.find_last_not_of(" \n\r");
+  const std::string header = text.substr(0, 8192);  // the FieldData comes first: no regex over the data
   if (tail == std::string::npos || tail + 1 < 10 || text.compare(tail + 1 - 10, 10, "</VTKFile>") != 0 ||
-      !std::regex_search(text, m, time_value))
+      !std::regex_search(header, m, time_value))
     return;
   double t = 0;
   try {

@@ -456,7 +456,8 @@ void Solver<D>::output_due(bool force_all, bool checkpoint) {
   checkpoint = every > 0 && !first_output_ && t != checkpoint_time_ &&
                (checkpoint || (due.write_time && writes_ % every == 0));
   first_output_ = false;
-  const std::vector<double> schedule = output_->state();  // before done(): a restart runs what is due now
+  std::vector<double> schedule;  // before done(): a restart runs what is due now
+  if (checkpoint) schedule = output_->state();
   if (!due.any()) {
     if (checkpoint) write_checkpoint(schedule);
     output_->done(due, t, step_);
@@ -490,7 +491,9 @@ void Solver<D>::output_due(bool force_all, bool checkpoint) {
 
 template <int D>
 void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
-  flush();  // the particles as of now; the set the next step scatters into is all zeros
+  // The particles as of now (the set the next step scatters into is then all zeros); the
+  // host's clock is the device's after a flush (flush reads it back).
+  flush();
   mem::synchronize(exec_.device);
   auto ck = std::make_shared<Checkpoint>();
   ck->dimension = D;
@@ -498,10 +501,8 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
   ck->step = step_;
   ck->sorted_at = sorted_at_;
   ck->writes = writes_;
-  StepControl clock{};
-  ctl_.copy_to_host(&clock);  // the device's: the flush's gather may have counted lost points
-  ck->clock.resize(sizeof clock);
-  std::memcpy(ck->clock.data(), &clock, sizeof clock);
+  ck->clock.resize(sizeof host_ctl_);
+  std::memcpy(ck->clock.data(), &host_ctl_, sizeof host_ctl_);
   ck->schedule = schedule;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Checkpoint::Body b;
@@ -509,7 +510,7 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
     b.material_type = bodies_[i]->material_type();
     b.particles = static_cast<std::uint64_t>(bodies_[i]->size());
     b.data = bodies_[i]->save_state();
-    b.columns = b.particles > 0 ? b.data.size() / b.particles : 1;
+    b.columns = bodies_[i]->bytes_per_particle() / sizeof(Real);
     ck->bodies.push_back(std::move(b));
   }
   if (porous_) ck->liquid = porous_->save_state();

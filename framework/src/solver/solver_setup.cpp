@@ -88,11 +88,12 @@ void Solver<D>::restore(const Checkpoint& ck) {
     if (b.material_type != bodies_[i]->material_type())
       throw mismatch("body '" + name + "' is of material type " + b.material_type + ", not " +
                      bodies_[i]->material_type());
-    if (b.particles != static_cast<std::uint64_t>(bodies_[i]->size()) ||
-        b.data.size() != static_cast<std::size_t>(bodies_[i]->size()) * (bodies_[i]->bytes_per_particle() / sizeof(Real)))
+    const std::uint64_t n = static_cast<std::uint64_t>(bodies_[i]->size());
+    const std::uint64_t columns = bodies_[i]->bytes_per_particle() / sizeof(Real);
+    if (b.particles != n || b.columns != columns)
       throw mismatch("body '" + name + "' has " + std::to_string(b.particles) + " particles of " +
-                     std::to_string(b.columns) + " values, the case's " + std::to_string(bodies_[i]->size()) +
-                     " of " + std::to_string(bodies_[i]->bytes_per_particle() / sizeof(Real)));
+                     std::to_string(b.columns) + " values, the case's " + std::to_string(n) + " of " +
+                     std::to_string(columns));
     bodies_[i]->restore_state(b.data);
   }
   if (static_cast<bool>(porous_) != !ck.liquid.empty())
