@@ -203,18 +203,6 @@ struct Stencil {
 template <class Shape>
 inline constexpr bool kApicFromInertia = Shape::kStencil == 3 && sizeof(Shape) == sizeof(Real);
 
-/// The first component of a[0..n) that is not finite, or -1. One sum and one test on the
-/// common path (a sum of finite values that overflows also counts: such a field is garbage).
-template <class A>
-SCREE_INLINE int first_nonfinite(const A& a, int n) {
-  Real s = 0;
-  for (int i = 0; i < n; ++i) s += a[i];
-  if (s - s == 0) [[likely]] return -1;
-  for (int i = 0; i < n; ++i)
-    if (!(a[i] - a[i] == 0)) return i;
-  return 0;  // each finite, the sum not: report the first
-}
-
 /// Whether the first lane of the warp (CUDA), or always (CPU).
 SCREE_INLINE bool first_lane() {
 #if defined(__CUDA_ARCH__)
@@ -294,7 +282,7 @@ struct ParticlePass {
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
       if (!st.inside) {
-        lost(p, x);  // the stencil left the grid: freeze the particle (the solver warns)
+        lost(p);  // the stencil left the grid: freeze the particle (the solver warns)
         active = false;
       } else {
         Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero();
@@ -339,8 +327,10 @@ SCREE_UNROLL
         }
         // The new velocity and position (eqs. 10-11) need the gather alone: made before the
         // stress update, so that the gather's sums are dead while the update needs registers.
-        // The signal speed takes |v| of the velocity the step started from.
-        const Real v_start = speed_wanted(pp) ? norm(v) : Real(0);
+        // The signal speed takes |v| of the velocity the step started from; -1 when this
+        // step takes no speed. (The flag itself, held through the stress update, cost the
+        // register-capped elastic kernel 32 B of spills per point: performance log entry 30.)
+        const Real v_start = speed_wanted(pp) ? norm(v) : Real(-1);
         if (flags & kGatherVelocity) {
           if (apic) {
             v = v_pic;
@@ -408,7 +398,7 @@ SCREE_UNROLL
     const GridGeometry<D>& g = pp.grid;
     const detail::Stencil<D, Shape> st(shape, g, x);
     if (active && !st.inside) {
-      lost(p, x);
+      lost(p);
       active = false;
     }
     Sym3 sig = Sym3::zero();
@@ -476,8 +466,7 @@ SCREE_UNROLL
   }
 
   /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c +
-  /// v_start (|v| at the start of the step) when the pass needs it (adaptive time step),
-  /// else 0. ElasticOnly: the material's update_elastic; when that declines, nothing is
+  /// v_start (|v| at the start of the step) when the step takes it (v_start >= 0), else 0. ElasticOnly: the material's update_elastic; when that declines, nothing is
   /// written and the result is false.
   template <bool ElasticOnly>
   SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, Real v_start, Real mass, Real& speed,
@@ -523,7 +512,7 @@ SCREE_UNROLL
     // what the update and wave_speed() both compute (phaseTransition: the collisional
     // coefficients at the new void ratio).
     speed = 0;
-    if (speed_wanted(pp)) {
+    if (v_start >= 0) {
       // An inverted point (V <= 0) has no density and so no wave speed: its |v| alone. (Its
       // density was taken as 0, c = inf for most models: the adaptive step became 0 for a
       // step and then maxDeltaT, and the health check read an infinite Courant number.)
@@ -537,29 +526,17 @@ SCREE_UNROLL
   }
 
   /// Freeze a particle whose stencil left the grid (negative volume0 marks it) and
-  /// count it once; the solver reports the count.
-  SCREE_INLINE void lost(Index p, const Vec<D>& x) const {
+  /// count it once; the first one records itself (StepControl::first_lost), and the solver
+  /// reports the count. A point blown up (a non-finite position) comes from a non-finite
+  /// nodal velocity, which the grid update's probe has already reported in this step
+  /// (report_nonfinite_node); the host then finds the point in the frozen state.
+  SCREE_INLINE void lost(Index p) const {
     pa.volume0[p] = -fabs(pa.volume0[p]);
     if (atomic_fetch_increment(&pp.control->lost, pp.serial) == 0) {
       pp.control->first_lost.body = pp.body;
       pp.control->first_lost.index = p;
       pp.control->first_lost.step = pp.control->step[pp.parity];
     }
-    const int c = detail::first_nonfinite(x, D);  // blown up rather than moved out
-    if (c >= 0) report_bad(p, kBadPosition, c, x[c]);
-  }
-
-  /// A non-finite value of point p: counted; the first one found records itself
-  /// (StepControl::bad), and the clock stops after this step (advance_clock).
-  SCREE_INLINE void report_bad(Index p, int field, int component, Real value) const {
-    StepControl* c = pp.control;
-    if (atomic_fetch_increment(&c->bad.count, pp.serial) != 0) return;
-    c->bad.body = pp.body;
-    c->bad.field = field;
-    c->bad.component = component;
-    c->bad.index = p;
-    c->bad.value = value;
-    c->bad.step = c->step[pp.parity];
   }
 };
 

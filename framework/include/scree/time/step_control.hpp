@@ -10,8 +10,8 @@
 //
 // Health: the grid update counts nodes whose velocity or force is not finite (every
 // non-finite velocity, stress or mass of a point reaches them in the step's P2G; the host
-// then finds the point: report_nonfinite_node), a point whose stencil leaves the grid with
-// a non-finite position records itself in `bad`, and the kernels' lost-point count and the
+// then finds the point: report_nonfinite_node; a non-finite position comes from a
+// non-finite nodal velocity of the same step), and the kernels' lost-point count and the
 // step's signal speed are here already. advance_clock turns them into `failure`
 // and then stops the clock (dt = 0): a run gone wrong freezes on the device in the step
 // it went wrong, at no cost to a healthy step (no host round trip), and the host finds
@@ -52,7 +52,8 @@ struct StepControl {
   // Health (see the top of this file); zero-initialised is "healthy, nothing checked".
   unsigned long long lost_stop;   ///< the run stops once this many points have left the grid (0: never)
   Real stop_co;                   ///< the run stops after a step of Courant number above this (0: never)
-  /// Points found with a non-finite field; the first (count 0 -> 1) records itself.
+  /// Non-finite nodal values found by the grid update; the first (count 0 -> 1) records its
+  /// step, and the host fills in the point (Solver::diagnosis; index -1 until then).
   struct BadPoint {
     unsigned long long count;
     int body;          ///< Body::body_id
