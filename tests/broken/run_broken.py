@@ -32,6 +32,8 @@ variant.json:
   "timeout":    seconds before the run counts as hung (default 20)
   "written":    paths (glob patterns) that must exist after the run, e.g. the last
                 frame a failed run writes
+  "not_written": paths (glob patterns) that must not exist after the run, e.g. a
+                checkpoint of the state a failed run stopped in
   "signal_when_stdout": {"pattern": regex, "signal": "SIGTERM"}: once stdout matches,
                 scree is sent that signal and must then exit with "exit" by itself
   "pvd_last_time": {"file": a .pvd, "stderr": a regex with one group}: the newest frame
@@ -196,6 +198,10 @@ def check_variant(scree, variant_dir):
         for p in spec.get("written", []):
             if not glob.glob(os.path.join(case, p)):
                 problems.append("nothing written at %s" % p)
+        for p in spec.get("not_written", []):
+            found = glob.glob(os.path.join(case, p))
+            if found:
+                problems.append("written, and must not be: %s" % ", ".join(os.path.relpath(f, case) for f in found))
         if "errors" in spec:
             lines = [l for l in err.splitlines() if l and not l.startswith("scree:") and not l.startswith("    ")]
             if len(lines) != spec["errors"]:

@@ -445,7 +445,7 @@ void Solver<D>::set_split(bool on) {
 }
 
 template <int D>
-void Solver<D>::output_due(bool force_all, bool checkpoint) {
+void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
   if (!output_) return;
   const double t = time();
   const OutputSchedule::Due due = output_->due(t, step_, force_all);
@@ -453,8 +453,8 @@ void Solver<D>::output_due(bool force_all, bool checkpoint) {
   // (the initial state, or the restart's own), and when asked (endTime, a signal).
   const std::int64_t every = settings_.control.checkpoint_interval;
   if (due.write_time && !first_output_) ++writes_;
-  checkpoint = every > 0 && !first_output_ && t != checkpoint_time_ &&
-               (checkpoint || (due.write_time && writes_ % every == 0));
+  const bool checkpoint = when != CheckpointWhen::never && every > 0 && !first_output_ && t != checkpoint_time_ &&
+                          (when == CheckpointWhen::always || (due.write_time && writes_ % every == 0));
   first_output_ = false;
   std::vector<double> schedule;  // before done(): a restart runs what is due now
   if (checkpoint) schedule = output_->state();
@@ -563,16 +563,16 @@ RunStats Solver<D>::run() {
     // The state the run stopped in, written for the diagnosis (frozen on the device since
     // the failing step: step_control.hpp), then the failure goes to the caller. No
     // checkpoint of it: the newest is the last healthy write time, to restart from.
-    finish_output(false);
+    finish_output(CheckpointWhen::never);
     throw;
   } catch (const RunInterrupted&) {
-    finish_output(true);  // the state at the stop, and a checkpoint to continue from
+    finish_output(CheckpointWhen::always);  // the state at the stop, and a checkpoint to continue from
     throw;
   }
   if (opt_.output) {
     // The final state (also when endTime is not on the write grid) and its checkpoint,
     // from which a later endTime continues.
-    output_due(true, true);
+    output_due(true, CheckpointWhen::always);
     const auto t0 = std::chrono::steady_clock::now();
     output_->finish();  // waits for the output thread: output time too
     output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -583,7 +583,7 @@ RunStats Solver<D>::run() {
 }
 
 template <int D>
-void Solver<D>::finish_output(bool checkpoint) {
+void Solver<D>::finish_output(CheckpointWhen checkpoint) {
   if (!opt_.output) return;
   output_due(true, checkpoint);
   output_->finish();

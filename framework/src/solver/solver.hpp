@@ -100,15 +100,19 @@ class Solver {
   void after_chunk(bool with_output);
   void check_health();        ///< throws RunFailure when the device stopped the clock on a failure
   std::string diagnosis();    ///< what went wrong, which particle, body, material, field, step
-  /// Write what is due now (everything when force_all); a checkpoint with the writes of
-  /// every checkpointInterval-th write time, or with these writes when `checkpoint`.
-  void output_due(bool force_all, bool checkpoint = false);
+  /// Whether output_due writes a checkpoint: on every checkpointInterval-th write time
+  /// (scheduled), with these writes whatever the time (always: endTime, a signal), or not
+  /// (never: the state a failed run stopped in is written for the diagnosis, and the newest
+  /// checkpoint stays the last healthy write time, to restart from).
+  enum class CheckpointWhen { scheduled, always, never };
+  /// Write what is due now (everything when force_all), with a checkpoint as `checkpoint` says.
+  void output_due(bool force_all, CheckpointWhen checkpoint = CheckpointWhen::scheduled);
   /// The checkpoint of now, queued on the output thread after the writes of now (a
   /// killed run then has the frames of a checkpoint's time written before the checkpoint).
   void write_checkpoint(const std::vector<double>& schedule);
   /// Write every writer's output of now (and a checkpoint when asked), wait for the
   /// output thread.
-  void finish_output(bool checkpoint);
+  void finish_output(CheckpointWhen checkpoint);
   Snapshot snapshot_header() const;  ///< time, step and the bodies' material names
   void set_split(bool on);
   Real max_signal_speed() const;

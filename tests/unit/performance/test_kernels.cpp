@@ -169,7 +169,9 @@ TEST(VolumeLimit, CapsDetFInBothKernelsAndChangesNothingBelowIt) {
   s.gravity = "value (0 0);";
   constexpr long kSteps = 100;  // the release wave crosses the half-width in ~15 steps
   const Snapshot start = run(s, false, 0);
-  const Snapshot free = run(s, false, kSteps);
+  // The split fixed (on): the automatic choice times both paths, and two runs that choose
+  // differently differ at round-off (the elastic-only kernel contracts another order).
+  const Snapshot free = run(s, false, kSteps, StressSplit::on);
   // the largest volume of any point, over its initial volume (points matched by id)
   auto largest_ratio = [&](const Snapshot& a) {
     std::unordered_map<std::int64_t, double> v0;
@@ -189,7 +191,9 @@ TEST(VolumeLimit, CapsDetFInBothKernelsAndChangesNothingBelowIt) {
   expect_same(ref, fast, 1e-9);
   RunSetup loose = s;
   loose.schemes += " maxVolumeRatio 10;";
-  expect_same(free, run(loose, false, kSteps), 0);
+  // Bit for bit on the CPU; on a GPU the nodal sums' atomics add in the order the warps
+  // arrive, which two runs need not share: round-off (1e-13 of each field's scale).
+  expect_same(free, run(loose, false, kSteps, StressSplit::on), test_device() == Device::cuda ? 1e-13 : 0);
 }
 
 }  // namespace
