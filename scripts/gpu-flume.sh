@@ -84,13 +84,16 @@ collect() {
     d=$(case_dir $r)
     [ -d "$d/postProcessing" ] || continue
     keep=()
-    for t in 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05; do  # release, then 0.1 0.4 0.8 ... 3 s
+    for t in 0 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05; do  # t = 0, the release, then 0.1 0.4 0.8 ... 3 s
       f=$(grep -oE "timestep=\"$t[0-9]*\"[^>]*file=\"[^\"]+\"" "$d/VTK/particles.pvd" 2>/dev/null | head -1 |
         sed -E 's/.*file="([^"]+)".*/\1/')
       [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
     done
+    # the newest checkpoint, and the last frame (a failed run's state, for the diagnosis)
     newest=$(cd "$d" && ls checkpoints/*.ckpt 2>/dev/null | sort -t/ -k2 -g | tail -1)
-    (cd "$d" && tar -czf - postProcessing VTK/particles.pvd "${keep[@]}" $newest) > "$out/$r.tar.gz"
+    f=$(grep -oE 'file="[^"]+"' "$d/VTK/particles.pvd" 2>/dev/null | tail -1 | sed -E 's/file="([^"]+)"/\1/')
+    [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
+    (cd "$d" && tar -czf - postProcessing VTK/particles.pvd $(printf '%s\n' "${keep[@]}" | sort -u) $newest) > "$out/$r.tar.gz"
   done
   ls -la "$out"
 }

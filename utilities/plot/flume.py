@@ -12,8 +12,8 @@ release and 0.1, 0.4, 0.8, 1, 1.5, 2, 2.5 and 3 s after it), and postProcessing/
 and massFront (runOut.csv), probes/{A,B,C}.csv, energy/energies.csv. Times are shown from
 the gate's release (_releaseTime in system/stages). Writes PNGs and summary.json to OUTDIR:
 
-  fig18b_initial_stress.png   vertical stress at the release (the paper: near -5 kPa at the
-                              deepest point)
+  fig18b_initial_stress.png   vertical stress at t = 0, the geostatic initial state (the
+                              paper: near -5 kPa at the deepest point); the release's beside it
   fig19_free_surface.png      the sand at 0.4 and 0.8 s with the fronts against the paper's
                               run-out distances (125 and 215 cm)
   fig20_fields.png            plastic strain, shear viscosity and granular temperature at
@@ -61,6 +61,16 @@ def along(x, x0):
     """Distance travelled along the flume's path from x0 (on the slope) to x."""
     x = np.asarray(x, dtype=float)
     return np.where(x <= X_TOE, (x - x0) / COS, (X_TOE - x0) / COS + (x - X_TOE))
+
+
+def path_from_gate(x, y):
+    """Distance along the flume's path from the gate's foot (X_GATE on the slope): the
+    projection on the slope's direction while on the slope, then along the floor. Exact for
+    points in a thin layer on the bed, unlike along() of x alone, which adds a point's height
+    above the slope."""
+    s = ((x - X_GATE) - (y - (X_TOE - X_GATE))) * COS
+    toe = (X_TOE - X_GATE) / COS
+    return np.where(s <= toe, s, toe + (s - toe) / COS)
 
 
 def snapshot(series, t):
@@ -148,22 +158,37 @@ def main():
                                     "kinetic_energy_J_per_m": float(ro["kinetic_energy"][j])}
             summary["fronts"][name] = rows
 
-    # ---- Fig. 18b: vertical stress at the release ----
-    tt, f = snapshot(series, tr)
-    if f:
+    # ---- the fronts from the snapshots, along the path (exact; runOut.csv holds x alone) ----
+    rows = {}
+    for t, f in series.items:
+        if t < tr - TOL or not os.path.exists(f):
+            continue
+        d = Series.read(f, [])
+        p = path_from_gate(d["x"][:, 0], d["x"][:, 1])
+        rows["%.4g" % (t - tr)] = {"mass_front_from_gate_m": float(np.quantile(p, 0.99)),
+                                   "leading_point_from_gate_m": float(p.max()),
+                                   "mass_front_from_back_wall_m": float(np.quantile(p, 0.99) + (X_GATE - X_TOP) / COS)}
+    summary["fronts_from_snapshots"] = rows
+
+    # ---- Fig. 18b: vertical stress at t = 0 and at the release ----
+    fig, axs = plt.subplots(1, 2, figsize=(9, 3.6))
+    for ax, (t, label, key) in zip(axs, ((0.0, "t = 0 (geostatic)", "initial"), (tr, "the release", "release"))):
+        tt, f = snapshot(series, t)
+        if not f:
+            ax.set_title("%s: no snapshot" % label, fontsize=8)
+            continue
         d = Series.read(f, fields)
-        fig, ax = plt.subplots(figsize=(5, 3.6))
-        sc = plot_field(ax, d, "stress", "vertical stress [kPa] at the release", comp=1, cmap="jet")
+        sc = plot_field(ax, d, "stress", "vertical stress [kPa], %s" % label, comp=1, cmap="jet", vmin=-6, vmax=0)
         if sc is not None:
             sc.set_array(d["stress"][:, 1] / 1e3)
-            sc.autoscale()
             fig.colorbar(sc, ax=ax, shrink=0.8)
             ax.set_xlim(0.15, 0.8)
             ax.set_ylim(1.2, 1.85)
-            summary["initial_vertical_stress_min_kPa"] = float(d["stress"][:, 1].min() / 1e3)
-        fig.tight_layout()
-        fig.savefig(os.path.join(a.out, "fig18b_initial_stress.png"), dpi=140)
-        plt.close(fig)
+            summary["%s_vertical_stress_min_kPa" % key] = float(d["stress"][:, 1].min() / 1e3)
+            summary["%s_vertical_stress_p01_kPa" % key] = float(np.percentile(d["stress"][:, 1], 1) / 1e3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "fig18b_initial_stress.png"), dpi=140)
+    plt.close(fig)
 
     # ---- Fig. 19: the sand at 0.4 and 0.8 s ----
     fig, axs = plt.subplots(2, 1, figsize=(7, 6))
@@ -270,7 +295,7 @@ def main():
 
     with open(os.path.join(a.out, "summary.json"), "w") as fo:
         json.dump(summary, fo, indent=1)
-    print(json.dumps(summary.get("fronts", {}), indent=1))
+    print(json.dumps(summary.get("fronts_from_snapshots", {}), indent=1))
 
 
 if __name__ == "__main__":
