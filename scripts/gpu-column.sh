@@ -22,6 +22,7 @@
 # snapshots at the release and 0.05, 0.25, 0.5 and 1 s after it, postProcessing/ and the log.
 # Here: mkdir -p runs/<run> && tar -xzf <run>.tar.gz -C runs/<run>
 set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/gpu-common.sh"
 S=/tmp/scree-session
 out=${OUT:-$PWD/gpu-column-out}
 
@@ -106,14 +107,7 @@ EOF
   cat $S/device.txt
 }
 
-status() {
-  echo "---- $(date +%T)"
-  for f in $S/logs/*.log; do
-    [ -s "$f" ] || continue
-    printf '%-28s %s\n' "$(basename "$f")" "$(tail -c 400 "$f" | tr '\r' '\n' | grep -v '^$' | tail -1 | cut -c1-110)"
-  done
-  cat $S/walltimes.txt 2>/dev/null
-}
+status() { gpu_status 28; }
 
 pack() {  # pack RUN TIMES...: the run's snapshots at these times (release at 0.1 s)
   local r=$1 d pvd keep=() t f

@@ -19,6 +19,7 @@
 # (flume-carry/ is ignored by git: name it in `carry`). Snapshots are single precision with
 # the fields of utilities/plot/flume.py.
 set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/gpu-common.sh"
 S=/tmp/scree-flume
 out=${OUT:-$PWD/gpu-flume-out}
 here=$PWD
@@ -65,14 +66,7 @@ start() {
   cat $S/device.txt
 }
 
-status() {
-  echo "---- $(date +%T)"
-  for f in $S/logs/*.log; do
-    [ -s "$f" ] || continue
-    printf '%-16s %s\n' "$(basename "$f")" "$(tail -c 400 "$f" | tr '\r' '\n' | grep -v '^$' | tail -1 | cut -c1-120)"
-  done
-  cat $S/walltimes.txt 2>/dev/null
-}
+status() { gpu_status 16; }
 
 collect() {
   mkdir -p "$out"

@@ -111,6 +111,16 @@ class Series:
         return out
 
 
+def read_probes(case, names=("A", "B", "C")):
+    """postProcessing/probes/<name>.csv of each probe present (particleProbes), by name."""
+    out = {}
+    for n in names:
+        p = os.path.join(case, "postProcessing", "probes", n + ".csv")
+        if os.path.exists(p):
+            out[n] = read_csv(p)
+    return out
+
+
 def snapshot_steps(series, tr):
     """Step number of every snapshot (field data "step" of the .vtp), by time after release."""
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
@@ -336,11 +346,7 @@ def main():
     plt.close(fig12)
 
     # ---- Figs. 13-14: probes ----
-    probes = {}
-    for n in ("A", "B", "C"):
-        p = os.path.join(a.case, "postProcessing", "probes", n + ".csv")
-        if os.path.exists(p):
-            probes[n] = read_csv(p)
+    probes = read_probes(a.case)
     if probes:
         fig, axs = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
         for n, d in probes.items():

@@ -40,7 +40,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from column_collapse import Series, read_csv, release_time  # noqa: E402
+from column_collapse import Series, read_csv, read_probes, release_time  # noqa: E402
 
 import matplotlib  # noqa: E402
 
@@ -88,6 +88,16 @@ def axes_flume(ax):
     ax.set_xlim(0.1, 3.0)
     ax.set_ylim(-0.05, 1.9)
     ax.tick_params(labelsize=7)
+
+
+def save(fig, axs, path, legend=7):
+    """Legend and grid on each of axs, then the figure to path."""
+    for ax in axs:
+        ax.legend(fontsize=legend)
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=140)
+    plt.close(fig)
 
 
 def plot_field(ax, d, field, title, log=False, comp=None, cmap="viridis", vmin=None, vmax=None):
@@ -140,11 +150,7 @@ def main():
             ax.plot(ts, d, "ks", label="paper, Fig. 19" if ts == 0.4 else None)
         ax.set_xlabel("t after release [s]")
         ax.set_ylabel("distance along the flume [m]")
-        ax.legend(fontsize=6)
-        ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(os.path.join(a.out, "front_history.png"), dpi=140)
-        plt.close(fig)
+        save(fig, [ax], os.path.join(a.out, "front_history.png"), legend=6)
         summary["fronts"] = {}
         for name, ro in fronts.items():
             rows = {}
@@ -236,11 +242,7 @@ def main():
     plt.close(fig)
 
     # ---- Fig. 21: particles A, B, C ----
-    probes = {}
-    for n in ("A", "B", "C"):
-        p = os.path.join(pp, "probes", n + ".csv")
-        if os.path.exists(p):
-            probes[n] = read_csv(p)
+    probes = read_probes(a.case)
     if probes:
         fig, axs = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
         for n, d in probes.items():
@@ -250,12 +252,7 @@ def main():
         axs[0].set_ylabel("q$_{col}$ [Pa]")
         axs[1].set_ylabel("T [m$^2$/s$^2$]")
         axs[1].set_xlabel("t after release [s]")
-        for ax in axs:
-            ax.legend(fontsize=7)
-            ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(os.path.join(a.out, "fig21_probes.png"), dpi=140)
-        plt.close(fig)
+        save(fig, axs, os.path.join(a.out, "fig21_probes.png"))
         summary["probes"] = {}
         for n, d in probes.items():
             T = d.get("granularTemperature", np.zeros(1))
