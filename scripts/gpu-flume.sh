@@ -14,6 +14,10 @@
 #                                          checkpoint, VTK/particles.pvd and the frames at the
 #                                          paper's times; logs and wall times
 #
+# A lent machine goes back about 30 s after a call returns, and with it a background run: make
+# the calls back to back (start + wait 570, wait 570, ..., collect) with nothing in between, and
+# collect before the machine's 30 minutes are up.
+#
 # Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda). Carry between machines: here,
 #   mkdir -p flume-carry/pt && tar -xzf <files_at>/pt.tar.gz -C flume-carry/pt
 # (flume-carry/ is ignored by git: name it in `carry`). Snapshots are single precision with
