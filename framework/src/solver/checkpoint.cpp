@@ -66,6 +66,7 @@ class In {
   In(const std::vector<unsigned char>& b, const fs::path& file) : b_(b), file_(file) {}
   void bytes(void* p, std::size_t n) {
     if (n > b_.size() - pos_) fail("it ends early (truncated)");
+    if (n == 0) return;  // an empty array's data() may be null: memcpy(null, ..., 0) is undefined
     std::memcpy(p, b_.data() + pos_, n);
     pos_ += n;
   }
