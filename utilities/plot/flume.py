@@ -57,10 +57,6 @@ FIELD_TIMES = [0.1, 0.8, 3.0]  # s after release (Figs. 20, 22, 23)
 TOL = 1e-3
 
 
-def along(x, x0):
-    """Distance travelled along the flume's path from x0 (on the slope) to x."""
-    x = np.asarray(x, dtype=float)
-    return np.where(x <= X_TOE, (x - x0) / COS, (X_TOE - x0) / COS + (x - X_TOE))
 
 
 def path_from_gate(x, y):
@@ -71,6 +67,13 @@ def path_from_gate(x, y):
     s = ((x - X_GATE) - (y - (X_TOE - X_GATE))) * COS
     toe = (X_TOE - X_GATE) / COS
     return np.where(s <= toe, s, toe + (s - toe) / COS)
+
+
+def along(x, x0):
+    """Distance along the flume's path from x0 (on the slope) to the point of the bed below
+    x: path_from_gate of the bed point, shifted to the origin x0."""
+    x = np.asarray(x, dtype=float)
+    return path_from_gate(x, np.maximum(X_TOE - x, 0.0)) + (X_GATE - x0) / COS
 
 
 def snapshot(series, t):

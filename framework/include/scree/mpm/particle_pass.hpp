@@ -466,8 +466,9 @@ SCREE_UNROLL
   }
 
   /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c +
-  /// v_start (|v| at the start of the step) when the step takes it (v_start >= 0), else 0. ElasticOnly: the material's update_elastic; when that declines, nothing is
-  /// written and the result is false.
+  /// v_start (|v| at the start of the step) when the step takes it (v_start >= 0), else 0.
+  /// ElasticOnly: the material's update_elastic; when that declines, nothing is written and
+  /// the result is false.
   template <bool ElasticOnly>
   SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, Real v_start, Real mass, Real& speed,
                                   FreshStress& fresh) const {
