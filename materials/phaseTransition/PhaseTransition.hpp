@@ -116,10 +116,17 @@ struct PhaseTransition {
     const Sym3 D = inc.deps * inv_dt;
     const kt::Coefficients c = coefficients(p, s.e);
     const kt::RateInvariants ri = kt::rate_invariants(D);
-    s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
-    sigma = sf + kt::collisional_stress(c, s.T, D);     // eq. (1) with eq. (19)
     s.rate = sqrt(Real(2) / 3 * ri.dev2);
     s.trD = ri.tr;
+    if (kt::dispersed(p.c, s.e)) [[unlikely]] {
+      // Grains in free flight (kt::dispersed): no contact network and no collisional
+      // continuum, so no stress of either kind; T is carried unchanged (no stress, no work).
+      s.sigf = Sym3::zero();
+      sigma = Sym3::zero();
+      return;
+    }
+    s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
+    sigma = sf + kt::collisional_stress(c, s.T, D);     // eq. (1) with eq. (19)
   }
 
   /// The collisional coefficients (eqs. 20-28) at the void ratio e. update() and wave_speed()
@@ -130,6 +137,7 @@ struct PhaseTransition {
   }
 
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
+    if (kt::dispersed(p.c, s.e)) return 0;  // no stress, no wave (collisional() above)
     const kt::Coefficients c = coefficients(p, s.e);
     return simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, s.T) +
            kt::viscous_speed(c, s.T, rho, h);

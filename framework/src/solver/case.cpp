@@ -116,9 +116,16 @@ const CoreSpecs& CoreSpecs::get() {
     m->word("transfer", "particle velocity update: FLIP (blended with PIC by picFraction) or APIC")
         .choices({"FLIP", "APIC"})
         .default_value("FLIP");
-    m->scalar("picFraction", "-", "PIC share of the FLIP/PIC blend (0: pure FLIP, the paper's eq. 10)")
+    m->scalar("picFraction", "-", "PIC share of the FLIP/PIC blend per step (0: pure FLIP, the paper's eq. 10); "
+                                 "its damping rate picFraction/dt doubles when the step is halved")
         .default_value(0.0)
         .range(0, 1);
+    m->scalar("picRate", "1/s",
+              "PIC share of the FLIP/PIC blend per unit time: each step takes 1 - exp(-picRate dt) of PIC, so "
+              "that the blend damps the velocity fluctuations it removes at the same rate whatever the time "
+              "step (instead of picFraction; 0: none)")
+        .default_value(0.0)
+        .non_negative();
     auto damp = std::make_shared<ParamSpec>("damping", "local non-viscous damping (Cundall)");
     damp->word("type", "damping model").choices({"local", "none"}).default_value("local");
     damp->scalar("coefficient", "-", "fraction of the unbalanced nodal force removed against the motion")
@@ -148,6 +155,11 @@ const CoreSpecs& CoreSpecs::get() {
     m->allow_keys({"FoamFile"});
     m->check([spec = m.get()](const Dictionary& d, std::vector<InputError>& errors) {
       const ParamReader r(*spec, d);  // the spec's own defaults
+      if (d.has("picFraction") && d.has("picRate") && r.scalar("picFraction") > 0 && r.scalar("picRate") > 0)
+        errors.emplace_back(d.at("picRate").where(),
+                            "picRate: give picFraction (PIC share per step) or picRate (per second), not both: "
+                            "picFraction "
+                            "is set at " + d.at("picFraction").where().str());
       if (r.word("transfer") == "APIC" && r.word("shapeFunction") == "linear")
         errors.emplace_back(d.has("transfer") ? d.at("transfer").where() : d.where(),
                             "transfer APIC needs shapeFunction gimp or bspline2: with linear shape functions "

@@ -43,6 +43,7 @@ SchemeSettings read_schemes(const ParamSpec& spec, const Dictionary& d) {
       .shape = shape == "gimp" ? ShapeKind::gimp : (shape == "bspline2" ? ShapeKind::bspline2 : ShapeKind::linear),
       .transfer = r.word("transfer") == "APIC" ? Transfer::apic : Transfer::flip,
       .pic_fraction = r.scalar("picFraction"),
+      .pic_rate = r.scalar("picRate"),
       .max_volume_ratio = r.has("maxVolumeRatio") ? r.scalar("maxVolumeRatio") : kNoVolumeLimit,
       .damping = r.has("damping") ? read_damping(*spec.find("damping")->sub(), r.entry("damping").dict())
                                   : DampingSettings{},

@@ -125,6 +125,7 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.control = ctl_.data();
   pp.gravity = gravity_;
   pp.pic_fraction = settings_.schemes.pic_fraction;
+  pp.pic_rate = settings_.schemes.pic_rate;
   pp.max_volume_ratio = settings_.schemes.max_volume_ratio;
   pp.transfer = settings_.schemes.transfer;
   pp.serial = exec_.device == Device::cpu && exec_.threads == 1;

@@ -160,6 +160,52 @@ TEST(KineticTheory, DiluteAndEnskogElasticLimits) {
   }
 }
 
+// Dispersed points (kt::dispersed): below V_min (minSolidFraction) a point is grains in free
+// flight: no stress, no wave, and its granular temperature is carried unchanged (no stress,
+// so no work). Just above V_min the theory applies: strong shear heats the point and it
+// carries a viscous stress. And the reason for the default V_min = 1e-3: the mean free path
+// d/(6 sqrt(2) V g0) is then above 100 grain diameters.
+TEST(KineticTheory, DispersedPointsCarryNoStressAndNoProduction) {
+  const kt::Params c = table2();
+  ASSERT_EQ(c.Vmin, 1e-3);
+  const double mfp = c.d / (6 * std::sqrt(2.0) * c.Vmin * kt::radial_distribution(c, c.Vmin));
+  EXPECT_GT(mfp, 100 * c.d);
+  const double T0 = 0.5, gdot = 200, dt = 1e-5;
+  for (double V : {0.5e-3, 0.999e-3, 1.001e-3, 2e-3}) {
+    const KineticTheory::Params P{c, 1 / V - 1, T0};
+    PointMaterialOf<KineticTheory> m(P);
+    Sym3 sig = Sym3::zero();
+    m.initialise(sig);
+    for (int i = 0; i < 100; ++i) m.update(sig, shear_increment(gdot * dt, dt));
+    const auto& s = m.raw_state();
+    const double rho = c.rho_p * V;
+    const double speed = KineticTheory::wave_speed(P, s, sig, rho, 0.005);
+    SCOPED_TRACE(testing::Message() << "V = " << V);
+    if (V < c.Vmin) {
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(sig[k], 0.0);
+      EXPECT_EQ(s.T, T0);
+      EXPECT_EQ(speed, 0.0);
+      EXPECT_NEAR(s.rate, gdot / std::sqrt(3.0), 1e-9 * gdot);  // the rate output still says what it does
+    } else {
+      EXPECT_GT(s.T, T0);                          // viscous heating
+      EXPECT_GT(std::fabs(sig[3]), 1e-3 * rho * T0);  // a shear stress
+      EXPECT_GT(speed, 0.0);
+    }
+  }
+  // phaseTransition: its frictional part goes too (no contact network), and comes back
+  // stress-free when the point is compacted above V_min again.
+  const PhaseTransition::Params P{table3_collapse_f(), table3_collapse_c(), 1 / 0.5e-3 - 1, T0};
+  PointMaterialOf<PhaseTransition> m(P);
+  Sym3 sig = iso_stress(100);
+  m.initialise(sig);
+  m.update(sig, shear_increment(gdot * dt, dt));
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(sig[k], 0.0);
+    EXPECT_EQ(m.raw_state().sigf[k], 0.0);
+  }
+  EXPECT_EQ(m.raw_state().T, T0);
+}
+
 // Eq. (24) (Chialvo & Sundaresan 2013) and the g0 regularisation at V -> V_sd.
 TEST(KineticTheory, EffectiveRestitutionAndRadialDistribution) {
   EXPECT_NEAR(kt::effective_restitution(0.6, 0.2), 0.6 - 0.3 * std::exp(-0.6), 1e-15);

@@ -66,11 +66,11 @@ struct Cloud {
   std::vector<Vec<D>> v;
 };
 
+/// The grid (16 cells of 0.1 m per direction) and a step control of step dt; no body yet.
 template <int D>
-Cloud<D> make_cloud(ShapeKind shape, Transfer transfer, double dt) {
+Cloud<D> empty_cloud(double dt) {
   Cloud<D> c;
   const Device dev = test_device();
-  Exec ex{dev, nullptr, 2};
   c.grid.h = 0.1;
   c.grid.ghost = 2;
   for (int d = 0; d < D; ++d) {
@@ -99,7 +99,13 @@ Cloud<D> make_cloud(ShapeKind shape, Transfer transfer, double dt) {
   sc.h = c.grid.h;
   c.ctl.resize(1, dev);
   c.ctl.copy_from_host(&sc, 1);
+  return c;
+}
 
+template <int D>
+Cloud<D> make_cloud(ShapeKind shape, Transfer transfer, double dt) {
+  Cloud<D> c = empty_cloud<D>(dt);
+  Exec ex{test_device(), nullptr, 2};
   std::mt19937_64 rng(42 + D);
   std::uniform_real_distribution<double> pos(0.05, 1.05), vel(-1, 1), vol(0.2e-3, 1e-3), sig(-1e4, 1e4);
   BodySetup<D> s;
@@ -199,6 +205,90 @@ void conservation(ShapeKind shape, Transfer transfer, Real pic) {
     for (int d = 0; d < D; ++d) P1[d] += c.m[p] * vel[3 * p + d];
   for (int d = 0; d < D; ++d)
     EXPECT_NEAR(P1[d], P[d] + dt * M * g[d], 1e-12 * M) << "momentum after a step, component " << d;
+}
+
+/// The FLIP/PIC blend's damping against the time step. One cell of 3 x 3 points at
+/// xi, eta in {1/6, 1/2, 5/6} (cell coordinates) moving along x with u s_i, s = (1, -2, 1) by
+/// column i, at rest otherwise, stress-free, no gravity: sum_p N_I(x_p) m v_p = 0 at every
+/// node (sum s = sum s xi = 0, and the bilinear N_I factorises), so the grid sees no motion.
+/// FLIP keeps such a mode for ever; the blend v <- a v_PIC + (1 - a) v_FLIP = (1 - a) v
+/// removes it, and nothing else happens (L = 0, the points do not move). After a time T in
+/// steps dt: v/v0 = (1 - a)^(T/dt) exactly. Returns that ratio from the kernels.
+double invisible_mode_left(double dt, double T, double pic_fraction, double pic_rate) {
+  Cloud<2> c = empty_cloud<2>(dt);
+  const Exec ex{test_device(), nullptr, 2};
+  BodySetup<2> s;
+  s.name = "mode";
+  s.exec = ex;
+  s.shape = ShapeKind::linear;
+  s.transfer = Transfer::flip;
+  s.cell_size = c.grid.h;
+  const double h = c.grid.h, x0 = 0.5, y0 = 0.5, u = 0.3;  // the cell [0.5, 0.6]^2
+  const double xi[3] = {1.0 / 6, 0.5, 5.0 / 6}, sgn[3] = {1, -2, 1};
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      s.x.push_back(Vec<2>{{x0 + xi[i] * h, y0 + xi[j] * h}});
+      s.v.push_back(Vec<2>{{u * sgn[i], 0}});
+      s.volume.push_back(h * h / 9);
+      s.sigma.push_back(Sym3::zero());
+    }
+  LinearElastic::Params mp{1e6, 0.3, 2000, 0, 0};
+  mp.lambda = mp.E * mp.nu / ((1 + mp.nu) * (1 - 2 * mp.nu));
+  mp.G = mp.E / (2 * (1 + mp.nu));
+  c.body = make_material_body<2, LinearElastic>(mp, s);
+  PassParams<2> pp;
+  pp.grid = c.grid;
+  pp.control = c.ctl.data();
+  pp.gravity = Vec<2>::zero();
+  pp.pic_fraction = pic_fraction;
+  pp.pic_rate = pic_rate;
+  GridUpdateParams<2> gp;
+  gp.modes = kNormalize | kIntegrate;
+  gp.grid = c.grid;
+  gp.control = c.ctl.data();
+  const int steps = static_cast<int>(std::lround(T / dt));
+  for (int n = 0; n < steps; ++n) {
+    for (int k = 0; k < 2; ++k) mem::fill_zero(c.data[k].data(), c.data[k].size() * sizeof(Real), ex.device);
+    pp.flags = kScatterMassMomentum | kScatterForce;
+    pp.gather = c.sets[1];
+    pp.scatter = c.sets[0];
+    c.body->pass(pp);
+    gp.cur = c.sets[0];
+    gp.other = c.sets[1];
+    grid_update<2>(ex, gp);
+    pp.flags = kGatherVelocity | kGatherPosition;
+    pp.gather = c.sets[0];
+    c.body->pass(pp);
+  }
+  mem::synchronize(ex.device);
+  Snapshot snap;
+  snap.bodies.resize(1);
+  c.body->snapshot(snap.bodies[0]);
+  const auto& vel = snap.bodies[0].find("velocity")->values;
+  const auto& pos = snap.bodies[0].position;
+  double ratio = vel[0] / u;
+  for (int p = 0; p < 9; ++p) {
+    EXPECT_NEAR(vel[3 * p], ratio * u * sgn[p % 3], 1e-12) << "the mode keeps its shape, point " << p;
+    EXPECT_NEAR(vel[3 * p + 1], 0, 1e-12) << "no motion across, point " << p;
+    EXPECT_NEAR(pos[3 * p], x0 + xi[p % 3] * h, 1e-12) << "the grid saw no motion, point " << p;
+  }
+  return ratio;
+}
+
+TEST(PicBlend, PicRateDampsAModeTheGridCannotSeeAtItsRateWhateverTheStep) {
+  // picRate R: the mode decays as exp(-R T) for any dt (a = 1 - exp(-R dt) per step).
+  const double R = 10, T = 0.05;
+  for (double dt : {1e-3, 5e-4, 1e-4}) {
+    const double left = invisible_mode_left(dt, T, 0, R);
+    EXPECT_NEAR(left, std::exp(-R * T), 1e-12) << "picRate " << R << ", dt " << dt;
+  }
+  // picFraction a: (1 - a)^(T/dt), so halving dt doubles the damping rate. The contrast the
+  // rate removes: 0.99^50 = 0.605 against 0.99^100 = 0.366.
+  const double a = 0.01;
+  EXPECT_NEAR(invisible_mode_left(1e-3, T, a, 0), std::pow(1 - a, 50), 1e-12);
+  EXPECT_NEAR(invisible_mode_left(5e-4, T, a, 0), std::pow(1 - a, 100), 1e-12);
+  // Pure FLIP keeps it.
+  EXPECT_NEAR(invisible_mode_left(1e-3, T, 0, 0), 1.0, 1e-12);
 }
 
 class Transfers : public ::testing::TestWithParam<std::tuple<ShapeKind, Transfer, double>> {};

@@ -45,6 +45,7 @@ TEST(Settings, OmittedKeysTakeTheDefaultsTheSpecsDeclare) {
   EXPECT_EQ(s.control.time.max_delta_t, 1e-4) << "maxDeltaT defaults to deltaT";
   EXPECT_EQ(s.control.write_control, WriteControl::runTime);
   EXPECT_EQ(s.schemes.pic_fraction, spec_default(*cs.schemes, "picFraction"));
+  EXPECT_EQ(s.schemes.pic_rate, spec_default(*cs.schemes, "picRate"));
   EXPECT_EQ(s.schemes.mass_tolerance, spec_default(*cs.schemes, "massTolerance"));
   EXPECT_EQ(s.schemes.sort_interval, spec_default(*cs.schemes, "sortInterval"));
   EXPECT_EQ(s.schemes.update_scheme, UpdateScheme::USF);

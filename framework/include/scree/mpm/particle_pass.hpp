@@ -85,7 +85,8 @@ struct PassParams {
   GridFields<D> scatter;  ///< the set S written by scatter phases (zeroed beforehand)
   StepControl* control = nullptr;
   Vec<D> gravity;
-  Real pic_fraction = 0;  ///< FLIP/PIC blend: 0 = pure FLIP (the paper's eq. 10), 1 = PIC
+  Real pic_fraction = 0;  ///< FLIP/PIC blend per step: 0 = pure FLIP (the paper's eq. 10), 1 = PIC
+  Real pic_rate = 0;      ///< FLIP/PIC blend per unit time [1/s] (mpmSchemes picRate); 0: pic_fraction
   /// Largest det F (mpmSchemes maxVolumeRatio); infinite: no limit (one comparison per point)
   Real max_volume_ratio = kNoVolumeLimit;
   Transfer transfer = Transfer::flip;
@@ -119,6 +120,16 @@ struct PassParams {
   /// with a non-finite field records it in StepControl::bad.
   int body = 0;
 };
+
+/// The PIC share a of a step of length dt in the FLIP/PIC blend v <- a v_PIC + (1 - a) v_FLIP.
+/// picFraction fixes a per step: the velocity fluctuations it removes (v_FLIP - v_PIC) then
+/// decay at a rate a/dt, which doubles when dt is halved. picRate fixes the rate instead:
+/// a = 1 - exp(-picRate dt), so that n steps covering a time t remove exactly
+/// 1 - exp(-picRate t) of them whatever the step.
+template <class PP>
+SCREE_INLINE Real pic_share(const PP& pp, Real dt) {
+  return pp.pic_rate > 0 ? -expm1(-pp.pic_rate * dt) : pp.pic_fraction;
+}
 
 /// Whether this step computes the largest signal speed (PassParams::speed_mask).
 template <class PP>
@@ -289,7 +300,7 @@ struct ParticlePass {
         Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
         const bool from_new = flags & kStressFromNew;
         const bool want_L = flags & kStressPhases;
-        const bool flip_increment = (flags & kGatherVelocity) && !apic && pp.pic_fraction < 1;
+        const bool flip_increment = (flags & kGatherVelocity) && !apic && (pp.pic_fraction < 1 || pp.pic_rate > 0);
         // Unrolled: the stencil's weights stay in registers (a loop index would put the
         // Stencil in local memory, read back at every node).
 SCREE_UNROLL
@@ -338,7 +349,7 @@ SCREE_UNROLL
             else C = Lnew;
           } else {
             // FLIP (eq. 10) blended with PIC.
-            const Real a = pp.pic_fraction;
+            const Real a = pic_share(pp, dt);
             for (int d = 0; d < D; ++d) v[d] = a * v_pic[d] + (1 - a) * (v[d] + dv[d]);
           }
         }
@@ -475,17 +486,22 @@ SCREE_UNROLL
     Mat<D> F = load_F(p);
     F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
     Real J = det(F);
+    StrainIncrement inc;
+    inc.deps = sym3_from(L) * dt;
     if (J > pp.max_volume_ratio) [[unlikely]] {
       // The point's volume V0 J is capped at V0 max_volume_ratio by an isotropic scaling of
-      // F, (r/J)^(1/D) (the out-of-plane stretch is 1 in plane strain): its density, and so
-      // the signal speeds of the time step, stay bounded; the stress update still sees the
-      // whole strain increment (cases/flume/README.md).
+      // F by r^(1/D), r = max_volume_ratio/J (the out-of-plane stretch is 1 in plane strain):
+      // its density, and so the signal speeds of the time step, stay bounded. The strain
+      // increment loses the same volume, ln r spread over the D normal components: the
+      // material's void ratio (1 + e follows exp(tr deps)) then stays that of the capped
+      // volume. (Without this, e grew without bound at the cap: 3e12 where the cap allows
+      // 998, flume at 1.13 s.)
       const Real r = pp.max_volume_ratio / J;
       F = F * (D == 2 ? sqrt(r) : cbrt(r));
       J = pp.max_volume_ratio;
+      const Real lr = log(r) / D;
+      for (int d = 0; d < D; ++d) inc.deps[d] += lr;
     }
-    StrainIncrement inc;
-    inc.deps = sym3_from(L) * dt;
     inc.spin = spin_from(L);
     inc.spin.xy *= dt;
     inc.spin.yz *= dt;

@@ -360,7 +360,7 @@ struct PoreRate : PorePass<D, Shape> {
         div_q += nS * (vln - vsn) * gradN[d];
       }
     }
-    const Real a = pp.pic_fraction;
+    const Real a = pic_share(pp, dt);
     for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
     const Real n = col(kPorosity, p), S = col(kSaturation, p), pw = col(kPorePressure, p);
     // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).

@@ -48,7 +48,8 @@ struct SchemeSettings {
   UpdateScheme update_scheme = UpdateScheme::USF;
   ShapeKind shape = ShapeKind::linear;
   Transfer transfer = Transfer::flip;
-  Real pic_fraction = 0;  ///< PIC share of the FLIP/PIC blend [-]
+  Real pic_fraction = 0;  ///< PIC share of the FLIP/PIC blend per step [-]
+  Real pic_rate = 0;      ///< PIC share of the blend per unit time [1/s] (0: pic_fraction)
   /// maxVolumeRatio: largest det F; absent: no limit (kNoVolumeLimit)
   Real max_volume_ratio = kNoVolumeLimit;
   DampingSettings damping;

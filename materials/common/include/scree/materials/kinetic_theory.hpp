@@ -34,7 +34,7 @@ struct Constants {
   Real Vm;       ///< solid fraction where the dense branch of g0 starts, V_m [-] (eq. 26)
   Real eps;      ///< effective restitution coefficient eps_r (eq. 24, CS13), in [0, 1)
   Real Vcap;     ///< largest solid fraction used in the theory (g0 cap, see cap_solid_fraction)
-  Real Vmin;     ///< smallest solid fraction used (very loose states; avoids 1/V)
+  Real Vmin;     ///< smallest solid fraction of a continuum; below it a point is dispersed (dispersed())
   Real zeta1;    ///< 1: include the first-order cooling rate zeta1* (B11-B14), 0: omit it
 };
 
@@ -88,6 +88,19 @@ SCREE_HD inline Real solid_fraction(const Params& P, Real e) {
   const Real V = 1 / (1 + fmax(e, Real(0)));
   return fmin(fmax(V, P.Vmin), P.Vcap);
 }
+
+/// Whether a point of void ratio e is dispersed: its solid fraction 1/(1+e) below V_min
+/// (minSolidFraction). The kinetic theory is a continuum theory: its Chapman-Enskog
+/// expansion holds while the mean free path lambda = d/(6 sqrt(2) V g0) is short against the
+/// flow's length scale. At V = 1e-3 (the default) lambda is about 118 d, 0.12-0.15 m for the
+/// sands of the paper's cases: as long as the flowing layers themselves. Such a point is a
+/// spray of grains in free flight, not a continuum: it carries no stress (no contact network,
+/// and a collisional stress whose viscosity eta0 ~ rho_p d sqrt(T) does not vanish with V
+/// would be transmitted across a gap wider than the flow), so its stress does no work and its
+/// granular temperature has no production. Left to eqs. (19)-(27), such points are heated
+/// by their own stretching to T ~ (d D/V)^2 and set the time step through their viscous and
+/// sound speeds (materials/kineticTheory/README.md, "Dispersed points").
+SCREE_HD inline bool dispersed(const Params& P, Real e) { return (1 + e) * P.Vmin > 1; }
 
 /// 1/(2 V_sd V_m - V_m^2 - V_sd^2), the denominator of eq. (26) as a reciprocal (a
 /// parameter-only factor: Prepared::rf).

@@ -41,6 +41,13 @@ inline void add_collisional_spec(ParamSpec& s) {
            "cap of g0 (eq. 25) as V -> V_sd: V is limited to V_sd - 2/g0max")
       .min(10.0)
       .default_value(1000.0);
+  s.scalar("minSolidFraction", "-",
+           "below this solid fraction a point is dispersed (grains in free flight, the kinetic theory's mean "
+           "free path longer than the flow): it carries no stress and its granular temperature is not produced "
+           "(kinetic_theory.hpp, dispersed())")
+      .range(0.0, 0.1)
+      .open_min()
+      .default_value(1e-3);
   s.boolean("firstOrderCooling", "include the divergence term zeta1* of the dissipation (B11-B14)")
       .default_value("true");
   s.scalar("initialGranularTemperature", "m^2/s^2",
@@ -68,7 +75,7 @@ inline Params read_collisional(const ParamReader& r) {
   c.Vm = r.scalar("solidFractionM");
   c.eps = effective_restitution(r.scalar("restitutionCoefficient"), r.scalar("particleFriction"));
   c.Vcap = cap_solid_fraction(c.Vsd, c.Vm, r.scalar("maxRadialDistribution"));
-  c.Vmin = 1e-3;
+  c.Vmin = r.scalar("minSolidFraction");
   c.zeta1 = r.boolean("firstOrderCooling") ? 1 : 0;
   return make_params(c);
 }
