@@ -200,11 +200,11 @@ TEST(VolumeLimit, CapsDetFInBothKernelsAndChangesNothingBelowIt) {
 // The cap takes the volume it removes from F out of the strain increment too, so that a
 // material whose void ratio follows the volume (1 + e <- (1 + e) exp(tr deps)) keeps the void
 // ratio of the capped volume: 1 + e = (1 + e0) J. A granular gas (kineticTheory, T0 = 1
-// m^2/s^2, no gravity, no walls) expands under its own pressure, its edges by several times
-// their volume in 0.05 s. Exact identity up to the difference between exp(tr deps) and det(I +
-// L dt) per step (second order in the step's strain, ~1e-5 here; 1e-3 is the tolerance). (Before
-// the increment was capped too, the void ratio of the capped points followed the uncapped
-// volume: 1 + e up to the free run's ratio, 2-5 times the capped one.)
+// m^2/s^2, no gravity, no walls) expands under its own pressure, its edges to 6 times their
+// volume in 1000 steps. The identity is exact but for the difference between tr deps and
+// ln det(I + L dt), 1/2 tr((L dt)^2) per step: 9e-4 over the free run (measured), hence the
+// tolerance of 1e-2. (Before the increment was capped too, the capped points' void ratio
+// followed the uncapped volume: mismatch 3, the free run's J over the cap.)
 TEST(VolumeLimit, KeepsTheVoidRatioOfTheCappedVolume) {
   RunSetup s{"endTime 1; deltaT 1e-4; adjustTimeStep yes; maxCo 0.4; writeInterval 1;",
              "dimension 2; lower (0 0); upper (1 1); cellSize 0.025;", "updateScheme USF;",
@@ -212,7 +212,7 @@ TEST(VolumeLimit, KeepsTheVoidRatioOfTheCappedVolume) {
              "restitutionCoefficient 0.9; initialVoidRatio 1; initialGranularTemperature 1; }",
              "c { material gas; region { type rectangle; lower (0.4 0.4); upper (0.6 0.6); } }", ""};
   s.gravity = "value (0 0);";
-  constexpr long kSteps = 400;
+  constexpr long kSteps = 1000;
   const double e0 = 1, cap = 1.5;
   const Snapshot start = run(s, false, 0);
   std::unordered_map<std::int64_t, double> v0;
@@ -230,8 +230,9 @@ TEST(VolumeLimit, KeepsTheVoidRatioOfTheCappedVolume) {
   };
   double J_free = 0, m_free = 0;
   check(run(s, false, kSteps), J_free, m_free);
+  std::printf("free run: largest J %.3f, largest void-ratio mismatch %.2e\n", J_free, m_free);
   ASSERT_GT(J_free, 2 * cap) << "the gas must expand well past the cap for the test to mean anything";
-  EXPECT_LT(m_free, 1e-3) << "without a cap the void ratio follows the volume";
+  EXPECT_LT(m_free, 1e-2) << "without a cap the void ratio follows the volume";
   RunSetup capped = s;
   capped.schemes += " maxVolumeRatio 1.5;";
   for (bool reference : {false, true}) {
@@ -240,7 +241,7 @@ TEST(VolumeLimit, KeepsTheVoidRatioOfTheCappedVolume) {
     std::printf("%s kernel: largest J %.4f (free run %.3f), largest void-ratio mismatch %.2e\n",
                 reference ? "reference" : "fast", J, J_free, m);
     EXPECT_LE(J, cap * (1 + 1e-12));
-    EXPECT_LT(m, 1e-3) << "1 + e must be (1 + e0) J at the cap";
+    EXPECT_LT(m, 1e-2) << "1 + e must be (1 + e0) J at the cap";
   }
 }
 
