@@ -15,7 +15,8 @@
 # Environment: SCREE (default build-cpu/bin/scree), SCREE_ARGS (default "--device cpu
 # --threads 1"). The two runs go side by side. Prints the last row of each run's
 # postProcessing/deposit/runOut.csv, the step count, and the relative change of the run-out
-# and height when the step is halved.
+# and height when the step is halved, for the deposit (the furthest point) and, where the
+# case has one, the massFront (a mass quantile: single grains thrown ahead do not move it).
 #
 # Example (CPU, 5 mm column, about 4 and 8 minutes on one core each):
 #   scripts/dt-halving.sh cases/columnCollapse/variants/C-2 /tmp/halving 1e-5 0.5
@@ -52,8 +53,12 @@ for r in dt dt-half; do
   f="$work/$r/$top$sub/postProcessing/deposit/runOut.csv"
   echo "$r: $(tail -1 "$f") | $(grep -o 'done: [0-9]* steps' "$work/$r/log" | tail -1)"
 done
+for fo in deposit massFront; do
+[ -f "$work/dt/$top$sub/postProcessing/$fo/runOut.csv" ] || continue
+printf '%s: ' "$fo"
 awk -F, 'FNR == 1 { next } { last[FILENAME] = $0 } END {
   n = 0; for (f in last) { split(last[f], v, ","); r[++n] = v[2]; h[n] = v[3]; name[n] = f }
   i = (name[1] ~ /dt-half/) ? 2 : 1; j = 3 - i
   printf "dt halved: run-out %+.2f%%, height %+.2f%%\n", 100 * (r[j] / r[i] - 1), 100 * (h[j] / h[i] - 1) }' \
-  "$work/dt/$top$sub/postProcessing/deposit/runOut.csv" "$work/dt-half/$top$sub/postProcessing/deposit/runOut.csv"
+  "$work/dt/$top$sub/postProcessing/$fo/runOut.csv" "$work/dt-half/$top$sub/postProcessing/$fo/runOut.csv"
+done

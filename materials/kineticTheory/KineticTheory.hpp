@@ -71,18 +71,18 @@ struct KineticTheory {
     const kt::RateInvariants ri = kt::rate_invariants(D);
     s.rate = sqrt(Real(2) / 3 * ri.dev2);
     s.trD = ri.tr;
-    if (kt::dispersed(p.c, s.e)) [[unlikely]] {  // grains in free flight: no stress, T carried
-      sigma = Sym3::zero();
-      return;
-    }
-    s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27), exact for frozen coefficients
-    sigma = kt::collisional_stress(c, s.T, D);          // eq. (19)
+    // Grains in free flight (kt::dispersed): no stress, T carried (selects, not a branch:
+    // PhaseTransition.hpp says why).
+    const bool flying = kt::dispersed(p.c, s.e);
+    const Real T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27), exact for frozen coefficients
+    s.T = flying ? s.T : T;
+    sigma = kt::collisional_stress(c, T, D) * (flying ? Real(0) : Real(1));  // eq. (19)
   }
 
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
-    if (kt::dispersed(p.c, s.e)) return 0;  // no stress, no wave (update() above)
     const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
-    return kt::sound_speed(p.c, c, s.T) + kt::viscous_speed(c, s.T, rho, h);
+    const Real speed = kt::sound_speed(p.c, c, s.T) + kt::viscous_speed(c, s.T, rho, h);
+    return kt::dispersed(p.c, s.e) ? Real(0) : speed;  // no stress, no wave (update() above)
   }
 
   static void describe(OutputFields<KineticTheory>& out) {

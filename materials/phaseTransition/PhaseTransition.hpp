@@ -118,15 +118,15 @@ struct PhaseTransition {
     const kt::RateInvariants ri = kt::rate_invariants(D);
     s.rate = sqrt(Real(2) / 3 * ri.dev2);
     s.trD = ri.tr;
-    if (kt::dispersed(p.c, s.e)) [[unlikely]] {
-      // Grains in free flight (kt::dispersed): no contact network and no collisional
-      // continuum, so no stress of either kind; T is carried unchanged (no stress, no work).
-      s.sigf = Sym3::zero();
-      sigma = Sym3::zero();
-      return;
-    }
-    s.T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
-    sigma = sf + kt::collisional_stress(c, s.T, D);     // eq. (1) with eq. (19)
+    // Grains in free flight (kt::dispersed): no contact network and no collisional continuum,
+    // so no stress of either kind; T is carried unchanged (no stress, no work). Selects, not
+    // a branch: the register-capped elastic kernel spilled 100 B more with an early return.
+    const bool flying = kt::dispersed(p.c, s.e);
+    const Real T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
+    s.T = flying ? s.T : T;
+    const Real keep = flying ? Real(0) : Real(1);
+    s.sigf = sf * keep;
+    sigma = (sf + kt::collisional_stress(c, T, D)) * keep;  // eq. (1) with eq. (19)
   }
 
   /// The collisional coefficients (eqs. 20-28) at the void ratio e. update() and wave_speed()
@@ -137,10 +137,10 @@ struct PhaseTransition {
   }
 
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
-    if (kt::dispersed(p.c, s.e)) return 0;  // no stress, no wave (collisional() above)
     const kt::Coefficients c = coefficients(p, s.e);
-    return simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, s.T) +
-           kt::viscous_speed(c, s.T, rho, h);
+    const Real speed = simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, s.T) +
+                       kt::viscous_speed(c, s.T, rho, h);
+    return kt::dispersed(p.c, s.e) ? Real(0) : speed;  // no stress, no wave (collisional() above)
   }
 
   static Real collisional_fraction(const State& s, const Sym3& sig) {
