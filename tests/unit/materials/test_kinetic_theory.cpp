@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -204,6 +205,44 @@ TEST(KineticTheory, DispersedPointsCarryNoStressAndNoProduction) {
     EXPECT_EQ(m.raw_state().sigf[k], 0.0);
   }
   EXPECT_EQ(m.raw_state().T, T0);
+}
+
+// The paper-literal readings (bulkViscosity printed, dissipation printed; README KT-2, KT-3):
+// (A5) as printed writes G where Garzo & Dufty have V G, so gamma* is 1/V times the GD99 value
+// (and eta*, through its 0.6 gamma* term, moves by 0.6 (1/V - 1) gamma*); (B8) as printed
+// carries one factor V fewer, so Gamma is 1/V times. Nothing else moves.
+TEST(KineticTheory, PaperLiteralReadingsScaleByOneOverV) {
+  const kt::Params gd = table3_collapse_c();
+  kt::Constants c = gd;
+  c.a5_printed = 1;
+  const kt::Params a5 = kt::make_params(c);
+  c.a5_printed = 0;
+  c.b8_printed = 1;
+  const kt::Params b8 = kt::make_params(c);
+  for (double V : {0.01, 0.2, 0.45, 0.6}) {
+    SCOPED_TRACE(testing::Message() << "V = " << V);
+    const kt::Coefficients g = kt::coefficients(gd, V), a = kt::coefficients(a5, V), b = kt::coefficients(b8, V);
+    EXPECT_NEAR(a.gam_star, g.gam_star / V, 1e-12 * a.gam_star);
+    EXPECT_NEAR(a.eta_star - g.eta_star, 0.6 * (a.gam_star - g.gam_star), 1e-12 * a.eta_star);
+    EXPECT_EQ(a.diss_hat, g.diss_hat);
+    EXPECT_NEAR(b.diss_hat, g.diss_hat / V, 1e-12 * b.diss_hat);
+    EXPECT_EQ(b.gam_star, g.gam_star);
+    EXPECT_EQ(b.eta_star, g.eta_star);
+    EXPECT_EQ(a.p_hat, g.p_hat);
+    EXPECT_EQ(b.p_hat, g.p_hat);
+  }
+  // Steady simple shear (tr D = 0): production eta_hat sqrt(T) gdot^2 balances diss_hat T^{3/2},
+  // so T = eta_hat gdot^2 / diss_hat: the printed (A5) raises T by eta*'s ratio, the printed
+  // (B8) lowers it by V.
+  const double e0 = 0.8, V = 1 / (1 + e0), gdot = 50;
+  double Tg = 0, Ta = 0, Tb = 0;
+  run_shear(gd, e0, gdot, 200 / gdot, 0.5 / gdot, Tg);
+  run_shear(a5, e0, gdot, 200 / gdot, 0.5 / gdot, Ta);
+  run_shear(b8, e0, gdot, 200 / gdot, 0.5 / gdot, Tb);
+  const kt::Coefficients g = kt::coefficients(gd, V), a = kt::coefficients(a5, V);
+  EXPECT_NEAR(Ta / Tg, a.eta_star / g.eta_star, 1e-6);
+  EXPECT_NEAR(Tb / Tg, V, 1e-6);
+  std::printf("steady shear at e = 0.8, 50 1/s: T printed-(A5)/GD99 %.3f, printed-(B8)/GD99 %.3f\n", Ta / Tg, Tb / Tg);
 }
 
 // Eq. (24) (Chialvo & Sundaresan 2013) and the g0 regularisation at V -> V_sd.

@@ -36,6 +36,9 @@ struct Constants {
   Real Vcap;     ///< largest solid fraction used in the theory (g0 cap, see cap_solid_fraction)
   Real Vmin;     ///< smallest solid fraction of a continuum; below it a point is dispersed (dispersed())
   Real zeta1;    ///< 1: include the first-order cooling rate zeta1* (B11-B14), 0: omit it
+  /// The paper-literal readings (0, the default: Garzo & Dufty 1999; README, KT-3 and KT-2):
+  Real a5_printed = 0;  ///< 1: gamma* of (A5) as printed, with G = V g0 where GD99 has V G
+  Real b8_printed = 0;  ///< 1: Gamma of (B8)/eq. (28) as printed, one factor V fewer than GD99
 };
 
 /// The factors of the coefficients that depend on the constants only, computed once by
@@ -211,12 +214,12 @@ SCREE_HD inline Coefficients coefficients(const Params& P, Real V) {
   c.cstar = C.cstar;                               // (A9)
   c.zeta0 = C.z0 * c.g0;                           // (A7)
   const Real eta_k = (1 - C.ek * c.G) / (C.ek_den * c.g0);  // (A6)
-  c.gam_star = C.gam * V * c.G;                    // (A5)
+  c.gam_star = C.gam * (P.a5_printed > 0 ? Real(1) : V) * c.G;  // (A5); as printed: no V
   c.eta_star = eta_k * (1 + C.eta_g * c.G) + Real(0.6) * c.gam_star;  // (A4)
   c.eta_hat = fmax(C.eta0 * c.eta_star, Real(0));  // eq. (21)
   c.gam_hat = fmax(C.eta0 * c.gam_star, Real(0));  // eq. (22)
   c.p_hat = P.rho_p * V * c.p_star;                // eq. (20)
-  c.diss_hat = C.diss * V * V * c.zeta0;           // eq. (28), GD99 form
+  c.diss_hat = C.diss * (P.b8_printed > 0 ? Real(1) : V) * V * c.zeta0;  // eq. (28); as printed: V, not V^2
   c.div_hat = 0;
   if (P.zeta1 > 0) {  // (B11)-(B14): br = -(1-e)(p*-1) + 5/32 (1-e^2)(1+3c*/64) g0 N/Dn
     const Real N = C.n_lam * c.G + (c.p_star - 1) * C.n_p;

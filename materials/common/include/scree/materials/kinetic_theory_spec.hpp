@@ -48,6 +48,14 @@ inline void add_collisional_spec(ParamSpec& s) {
       .range(0.0, 0.1)
       .open_min()
       .default_value(1e-3);
+  s.word("bulkViscosity", "gamma* of (A5): 'GD99' (Garzo & Dufty 1999, proportional to V^2 g0, the default) or "
+                          "'printed' (the paper's (A5) as printed, V g0: 1/V times larger)")
+      .choices({"GD99", "printed"})
+      .default_value("GD99");
+  s.word("dissipation", "collisional dissipation Gamma of eq. (28)/(B8): 'GD99' (proportional to V^2, the default) "
+                        "or 'printed' (the paper's (B8) as printed, one factor V fewer: 1/V times larger)")
+      .choices({"GD99", "printed"})
+      .default_value("GD99");
   s.boolean("firstOrderCooling", "include the divergence term zeta1* of the dissipation (B11-B14)")
       .default_value("true");
   s.scalar("initialGranularTemperature", "m^2/s^2",
@@ -77,6 +85,8 @@ inline Params read_collisional(const ParamReader& r) {
   c.Vcap = cap_solid_fraction(c.Vsd, c.Vm, r.scalar("maxRadialDistribution"));
   c.Vmin = r.scalar("minSolidFraction");
   c.zeta1 = r.boolean("firstOrderCooling") ? 1 : 0;
+  c.a5_printed = r.word("bulkViscosity") == "printed" ? 1 : 0;
+  c.b8_printed = r.word("dissipation") == "printed" ? 1 : 0;
   return make_params(c);
 }
 
