@@ -108,7 +108,6 @@ struct PhaseTransition {
   /// Store the frictional result (sf, v) and add the collisional part at the shared void ratio.
   SCREE_HD static void collisional(const Params& p, State& s, const Sym3& sf, const simsand::Vars& v, Sym3& sigma,
                                    const StrainIncrement& inc) {
-    s.sigf = sf;
     s.e = v.e;
     s.kappa = v.kappa;
     s.epsEq = v.epsEq;
@@ -125,7 +124,7 @@ struct PhaseTransition {
     const Real T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
     s.T = flying ? s.T : T;
     const Real keep = flying ? Real(0) : Real(1);
-    s.sigf = sf * keep;
+    s.sigf = sf * keep;  // the frictional result, none for a dispersed point
     sigma = (sf + kt::collisional_stress(c, T, D)) * keep;  // eq. (1) with eq. (19)
   }
 

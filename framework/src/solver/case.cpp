@@ -113,7 +113,7 @@ const CoreSpecs& CoreSpecs::get() {
                              "(the last two remove cell-crossing noise)")
         .choices({"linear", "gimp", "bspline2"})
         .default_value("linear");
-    m->word("transfer", "particle velocity update: FLIP (blended with PIC by picFraction) or APIC")
+    m->word("transfer", "particle velocity update: FLIP (blended with PIC by picRate or picFraction) or APIC")
         .choices({"FLIP", "APIC"})
         .default_value("FLIP");
     m->scalar("picFraction", "-", "PIC share of the FLIP/PIC blend per step (0: pure FLIP, the paper's eq. 10); "
@@ -158,8 +158,8 @@ const CoreSpecs& CoreSpecs::get() {
       if (d.has("picFraction") && d.has("picRate") && r.scalar("picFraction") > 0 && r.scalar("picRate") > 0)
         errors.emplace_back(d.at("picRate").where(),
                             "picRate: give picFraction (PIC share per step) or picRate (per second), not both: "
-                            "picFraction "
-                            "is set at " + d.at("picFraction").where().str());
+                            "picFraction is set at " +
+                                d.at("picFraction").where().str());
       if (r.word("transfer") == "APIC" && r.word("shapeFunction") == "linear")
         errors.emplace_back(d.has("transfer") ? d.at("transfer").where() : d.where(),
                             "transfer APIC needs shapeFunction gimp or bspline2: with linear shape functions "
