@@ -54,7 +54,16 @@ struct LinearElastic {
   SCREE_HD static Real wave_speed(const Params& p, const State&, const Sym3&, Real rho, Real) {
     return sqrt((p.lambda + 2 * p.G) / rho);
   }
-  static void describe(OutputFields<LinearElastic>&) {}
+  /// Output: the elastic energy per volume, 1/2 sigma : C^-1 : sigma =
+  /// p^2/(2K) + s:s/(4G) (K = lambda + 2G/3; the energy budget's stored term).
+  static void describe(OutputFields<LinearElastic>& out) {
+    out.derived("elasticEnergy", "J/m^3", "elastic energy stored per volume, 1/2 sigma : C^-1 : sigma",
+                [](const Params& p, const State&, const Sym3& sig) {
+                  const Real K = p.lambda + 2 * p.G / 3, pr = pressure(sig);
+                  const Sym3 sd = deviator(sig);
+                  return pr * pr / (2 * K) + ddot(sd, sd) / (4 * p.G);
+                });
+  }
 };
 
 }  // namespace scree::materials

@@ -97,6 +97,9 @@ struct Simsand {
     out.derived("criticalVoidRatio", "-", "e_c(p_f), eq. (16)", [](const Params& p, const State&, const Sym3& sig) {
       return simsand::critical_void_ratio(p.m, pressure(sig));
     });
+    out.derived("elasticEnergy", "J/m^3",
+                "elastic energy stored per volume, an estimate (eq. 13 is hypoelastic: simsand_model.hpp)",
+                [](const Params& p, const State& s, const Sym3& sig) { return simsand::elastic_energy(p.m, s.e, sig); });
     out.derived("peakStressRatio", "-", "M_p (eq. 17, triaxial compression)",
                 [](const Params& p, const State& s, const Sym3& sig) {
                   return simsand::ratios(p.m, s.e, pressure(sig)).Mp;

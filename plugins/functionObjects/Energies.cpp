@@ -1,24 +1,72 @@
 // energies (see Energies.hpp).
 #include "Energies.hpp"
 
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
 namespace scree::fo {
+
+namespace {
+// The columns of the budget, after time, kinetic, potential, total (Energies.hpp says what each is).
+const std::vector<std::string> kBudgetColumns{"elastic",     "granular", "stressWork",  "plastic",
+                                              "collisional", "picLoss",  "dampingLoss", "wallLoss",
+                                              "residual"};
+}  // namespace
 
 ParamSpec Energies::spec() {
   ParamSpec s(type_name,
-              "kinetic, gravitational potential and total energy of the selected bodies, one CSV row per "
-              "execution (postProcessing/<name>/energies.csv)");
-  s.word_list("bodies", "bodies to sum over (default: all bodies)").optional();
+              "kinetic, gravitational potential and total energy of the selected bodies and, with budget, the whole "
+              "energy budget (stored, dissipated, numerical losses, residual), one CSV row per execution "
+              "(postProcessing/<name>/energies.csv)");
+  s.word_list("bodies", "bodies to sum over (default: all bodies; the budget needs all)").optional();
   s.vector("origin", "m", "where the potential energy is zero (default: the origin)").size(-1).optional();
+  s.boolean("budget",
+            "also the energy budget: elastic and granular energy, the stress work, plastic and collisional "
+            "dissipation, the PIC, damping and wall losses and the residual (the kernels keep a ledger: a little "
+            "slower)")
+      .default_value("no");
   return s;
 }
 
 Energies::Energies(const ParamReader& r, const SolverContext& ctx)
-    : who_("energies '" + ctx.name + "'"), bodies_(read_bodies(r, ctx)), origin_(read_point(r, "origin", ctx)) {
+    : who_("energies '" + ctx.name + "'"),
+      bodies_(read_bodies(r, ctx)),
+      origin_(read_point(r, "origin", ctx)),
+      budget_(r.boolean("budget")) {
+  if (budget_ && !bodies_.empty())
+    throw InputError(where_of(r, "bodies"),
+                     "bodies: the energy budget is kept over every body of the case (the kernels' ledger is not "
+                     "split by body); remove `bodies` or set `budget no`");
   for (std::size_t d = 0; d < ctx.gravity.size() && d < 3; ++d) gravity_[d] = ctx.gravity[d];
   const std::string unit = ctx.dimension == 3 ? " [J]" : " [J/m]";
+  std::vector<std::string> header{"time [s]", "kinetic" + unit, "potential" + unit, "total" + unit};
+  if (budget_) {
+    for (const auto& c : kBudgetColumns) header.push_back(c + unit);
+    header.push_back("residualFraction [-]");
+  }
   ensure_writable_dir(ctx.post_processing_dir(), who_);
-  csv_.open(ctx.post_processing_dir() / "energies.csv",
-            {"time [s]", "kinetic" + unit, "potential" + unit, "total" + unit}, ctx.start_time);
+  const auto file = ctx.post_processing_dir() / "energies.csv";
+  if (budget_ && ctx.start_time > 0) {
+    // A restart: the first row's values come from the rows the file keeps (CsvFile::open).
+    std::ifstream in(file);
+    std::string line;
+    if (std::getline(in, line) && std::getline(in, line)) {
+      const auto c = csv_split(line);
+      if (c.size() == header.size()) {
+        auto at = [&](std::size_t i) { return std::strtod(c[i].c_str(), nullptr); };
+        Result f;
+        f.kinetic = at(1);
+        f.potential = at(2);
+        f.elastic = at(4);
+        f.granular = at(5);
+        first_ = f;
+        // balance = kinetic + potential + W + pic + damping + walls (columns 6, 9, 10, 11)
+        first_balance_ = f.kinetic + f.potential + at(6) + at(9) + at(10) + at(11);
+      }
+    }
+  }
+  csv_.open(file, header, ctx.start_time);
 }
 
 Energies::Result Energies::evaluate(const Snapshot& s) const {
@@ -27,6 +75,9 @@ Energies::Result Energies::evaluate(const Snapshot& s) const {
     if (!selected(bodies_, b)) continue;
     const FieldData& v = require_field(b, "velocity", who_);
     const FieldData& m = require_field(b, "mass", who_);
+    const FieldData* vol = budget_ ? b.find("volume") : nullptr;
+    const FieldData* we = budget_ ? b.find("elasticEnergy") : nullptr;
+    const FieldData* T = budget_ ? b.find("granularTemperature") : nullptr;
     for (Index p = 0; p < b.n; ++p) {
       const double* vp = &v.values[3 * p];
       const double* x = &b.position[3 * p];
@@ -35,16 +86,45 @@ Energies::Result Energies::evaluate(const Snapshot& s) const {
       double gx = 0;
       for (int d = 0; d < 3; ++d) gx += gravity_[d] * (x[d] - origin_[d]);
       res.potential -= mp * gx;
+      if (we && vol) res.elastic += we->values[p] * vol->values[p];
+      if (T) res.granular += 1.5 * mp * T->values[p];  // 3/2 T per unit mass (eq. 27)
     }
   }
   return res;
+}
+
+Energies::Budget Energies::budget(const Result& r, const EnergyLedger& e, const Result& first, double first_balance) {
+  Budget b;
+  b.stress_work = e.stress_work;
+  b.collisional = e.collisional;
+  b.plastic = e.stress_work - (r.elastic - first.elastic) - (r.granular - first.granular) - e.collisional;
+  b.pic = e.pic;
+  b.damping = e.damping;
+  b.walls = e.walls;
+  b.balance = r.kinetic + r.potential + e.stress_work + e.pic + e.damping + e.walls;
+  b.residual = b.balance - first_balance;
+  b.fraction = first.potential != 0 ? b.residual / std::fabs(first.potential) : 0.0;
+  return b;
 }
 
 void Energies::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
   const Result r = evaluate(s);
-  csv_.row({s.time, r.kinetic, r.potential, r.total()});
+  std::vector<double> row{s.time, r.kinetic, r.potential, r.total()};
+  if (budget_) {
+    if (!s.energy.kept)
+      throw std::runtime_error(who_ + ": the snapshot carries no energy ledger (the solver did not keep it)");
+    if (!first_) {
+      first_ = r;
+      first_balance_ = r.kinetic + r.potential + s.energy.stress_work + s.energy.pic + s.energy.damping +
+                       s.energy.walls;
+    }
+    const Budget b = budget(r, s.energy, *first_, first_balance_);
+    row.insert(row.end(), {r.elastic, r.granular, b.stress_work, b.plastic, b.collisional, b.pic, b.damping,
+                           b.walls, b.residual, b.fraction});
+  }
+  csv_.row(row);
 }
 
 }  // namespace scree::fo

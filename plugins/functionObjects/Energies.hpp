@@ -1,19 +1,48 @@
-// energies: kinetic, gravitational potential and their sum over the selected bodies.
+// energies: kinetic and gravitational potential energy of the selected bodies and, with
+// `budget yes`, the whole energy budget of the run (Feng et al. 2025, Appendix B).
 //
-//   functions { energy { type energies; executeControl timeStep; executeInterval 100; } }
+//   functions { energy { type energies; executeControl runTime; executeInterval 0.01; budget yes; } }
 //
 //   kinetic    sum 1/2 m |v|^2
 //   potential  sum -m g.(x - origin)  (g from constant/g; zero at `origin`)
 //   total      kinetic + potential
-// Energies are per metre of thickness in 2D (J/m), in J in 3D. The elastic energy
-// stored in the material and the work of boundary conditions are not included: the drop
-// of `total` over a run is the energy dissipated (friction, damping, numerical) minus the
-// elastic energy stored.
+//
+// With `budget yes` the kernels keep an energy ledger (StepControl::energy, cumulative since
+// t = 0 over every body) and the rows add, in the same unit:
+//
+//   elastic       sum V w_e, the elastic energy stored (the material's output field
+//                 elasticEnergy [J/m^3]; 0 for a material without one)
+//   granular      sum 3/2 m T, the energy of the granular temperature (eq. 27; the field
+//                 granularTemperature, 0 without one)
+//   stressWork    W = sum over steps and points of V sigma : deps: the work done on the material
+//   collisional   D_col = sum V Gamma dt, the collisional dissipation (eq. 28; the material's
+//                 collisional_dissipation)
+//   plastic       D_p = W - (elastic - elastic_0) - (granular - granular_0) - D_col: the stress
+//                 work that is neither stored nor dissipated by collisions, i.e. the frictional
+//                 (plastic) dissipation. Derived, not measured: it carries the error of the
+//                 elastic estimate (hypoelastic laws have no exact stored energy)
+//   picLoss       kinetic energy the FLIP/PIC blend took from the points (mpmSchemes picRate /
+//                 picFraction)
+//   dampingLoss   kinetic energy the local damping took from the nodes
+//   wallLoss      kinetic energy the walls (fixed, slip, friction, ...) took from the nodes
+//   residual      (kinetic + potential + W + picLoss + dampingLoss + wallLoss) minus its value at
+//                 the first row: energy the discretisation created (> 0) or lost (< 0) beyond
+//                 the named terms (the grid-particle transfers, the explicit integration)
+//   residualFraction   residual / |potential at the first row| (origin as given)
+//
+// The balance: kinetic + potential + elastic + granular + plastic + collisional + picLoss +
+// dampingLoss + wallLoss = its value at the first row + residual. What is not counted: work
+// of boundary plugins with node laws of their own (shakingTable, ...), the pore liquid of
+// two-phase bodies (its drag and flow) -- these go into the residual.
+//
+// Energies are per metre of thickness in 2D (J/m), in J in 3D. A restart continues the
+// ledger from the checkpoint and takes the first row's values from the rows it keeps.
 //
 // Output: postProcessing/<name>/energies.csv, one row per execution.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "FoCommon.hpp"
 #include "scree/output/function_object.hpp"
@@ -26,19 +55,36 @@ class Energies final : public FunctionObject {
   static ParamSpec spec();
   Energies(const ParamReader& r, const SolverContext& ctx);
   void execute(const Snapshot& s) override;
+  bool needs_energy_ledger() const override { return budget_; }
 
   struct Result {
     double kinetic = 0, potential = 0;
+    double elastic = 0, granular = 0;  ///< stored in the material (budget only)
     double total() const { return kinetic + potential; }
   };
   Result evaluate(const Snapshot& s) const;
+
+  /// One row of the budget (budget yes): the values written, in the header's order after time.
+  struct Budget {
+    double stress_work = 0, collisional = 0, plastic = 0, pic = 0, damping = 0, walls = 0;
+    double balance = 0;   ///< kinetic + potential + W + losses
+    double residual = 0;  ///< balance - its first value
+    double fraction = 0;  ///< residual / |potential at the first row|
+  };
+  /// The budget of a snapshot, against the first row `first` (Result and balance).
+  static Budget budget(const Result& r, const EnergyLedger& e, const Result& first, double first_balance);
 
  private:
   std::string who_;
   std::vector<std::string> bodies_;
   Vec3 origin_, gravity_{0, 0, 0};
+  bool budget_ = false;
   CsvFile csv_;
   std::int64_t last_step_ = -1;
+  /// The first row's values (budget): from the first execution, or on a restart from the
+  /// rows kept in the CSV file.
+  std::optional<Result> first_;
+  double first_balance_ = 0;
 };
 
 }  // namespace scree::fo

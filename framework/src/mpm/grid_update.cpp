@@ -55,27 +55,48 @@ struct GridUpdate {
       Real* const* src = (p.modes & kRemap) ? g.force : g.momentum;
       Real v[D];
       for (int d = 0; d < D; ++d) v[d] = has_mass ? src[d][I] * rm : Real(0);
-      if (mask) apply_walls<D>(p.walls, mask, v, x, t);
+      if (mask) {
+        const Real e0 = p.energy && (p.modes & kNormalize) ? kinetic(m, v) : Real(0);
+        apply_walls<D>(p.walls, mask, v, x, t);
+        if (p.energy && (p.modes & kNormalize)) ledger(kEnergyWalls, e0 - kinetic(m, v));
+      }
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
     if (p.modes & kIntegrate) {
-      Real v[D];
+      Real v[D], v_free[D];
       const bool damp = p.damping > 0 && t >= p.damping_start && t < p.damping_end;
       Real probe = 0;  // health: the nodal velocity and force (report_nonfinite_node)
       for (int d = 0; d < D; ++d) {
         const Real vk = g.velocity[d][I];
         Real f = g.force[d][I];
         probe += vk + f;
+        v_free[d] = accelerate ? vk + dt * f * rm : vk;  // without damping (the ledger's reference)
         if (damp && vk != 0) f -= p.damping * fabs(f) * (vk > 0 ? Real(1) : Real(-1));
         v[d] = accelerate ? vk + dt * f * rm : vk;
       }
       if (!(probe - probe == 0)) [[unlikely]]
         report_nonfinite_node(p.control, par);
-      if (mask) apply_walls<D>(p.walls, mask, v, x, t);
+      const Real e_damped = p.energy ? kinetic(m, v) : Real(0);
+      if (p.energy && damp) ledger(kEnergyDamping, kinetic(m, v_free) - e_damped);
+      if (mask) {
+        apply_walls<D>(p.walls, mask, v, x, t);
+        if (p.energy) ledger(kEnergyWalls, e_damped - kinetic(m, v));
+      }
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }
     if (p.modes & kZeroForce)
       for (int d = 0; d < D; ++d) g.force[d][I] = 0;
+  }
+
+  /// 1/2 m |v|^2 of a node.
+  SCREE_INLINE static Real kinetic(Real m, const Real* v) {
+    Real v2 = 0;
+    for (int d = 0; d < D; ++d) v2 += v[d] * v[d];
+    return Real(0.5) * m * v2;
+  }
+  /// Add to a term of the energy ledger (GridUpdateParams::energy); zeros are not added.
+  SCREE_INLINE void ledger(int term, Real value) const {
+    if (value != 0) atomic_add(p.control->energy + term, value, false);
   }
 
   /// The sparse update of lane `lane` of tile `t` (Tiles<D>): the node it stands for,

@@ -138,6 +138,7 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
   pp.split_elastic = split_;
   pp.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
+  pp.energy = energy_ledger_;
   return pp;
 }
 
@@ -157,6 +158,7 @@ GridUpdateParams<D> Solver<D>::grid_params(unsigned modes, int set) const {
   gp.damping = damping.coefficient;
   gp.damping_start = damping.start_time;
   gp.damping_end = damping.end_time;
+  gp.energy = energy_ledger_;
   if (policy_.sparse()) {
     gp.cur_stamps = tile_stamps_[set].data();
     gp.other_stamps = tile_stamps_[1 - set].data();
@@ -607,6 +609,16 @@ Snapshot Solver<D>::snapshot_header() const {
   s.time = time();
   s.step = steps_done();  // the steps that advanced the clock: the same in every run
   s.dimension = D;
+  // The ledger as of the last sync with the device: flush() has just read the clock back.
+  s.energy.kept = energy_ledger_;
+  if (energy_ledger_) {
+    const Real* e = host_ctl_.energy;
+    s.energy.stress_work = e[kEnergyStressWork];
+    s.energy.collisional = e[kEnergyCollisional];
+    s.energy.pic = e[kEnergyPic];
+    s.energy.damping = e[kEnergyDamping];
+    s.energy.walls = e[kEnergyWalls];
+  }
   s.bodies.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     s.bodies[i].material = material_names_[i];

@@ -164,6 +164,7 @@ class Solver {
   bool lost_warned_ = false;         // particles leaving the grid already reported
 
   // Kernels
+  bool energy_ledger_ = false;       // a function object asked for the energy ledger (StepControl::energy)
   bool split_ = false, can_split_ = false;
   std::optional<SplitTuner> tuner_;  // KernelPolicy::split automatic, on CUDA
   std::int64_t split_steps_ = 0;     // steps run split

@@ -57,6 +57,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   }
   setup_split();
   setup_boundaries();
+  energy_ledger_ = opt_.energy_ledger;
   if (opt_.output) setup_output();
   if (restart) {
     restore(*restart);
@@ -335,6 +336,7 @@ void Solver<D>::setup_output() {
       c.name = e.key();
       OutputSchedule::Function fn;
       fn.object = pe.function_object(d, c);
+      energy_ledger_ = energy_ledger_ || fn.object->needs_energy_ledger();
       const ParamReader r(*pe.spec, d);  // executeControl, executeInterval: declare_execute_control
       const std::string ec = r.word("executeControl");
       using Control = OutputSchedule::Function::Control;

@@ -34,6 +34,12 @@
 //       // optional: the State's Reals that are zero in 2D (plane strain), here the yz and
 //       // xz components of a Sym3 member x; the 2D kernels neither load nor store them
 //       // (the framework's own 2D stress keeps 4 components for the same reason)
+//   SCREE_HD static Real collisional_dissipation(const Params& p, const State& s,
+//                                                const StrainIncrement& inc);  // optional
+//       // the energy a rate-dependent (collisional) mechanism dissipated over the step, per
+//       // volume [J/m^3], from the state after the update; the energy budget (function object
+//       // energies, `budget yes`) sums it as its collisional term. A model whose stored energy
+//       // is not all elastic also names an output field elasticEnergy [J/m^3] (describe()).
 //   static constexpr bool reads_stress = false;       // optional (default true): update()
 //       // builds sigma from the state and never reads the stress it is given; the kernels
 //       // then skip loading and co-rotating it

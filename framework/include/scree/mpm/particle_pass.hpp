@@ -119,6 +119,10 @@ struct PassParams {
   /// Body::body_id of the body the pass runs over (MaterialBody::launch sets it): a point
   /// with a non-finite field records it in StepControl::bad.
   int body = 0;
+  /// Keep the energy ledger (StepControl::energy): the stress work, the collisional
+  /// dissipation and what the PIC blend removes, summed per warp and added once per warp.
+  /// Off (the default) the kernels add nothing (one uniform test per point).
+  bool energy = false;
 };
 
 /// The PIC share a of a step of length dt in the FLIP/PIC blend v <- a v_PIC + (1 - a) v_FLIP.
@@ -129,6 +133,22 @@ struct PassParams {
 template <class PP>
 SCREE_INLINE Real pic_share(const PP& pp, Real dt) {
   return pp.pic_rate > 0 ? -expm1(-pp.pic_rate * dt) : pp.pic_fraction;
+}
+
+/// The sum of v over the warp, valid in every lane (CUDA); v itself on the CPU.
+SCREE_INLINE Real warp_sum(Real v) {
+#if defined(__CUDA_ARCH__)
+  for (int off = 16; off > 0; off >>= 1) v += __shfl_xor_sync(0xffffffffu, v, off);
+#endif
+  return v;
+}
+
+/// Whether M declares the collisional dissipation of a step (material.hpp, optional).
+template <class M>
+inline constexpr bool material_has_collisional_dissipation() {
+  return requires(const typename M::Params& p, const typename M::State& s, const StrainIncrement& inc) {
+    { M::collisional_dissipation(p, s, inc) } -> std::convertible_to<Real>;
+  };
 }
 
 /// Whether this step computes the largest signal speed (PassParams::speed_mask).
@@ -241,6 +261,9 @@ struct FreshStress {
   Sym3 sigma = Sym3::zero();
   Real volume = 0;
   bool valid = false;
+  /// The energy ledger's share of the point (PassParams::energy): the stress work V sigma :
+  /// deps of the step and the collisional dissipation V Gamma dt [J, J/m in 2D].
+  Real work = 0, dissipated = 0;
 };
 
 /// The particle pass. ElasticFirst: the first kernel of the elastic-first split
@@ -289,6 +312,7 @@ struct ParticlePass {
     // ---------------- gather phases (weights at the current position) ----------------
     Real speed = 0;  // signal speed c + |v| after the stress update
     FreshStress fresh;  // the stress and volume the update wrote, for the scatter's force
+    Real pic_loss = 0;  // the energy ledger: kinetic energy the PIC blend removed (PassParams::energy)
     bool defer = false;  // ElasticFirst: the update is not elastic, left to the second kernel
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
@@ -350,7 +374,14 @@ SCREE_UNROLL
           } else {
             // FLIP (eq. 10) blended with PIC.
             const Real a = pic_share(pp, dt);
-            for (int d = 0; d < D; ++d) v[d] = a * v_pic[d] + (1 - a) * (v[d] + dv[d]);
+            Real flip2 = 0, new2 = 0;
+            for (int d = 0; d < D; ++d) {
+              const Real vf = v[d] + dv[d];
+              v[d] = a * v_pic[d] + (1 - a) * vf;
+              flip2 += vf * vf;
+              new2 += v[d] * v[d];
+            }
+            if (pp.energy && flip_increment) pic_loss = Real(0.5) * mass * (flip2 - new2);
           }
         }
         if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
@@ -360,8 +391,12 @@ SCREE_UNROLL
     }
     if constexpr (ElasticFirst) {
       push_index(pp.deferred, pp.deferred_count + pp.parity, p, defer, pp.serial);
-      if (defer) active = false;  // nothing of it is written or scattered here
+      if (defer) {
+        active = false;  // nothing of it is written or scattered here
+        pic_loss = 0;    // counted by the second kernel, which gathers it again
+      }
     }
+    if (pp.energy) ledger(pic_loss, fresh);
     if constexpr ((May & kStressPhases) != 0)
       if ((flags & kStressPhases) && speed_wanted(pp)) {
         // The step's largest signal speed, for the adaptive time step: one atomic per warp.
@@ -400,6 +435,18 @@ SCREE_UNROLL
                slowest, ctl->step[pp.gather_parity], ElasticFirst ? 1 : 0, blockIdx.x, busy, sum, top, p1, p2, p4);
     }
 #endif
+  }
+
+  /// The energy ledger (PassParams::energy): the warp's sums, added by its first lane.
+  /// Warp-collective: every lane calls it (inactive ones with zeros).
+  SCREE_INLINE void ledger(Real pic_loss, const FreshStress& fresh) const {
+    Real* e = pp.control->energy;
+    const Real pic = warp_sum(pic_loss), work = warp_sum(fresh.work), diss = warp_sum(fresh.dissipated);
+    if (detail::first_lane()) {
+      if (pic != 0) atomic_add(e + kEnergyPic, pic, pp.serial);
+      if (work != 0) atomic_add(e + kEnergyStressWork, work, pp.serial);
+      if (diss != 0) atomic_add(e + kEnergyCollisional, diss, pp.serial);
+    }
   }
 
   /// P2G: mass, momentum and force into the set S. `active` becomes false when the
@@ -539,6 +586,10 @@ SCREE_UNROLL
     store_state<typename M::State, plane>(s, pa.state, pa.n, p);
     detail::store_stress<D>(pa.sigma, p, sigma);
     fresh = FreshStress{sigma, vol, true};
+    if (pp.energy) {
+      fresh.work = vol * ddot(sigma, inc.deps);  // the stress power of the step times dt
+      if constexpr (material_has_collisional_dissipation<M>()) fresh.dissipated = vol * M::collisional_dissipation(mp, s, inc);
+    }
     return true;
   }
 

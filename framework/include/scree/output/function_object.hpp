@@ -29,6 +29,10 @@ class SCREE_API FunctionObject {
   virtual ~FunctionObject();
   virtual void execute(const Snapshot& s) = 0;
   virtual void finish() {}
+  /// Whether the kernels should keep the energy ledger for it (StepControl::energy, in
+  /// Snapshot::energy): the stress work and the losses that no snapshot can show. Asked once,
+  /// after construction; keeping it costs the kernels a little (energies' `budget`).
+  virtual bool needs_energy_ledger() const { return false; }
 };
 
 }  // namespace scree

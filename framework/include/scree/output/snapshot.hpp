@@ -69,10 +69,23 @@ struct GridSnapshot {
   std::vector<FieldData> fields;  ///< mass, velocity, ... per node
 };
 
+/// The energy ledger at a snapshot's time (StepControl::energy): what the kernels added up
+/// since t = 0 over every body, in J (J/m of thickness in 2D). Kept only when a function
+/// object asks for it (FunctionObject::needs_energy_ledger); `kept` says whether it was.
+struct EnergyLedger {
+  bool kept = false;
+  Real stress_work = 0;  ///< sum of V sigma : deps over steps and points (into the material)
+  Real collisional = 0;  ///< collisional dissipation, sum of V Gamma dt
+  Real pic = 0;          ///< kinetic energy removed by the FLIP/PIC blend
+  Real damping = 0;      ///< kinetic energy removed by the local damping
+  Real walls = 0;        ///< kinetic energy removed by the walls
+};
+
 struct Snapshot {
   Real time = 0;
   std::int64_t step = 0;
   int dimension = 2;
+  EnergyLedger energy;
   std::vector<BodySnapshot> bodies;
   bool has_grid = false;
   GridSnapshot grid;

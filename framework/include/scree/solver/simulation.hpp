@@ -54,6 +54,9 @@ struct RunOptions {
   Device device = Device::cpu;
   int threads = 1;             ///< CPU threads (OpenMP)
   bool output = true;          ///< writers and function objects (off for benchmarks)
+  /// Keep the energy ledger (StepControl::energy, in every Snapshot) even when no function
+  /// object asks for it (tests; benchmarks of its cost).
+  bool energy_ledger = false;
   std::int64_t max_steps = -1; ///< stop after this many steps (benchmarks); -1: no limit
   bool progress = true;        ///< progress line on stdout
   bool profile = false;        ///< time every kernel phase (synchronising; no graphs) and report

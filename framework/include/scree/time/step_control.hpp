@@ -32,6 +32,19 @@ enum StepFailure : unsigned {
   kFailStalled = 1u << 3,    ///< (set by the host) the adaptive step became too small to reach the end
 };
 
+/// The terms of the energy ledger (StepControl::energy): energies the kernels add up as they
+/// go, cumulative since t = 0, in J (J/m in 2D), for the energy budget of the function
+/// object `energies` (`budget yes`; plugins/functionObjects/Energies.hpp says how they close).
+/// Kept only when PassParams::energy / GridUpdateParams::energy is set: off, nothing is added.
+enum EnergyTerm : int {
+  kEnergyStressWork = 0,   ///< sum over steps and points of V sigma : deps (the stress power times dt)
+  kEnergyCollisional = 1,  ///< collisional dissipation, sum V Gamma dt (material hook collisional_dissipation)
+  kEnergyPic = 2,          ///< kinetic energy the FLIP/PIC blend removed from the points (>= 0 when it damps)
+  kEnergyDamping = 3,      ///< kinetic energy the local damping removed from the nodes
+  kEnergyWalls = 4,        ///< kinetic energy the walls (wall_law.hpp) removed from the nodes
+  kEnergyTerms = 5,
+};
+
 /// The field of the first non-finite value (StepControl::BadPoint::field).
 enum BadField : int { kBadPosition = 0, kBadVelocity = 1, kBadStress = 2 };
 
@@ -67,6 +80,9 @@ struct StepControl {
   unsigned failure;               ///< StepFailure bits (0: healthy)
   unsigned long long failed_step; ///< the step after which the clock stopped
   Real failed_co;                 ///< that step's Courant number dt (c + |v|)_max / h
+  /// The energy ledger (EnergyTerm), cumulative since t = 0: lives with the clock, so that a
+  /// checkpoint carries it and a restart continues it.
+  Real energy[kEnergyTerms];
 };
 
 /// Health: a node of the grid update found a non-finite velocity or force (every

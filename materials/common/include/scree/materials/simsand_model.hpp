@@ -242,6 +242,26 @@ SCREE_HD inline Real bulk_modulus(const Params& P, Real e, Real p) {
   return P.Cfac * void_function(e) * power<Pol>(P, fmax(p, Real(0)) + P.pmin, P.n);  // eq. (13)
 }
 
+/// Elastic energy stored per volume at the stress sigma and void ratio e [J/m^3], for the
+/// energy budget (plugins/functionObjects/Energies.hpp). Eq. (13)'s law is hypoelastic and
+/// has no exact potential (K depends on e and p, G = rG K on p); this is the complementary
+/// energy of an isotropic loading to p at the current e followed by a shear to q at p:
+///   w = int_0^p p' dp'/K(p') + q^2/(6 G(p)),   K = Cfac F(e) (p + p_min)^n,
+/// with u = p' + p_min: int p'/K dp' = [u^(2-n)/(2-n) - p_min u^(1-n)/(1-n)] from p_min to
+/// p + p_min, over Cfac F(e). A stress-free point (p <= 0, the apex) stores nothing.
+inline Real elastic_energy(const Params& P, Real e, const Sym3& sigma) {
+  const Real p = fmax(mean_pressure(sigma), Real(0));
+  const Real c = P.Cfac * void_function(e);
+  const Real n = P.n, u1 = p + P.pmin, u0 = P.pmin;
+  auto prim = [&](Real u) { return pow(u, 2 - n) / (2 - n) - P.pmin * pow(u, 1 - n) / (1 - n); };
+  const Real wp = (prim(u1) - prim(u0)) / c;
+  const Sym3 sd = dev_part(sigma);
+  const Real q2 = Real(1.5) * (sd[0] * sd[0] + sd[1] * sd[1] + sd[2] * sd[2] +
+                               2 * (sd[3] * sd[3] + sd[4] * sd[4] + sd[5] * sd[5]));
+  const Real G = P.rG * c * pow(u1, n);
+  return wp + q2 / (6 * G);
+}
+
 /// (p/p_at)^xi of eq. (16), p clipped at 0: pow() on the reference path (Pol::exact_powers),
 /// exp(xi ln(p/p_at)) on the fast one (a pow() is a logarithm and an exponential in extended
 /// precision, about twice the work; the two differ by an ulp or two).
