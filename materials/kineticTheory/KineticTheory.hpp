@@ -79,9 +79,18 @@ struct KineticTheory {
     sigma = kt::collisional_stress(c, T, D) * (flying ? Real(0) : Real(1));  // eq. (19)
   }
 
+  /// The energy the collisions dissipated over the step, per volume [J/m^3]: Gamma dt of
+  /// eq. (28) at the step's end (T and e after the update); none for a dispersed point
+  /// (material.hpp, optional: the energy ledger's collisional term).
+  SCREE_HD static Real collisional_dissipation(const Params& p, const State& s, const StrainIncrement& inc) {
+    const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
+    return kt::dispersed(p.c, s.e) ? Real(0) : kt::dissipation_rate(c, s.T, s.trD) * inc.dt;
+  }
+
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
     const kt::Coefficients c = kt::coefficients(p.c, kt::solid_fraction(p.c, s.e));
-    const Real speed = kt::sound_speed(p.c, c, s.T) + kt::viscous_speed(c, s.T, rho, h);
+    const Real T = kt::step_temperature(p.c, c, s.T, s.rate, s.trD);  // timeStepTemperature
+    const Real speed = kt::sound_speed(p.c, c, T) + kt::viscous_speed(c, T, rho, h);
     return kt::dispersed(p.c, s.e) ? Real(0) : speed;  // no stress, no wave (update() above)
   }
 

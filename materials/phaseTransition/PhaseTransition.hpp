@@ -135,10 +135,20 @@ struct PhaseTransition {
     return kt::coefficients(p.c, kt::solid_fraction(p.c, e));
   }
 
+  /// The energy the collisions dissipated over the step, per volume [J/m^3]: Gamma dt of
+  /// eq. (28) at the step's end; none for a dispersed point (material.hpp, optional: the
+  /// energy ledger's collisional term; the frictional dissipation is what is left of the
+  /// stress work, plugins/functionObjects/Energies.hpp).
+  SCREE_HD static Real collisional_dissipation(const Params& p, const State& s, const StrainIncrement& inc) {
+    const kt::Coefficients c = coefficients(p, s.e);
+    return kt::dispersed(p.c, s.e) ? Real(0) : kt::dissipation_rate(c, s.T, s.trD) * inc.dt;
+  }
+
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3&, Real rho, Real h) {
     const kt::Coefficients c = coefficients(p, s.e);
-    const Real speed = simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, s.T) +
-                       kt::viscous_speed(c, s.T, rho, h);
+    const Real T = kt::step_temperature(p.c, c, s.T, s.rate, s.trD);  // timeStepTemperature
+    const Real speed = simsand::pwave_speed(p.f, s.e, pressure(s.sigf), rho) + kt::sound_speed(p.c, c, T) +
+                       kt::viscous_speed(c, T, rho, h);
     return kt::dispersed(p.c, s.e) ? Real(0) : speed;  // no stress, no wave (collisional() above)
   }
 
@@ -177,6 +187,9 @@ struct PhaseTransition {
     out.derived("criticalVoidRatio", "-", "e_c(p_f), eq. (16)", [](const Params& p, const State& s, const Sym3&) {
       return simsand::critical_void_ratio(p.f, pressure(s.sigf));
     });
+    out.derived("elasticEnergy", "J/m^3",
+                "elastic energy of sigma_f stored per volume, an estimate (eq. 13 is hypoelastic: simsand_model.hpp)",
+                [](const Params& p, const State& s, const Sym3&) { return simsand::elastic_energy(p.f, s.e, s.sigf); });
   }
 };
 

@@ -336,3 +336,34 @@ TEST(KineticTheory, CollisionalWorkSign) {
   }
   EXPECT_GT(T_end[1], T_end[0]);
 }
+
+// timeStepTemperature steady (kt::step_temperature): the temperature the time step assumes is
+// the fixed point of the exact update at the last step's rates: many steps of one strain rate
+// from a cold state converge to it (an independent route: iterating the update, not the
+// formula), and while the rate holds the next step's T never exceeds it. With `current` it
+// is T itself. The state: dense (V = 0.58, V_sd = 0.6) and cold (T = 1e-4), compressed at tr D = -4000 1/s
+// with shear 300 1/s, steps of 1e-6 s: the flume's blow-up (cases/flume/README.md).
+TEST(KineticTheory, StepTemperatureIsTheSteadyStateOfTheRates) {
+  kt::Constants k = table2();
+  k.steady_step = 1;
+  const kt::Params c = kt::make_params(k);
+  const double V = 0.58, dt = 1e-6, trD = -4000, gdot = 300;
+  const kt::Coefficients co = kt::coefficients(c, V);  // V frozen: the update's own assumption
+  Sym3 D{{trD / 2, trD / 2, 0, gdot / 2, 0, 0}};
+  const kt::RateInvariants ri = kt::rate_invariants(D);
+  const double rate = std::sqrt(2.0 / 3 * ri.dev2);
+  double T = 1e-4;
+  const double Tstep = kt::step_temperature(c, co, T, rate, ri.tr);
+  EXPECT_GT(Tstep, 100 * T) << "compression at V = 0.58 must heat far above the cold state";
+  for (int i = 0; i < 200000; ++i) {
+    const double Tn = kt::update_temperature(co, T, ri, dt);
+    ASSERT_LE(Tn, Tstep * (1 + 1e-9)) << "step " << i << ": the update overshot the step's temperature";
+    T = Tn;
+  }
+  EXPECT_NEAR(T / Tstep, 1.0, 1e-6) << "the fixed point of the update";
+  // From above the steady state the step temperature is T itself.
+  EXPECT_EQ(kt::step_temperature(c, co, 10 * Tstep, rate, ri.tr), 10 * Tstep);
+  // `current` (the default): T itself.
+  const kt::Params cur = table2();
+  EXPECT_EQ(kt::step_temperature(cur, co, 1e-4, rate, ri.tr), 1e-4);
+}

@@ -39,6 +39,9 @@ struct Constants {
   /// The paper-literal readings (0, the default: Garzo & Dufty 1999; README, KT-3 and KT-2):
   Real a5_printed = 0;  ///< 1: gamma* of (A5) as printed, with G = V g0 where GD99 has V G
   Real b8_printed = 0;  ///< 1: Gamma of (B8)/eq. (28) as printed, one factor V fewer than GD99
+  /// 1: the time step's signal speeds take the larger of T and the steady temperature of the
+  /// last step's strain rate (step_temperature); 0: T itself (timeStepTemperature)
+  Real steady_step = 0;
 };
 
 /// The factors of the coefficients that depend on the constants only, computed once by
@@ -282,6 +285,36 @@ SCREE_HD inline Real update_temperature(const Coefficients& c, Real T0, const Ra
   // dT/dt = a x + b x^2 - k x^3 with x = sqrt(T)  <=>  dx/dt = (a + b x - k x^2)/2
   const Real x = riccati_sqrt_temperature(sqrt(fmax(T0, Real(0))), a, b, k, dt);
   return x * x;
+}
+
+/// The collisional dissipation rate per volume, eq. (28) with (B8)-(B14):
+/// Gamma = Gamma0 + Gamma1 = diss_hat T^{3/2} + div_hat T tr D [W/m^3] (the sink of eq. 27).
+SCREE_HD inline Real dissipation_rate(const Coefficients& c, Real T, Real trD) {
+  const Real Tp = fmax(T, Real(0));
+  return c.diss_hat * Tp * sqrt(Tp) + c.div_hat * Tp * trD;
+}
+
+/// The granular temperature the time step's signal speeds assume (timeStepTemperature). With
+/// `current` (steady_step 0) T itself. With `steady`, the larger of T and the steady
+/// temperature of the last step's strain rates, where eq. (27)'s production balances its
+/// dissipation: x+ of update_temperature's Riccati equation, from the rate invariants the state
+/// keeps (rate = sqrt(2/3 |dev D|^2), tr D). Why: compression heats a dense point within one
+/// step by up to e^{2/3 p* |tr deps|}, and T then answers the strain rate: at V = 0.62 (g0 =
+/// 383) a cold point (T = 1e-4) compressed at tr D = -4000 1/s reaches T = 2 m^2/s^2 in one
+/// step of 1e-6 s, and d sigma/d tr D is 3.5 times the viscosity 4/3 eta + gamma at its new T,
+/// 500 times the one at the T the step was chosen for. The update moves T monotonically
+/// towards the steady state, so while the rates hold, the next step's T is at most this one.
+SCREE_HD inline Real step_temperature(const Params& P, const Coefficients& c, Real T, Real rate, Real trD) {
+  if (!(P.steady_step > 0)) return T;
+  const Real re = 1 / c.energy;
+  const Real dev2 = Real(1.5) * rate * rate;                     // |dev D|^2 from sqrt(2/3 |dev D|^2)
+  const Real a = (2 * c.eta_hat * dev2 + c.gam_hat * trD * trD) * re;  // as update_temperature
+  const Real b = -(c.p_hat + c.div_hat) * trD * re;
+  const Real k = c.diss_hat * re;
+  if (!(k > 0)) return T;
+  const Real s = sqrt(b * b + 4 * k * a);
+  const Real xp = b >= 0 ? (b + s) / (2 * k) : (s - b > 0 ? 2 * a / (s - b) : Real(0));
+  return fmax(T, xp * xp);
 }
 
 /// eq. (19) in Scree's sign convention (tension positive):

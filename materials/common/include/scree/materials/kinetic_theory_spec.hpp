@@ -56,6 +56,12 @@ inline void add_collisional_spec(ParamSpec& s) {
                         "or 'printed' (the paper's (B8) as printed, one factor V fewer: 1/V times larger)")
       .choices({"GD99", "printed"})
       .default_value("GD99");
+  s.word("timeStepTemperature",
+         "the granular temperature the time step's signal speeds assume: 'current' (T) or 'steady' (the larger of "
+         "T and the steady temperature of the last step's strain rate, so that a point heated by compression within "
+         "one step does not outrun the step chosen before it: kinetic_theory.hpp, step_temperature)")
+      .choices({"current", "steady"})
+      .default_value("current");
   s.boolean("firstOrderCooling", "include the divergence term zeta1* of the dissipation (B11-B14)")
       .default_value("true");
   s.scalar("initialGranularTemperature", "m^2/s^2",
@@ -87,6 +93,7 @@ inline Params read_collisional(const ParamReader& r) {
   c.zeta1 = r.boolean("firstOrderCooling") ? 1 : 0;
   c.a5_printed = r.word("bulkViscosity") == "printed" ? 1 : 0;
   c.b8_printed = r.word("dissipation") == "printed" ? 1 : 0;
+  c.steady_step = r.word("timeStepTemperature") == "steady" ? 1 : 0;
   return make_params(c);
 }
 
