@@ -1,71 +1,131 @@
 #!/usr/bin/env bash
-# The flume of Feng et al. 2025 (section 4.2) to its end on lent GPU machines: a run of about
-# half an hour, longer than one device call and than one machine is held, continued from its
-# newest checkpoint on the next machine (scree --restart).
+# The flume of Feng et al. 2025 (section 4.2) and its variants on a lent GPU machine, in the
+# background, so that the runs outlast one device call; a run continues from its newest
+# checkpoint on the next machine (scree --restart).
 #
-#   scripts/gpu-flume.sh start [RUN...]    launch in the background (returns at once); RUN: pt
-#                                          (cases/flume), frictional (variants/frictional); one
-#                                          after another. A run whose carried state is in
-#                                          flume-carry/<run>/ (an earlier `collect`) continues
-#                                          from its newest checkpoint.
-#   scripts/gpu-flume.sh status            progress
-#   scripts/gpu-flume.sh wait SECONDS      until every run is done or SECONDS have passed
-#   scripts/gpu-flume.sh collect           $OUT/<run>.tar.gz: postProcessing/, the newest
-#                                          checkpoint, VTK/particles.pvd and the frames at the
-#                                          paper's times; logs and wall times
+#   scripts/gpu-flume.sh start RUN...     launch (returns at once)
+#   scripts/gpu-flume.sh status           progress of every run
+#   scripts/gpu-flume.sh wait SECONDS     until every run is done or SECONDS have passed
+#   scripts/gpu-flume.sh collect          $OUT/<label>.tar.gz per run (postProcessing/, the
+#                                         frames at the paper's times, the last frame, the
+#                                         newest checkpoint, the log), status and wall times
+#
+# RUN is LABEL=CASE[,endTime=T][,deltaT=DT][,tstep=W][,cpu]: CASE is `flume` (cases/flume) or a
+# variant (`variants/frictional`, `variants/S-1`, ...); endTime and deltaT replace the case's,
+# tstep the sand's timeStepTemperature (current, steady); `cpu` runs it on two of the machine's
+# CPU cores instead of the GPU. A run that the health checks stop (exit 5) without tstep=steady
+# continues once from its newest checkpoint with it (<label>-steady). Examples:
+#
+#   pt=flume  frictional=variants/frictional  S-4=variants/S-4,endTime=0.85  S-1=variants/S-1,cpu
+#
+# The GPU runs share the GPU through MPS (a CUDA MPS daemon of this script's own, in /tmp),
+# which lets the small kernels of several processes run side by side; without MPS the GPU
+# time-slices between processes and two runs each ran 3x slower (gpu-column.sh). SCREE_MPS=0:
+# no daemon, one GPU run after another instead.
 #
 # A lent machine goes back about 30 s after a call returns, and with it a background run: make
-# the calls back to back (start + wait 570, wait 570, ..., collect) with nothing in between, and
+# the calls back to back (start + wait 540, wait 570, ..., collect) with nothing in between, and
 # collect before the machine's 30 minutes are up.
 #
 # Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda). Carry between machines: here,
-#   mkdir -p flume-carry/pt && tar -xzf <files_at>/pt.tar.gz -C flume-carry/pt
-# (flume-carry/ is ignored by git: name it in `carry`). Snapshots are single precision with
-# the fields of utilities/plot/flume.py.
+#   mkdir -p flume-carry/<label> && tar -xzf <files_at>/<label>.tar.gz -C flume-carry/<label>
+# (flume-carry/ is ignored by git: name it in `carry`); a run whose flume-carry/<label>/ holds
+# checkpoints continues from the newest. Snapshots are single precision with the fields of
+# utilities/plot/flume.py.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/gpu-common.sh"
 S=/tmp/scree-flume
 out=${OUT:-$PWD/gpu-flume-out}
 here=$PWD
+fields="velocity displacement stress pressure volume plasticStrain shearViscosity granularTemperature collisionalFraction voidRatio"
 
-case_dir() {
-  case $1 in
-    pt) echo $S/cases/flume ;;
-    frictional) echo $S/cases/flume/variants/frictional ;;
-    *) echo "unknown run '$1' (pt, frictional)" >&2; return 1 ;;
-  esac
+# prepare LABEL SPEC: the run's own copy of cases/flume with its endTime/deltaT; prints the case directory
+prepare() {
+  local label=$1 spec=$2 c opt
+  IFS=, read -r c opts <<< "$spec"
+  local root=$S/runs/$label/flume
+  mkdir -p "$S/runs/$label" && cp -r "$here/cases/flume" "$root"
+  local cd=$root/system/controlDict
+  sed -i -e "s|particles { type vtk; }|particles { type vtk; precision single; compressionLevel 6; fields ($fields); }|" "$cd"
+  grep -q "precision single" "$cd" || { echo "$label: controlDict: writer not found" >&2; return 1; }
+  for opt in ${opts//,/ }; do
+    case $opt in
+      endTime=*) sed -i -E "s|^endTime( +)[^;]*;|endTime\1${opt#endTime=};|" "$cd" ;;
+      deltaT=*) sed -i -E "s|^deltaT( +)[^;]*;|deltaT\1${opt#deltaT=};|" "$cd" ;;
+      tstep=*)  # the phaseTransition sand's timeStepTemperature (current, steady)
+        sed -i -E "s|^( +)type( +)phaseTransition;|&\n\1timeStepTemperature ${opt#tstep=};|" \
+          "$root/constant/materialProperties" ;;
+      cpu) ;;
+      *) echo "$label: unknown option '$opt'" >&2; return 1 ;;
+    esac
+  done
+  if [ "$c" = flume ]; then echo "$root"; else echo "$root/$c"; fi
 }
 
-queue() {
-  local r d args t0 rc
-  for r in "$@"; do
-    d=$(case_dir "$r") || continue
-    args=(--case "$d" --device cuda)
-    if [ -d "$here/flume-carry/$r/checkpoints" ]; then
-      cp -r "$here/flume-carry/$r/." "$d/"
-      args+=(--restart)
-    fi
+# launch LABEL SPEC CORES: run it (restarting from flume-carry/LABEL when that holds checkpoints)
+launch() {
+  local label=$1 spec=$2 cores=$3 d dev=cuda args t0 rc
+  d=$(prepare "$label" "$spec") || return 1
+  [[ ",$spec," == *",cpu,"* ]] && dev=cpu
+  args=(--case "$d" --device $dev)
+  [ $dev = cpu ] && args+=(--threads 2)
+  if [ -d "$here/flume-carry/$label/checkpoints" ]; then
+    cp -r "$here/flume-carry/$label/." "$d/"
+    args+=(--restart)
+  fi
+  echo "$d" > $S/logs/$label.dir
+  t0=$(date +%s.%N)
+  taskset -c "$cores" $S/build/bin/scree "${args[@]}" > $S/logs/$label.log 2>&1
+  rc=$?
+  local wall
+  wall=$(awk "BEGIN{printf \"%.1f\", $(date +%s.%N) - $t0}")
+  if [ $rc = 5 ] && [[ ",$spec," != *",tstep=steady,"* ]] && ls "$d"/checkpoints/*.ckpt > /dev/null 2>&1; then
+    # stopped by the health checks: once more from the newest checkpoint, the step from the
+    # steady temperature (kinetic_theory.hpp, step_temperature)
+    echo "$label exit 5 wall $wall s: continued as $label-steady" >> $S/logs/retries.txt
+    local d2
+    d2=$(prepare "$label-steady" "$spec,tstep=steady") || return 1
+    cp -r "$d/checkpoints" "$d/postProcessing" "$d/VTK" "$d2/"
+    echo "$d2" > $S/logs/$label-steady.dir
     t0=$(date +%s.%N)
-    taskset -c 0-1 $S/build/bin/scree "${args[@]}" > $S/logs/$r.log 2>&1
+    taskset -c "$cores" $S/build/bin/scree --case "$d2" --device $dev --restart > $S/logs/$label-steady.log 2>&1
     rc=$?
-    echo "$r exit $rc wall $(awk "BEGIN{printf \"%.1f\", $(date +%s.%N) - $t0}") s ${args[*]: -1}" >> $S/walltimes.txt
-  done
-  echo done > $S/queue.done
+    wall="$wall + $(awk "BEGIN{printf \"%.1f\", $(date +%s.%N) - $t0}")"
+  fi
+  echo "$label exit $rc wall $wall s $dev ${args[*]: -1}" >> $S/walltimes.txt
 }
 
 start() {
-  [ $# -eq 0 ] && set -- pt
-  rm -rf $S && mkdir -p $S/logs $S/cases
+  [ $# -eq 0 ] && set -- pt=flume
+  rm -rf $S && mkdir -p $S/logs $S/runs
   source .gpu-bundle/env.sh
   cp -r "${SCREE_BUILD_DIR:-build-cuda}" $S/build && cp -r .gpu-bundle/lib $S/lib
-  cp -r cases/flume $S/cases/
-  sed -i -e 's|particles { type vtk; }|particles { type vtk; precision single; compressionLevel 6; fields (velocity displacement stress pressure volume plasticStrain shearViscosity granularTemperature collisionalFraction); }|' \
-    $S/cases/flume/system/controlDict
-  grep -q "precision single" $S/cases/flume/system/controlDict || { echo "controlDict: writer not found" >&2; exit 1; }
   nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv > $S/device.txt
   export LD_LIBRARY_PATH=$S/lib:${LD_LIBRARY_PATH:-}
-  (queue "$@") > $S/logs/session.log 2>&1 < /dev/null &
-  disown
+  local mps=${SCREE_MPS:-1}
+  if [ "$mps" = 1 ]; then
+    export CUDA_MPS_PIPE_DIRECTORY=$S/mps-pipe CUDA_MPS_LOG_DIRECTORY=$S/mps-log
+    mkdir -p $CUDA_MPS_PIPE_DIRECTORY $CUDA_MPS_LOG_DIRECTORY
+    if nvidia-cuda-mps-control -d 2> $S/logs/mps.err; then echo "MPS daemon started" >> $S/device.txt
+    else echo "MPS not available: one GPU run after another" >> $S/device.txt; mps=0; fi
+  fi
+  local r core=0 gpu=()
+  for r in "$@"; do
+    local label=${r%%=*} spec=${r#*=}
+    if [[ ",$spec," == *",cpu,"* ]]; then
+      (launch "$label" "$spec" "$((2 + core * 2))-$((3 + core * 2))") > $S/logs/session-$label.log 2>&1 < /dev/null &
+      core=$((core + 1))
+    elif [ "$mps" = 1 ]; then
+      (launch "$label" "$spec" 0-1) > $S/logs/session-$label.log 2>&1 < /dev/null &
+    else
+      gpu+=("$label=$spec")
+    fi
+  done
+  if [ ${#gpu[@]} -gt 0 ]; then
+    (for r in "${gpu[@]}"; do launch "${r%%=*}" "${r#*=}" 0-1; done) > $S/logs/session-gpu.log 2>&1 < /dev/null &
+  fi
+  echo $# > $S/runs.count  # `wait` ends when walltimes.txt has a line for each
+  disown -a
   echo "started: $*"
   cat $S/device.txt
 }
@@ -76,10 +136,11 @@ collect() {
   mkdir -p "$out"
   status > "$out/status.txt"
   cp $S/device.txt $S/walltimes.txt "$out/" 2>/dev/null
-  (cd $S/logs && tar -czf "$out/logs.tar.gz" *.log)
-  local r d keep t f newest
-  for r in pt frictional; do
-    d=$(case_dir $r)
+  local f label d keep t newest
+  for f in $S/logs/*.dir; do
+    [ -f "$f" ] || continue
+    label=$(basename "$f" .dir)
+    d=$(cat "$f")
     [ -d "$d/postProcessing" ] || continue
     keep=()
     for t in 0 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05; do  # t = 0, the release, then 0.1 0.4 0.8 ... 3 s
@@ -91,7 +152,9 @@ collect() {
     newest=$(cd "$d" && ls checkpoints/*.ckpt 2>/dev/null | sort -t/ -k2 -g | tail -1)
     f=$(grep -oE 'file="[^"]+"' "$d/VTK/particles.pvd" 2>/dev/null | tail -1 | sed -E 's/file="([^"]+)"/\1/')
     [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
-    (cd "$d" && tar -czf - postProcessing VTK/particles.pvd $(printf '%s\n' "${keep[@]}" | sort -u) $newest) > "$out/$r.tar.gz"
+    cp $S/logs/$label.log "$d/run.log"
+    (cd "$d" && tar -czf - run.log postProcessing VTK/particles.pvd $(printf '%s\n' "${keep[@]}" | sort -u) $newest) \
+      > "$out/$label.tar.gz"
   done
   ls -la "$out"
 }
@@ -105,9 +168,12 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
     status) status ;;
     wait)
       end=$(($(date +%s) + ${1:-500}))
-      while [ "$(date +%s)" -lt $end ] && [ ! -f $S/queue.done ]; do sleep 20; done
+      while [ "$(date +%s)" -lt $end ] &&
+        [ "$(cat $S/walltimes.txt 2>/dev/null | wc -l)" -lt "$(cat $S/runs.count 2>/dev/null || echo 0)" ]; do
+        sleep 15
+      done
       status ;;
     collect) collect ;;
-    *) echo "usage: $0 start [pt|frictional]...|status|wait SECONDS|collect" >&2; exit 2 ;;
+    *) echo "usage: $0 start LABEL=CASE[,endTime=T][,deltaT=DT][,cpu]...|status|wait SECONDS|collect" >&2; exit 2 ;;
   esac
 fi
