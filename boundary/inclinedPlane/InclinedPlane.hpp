@@ -103,7 +103,7 @@ class InclinedPlane final : public BoundaryCondition {
     Real lo = 1e300, hi = -1e300;
     for (int c = 0; c < (1 << dim_); ++c) {
       Real x[3];
-      for (int d = 0; d < dim_; ++d) x[d] = (c >> d & 1) ? ctx.domain_upper[d] : ctx.domain_lower[d];
+      for (int d = 0; d < dim_; ++d) x[d] = ((c >> d) & 1) ? ctx.domain_upper[d] : ctx.domain_lower[d];
       lo = std::min(lo, distance(x));
       hi = std::max(hi, distance(x));
     }
@@ -120,7 +120,7 @@ class InclinedPlane final : public BoundaryCondition {
     for (int c = 0; c < (1 << dim_); ++c) {
       Real x[3];
       for (int d = 0; d < dim_; ++d)
-        x[d] = ctx.grid_origin[d] + ((c >> d & 1) ? ctx.cell_size * (ctx.grid_nodes[d] - 1) : Real(0));
+        x[d] = ctx.grid_origin[d] + (((c >> d) & 1) ? ctx.cell_size * (ctx.grid_nodes[d] - 1) : Real(0));
       deepest = std::min(deepest, distance(x));
     }
     has_inside_ = deepest <= -band_ + tol_;
