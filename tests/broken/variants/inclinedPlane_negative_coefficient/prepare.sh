@@ -1,0 +1,1 @@
+echo 'slope { type inclinedPlane; point (0 0.1); normal (1 1); condition friction; coefficient -0.3; }' >> constant/boundaryConditions
