@@ -52,10 +52,11 @@ struct GridUpdateParams {
   Real damping_start = 0, damping_end = 0;
   const std::uint32_t* cur_stamps = nullptr;    ///< tile stamps of `cur` (sparse update); null: all nodes
   const std::uint32_t* other_stamps = nullptr;  ///< tile stamps of `other` (sparse kZeroOther)
-  /// Keep the energy ledger (StepControl::energy): the kinetic energy the local damping and
-  /// the walls take from the nodes, 1/2 m (|v_after|^2 - |v_before|^2) per node at
-  /// kNormalize and kIntegrate (kRemap's walls act on a velocity that carries no kinetic
-  /// energy of its own), one atomic add per node where it is not zero.
+  /// Keep the energy ledger (StepControl::energy): the energy the local damping and the
+  /// walls take from the nodes: at kNormalize the kinetic energy a wall removes from v^k,
+  /// 1/2 m (|v_after|^2 - |v_before|^2); at kIntegrate the work of the damping force and of
+  /// the walls' reaction, impulse times (v^k + v^{k+1})/2 (kRemap's walls act on a velocity
+  /// that carries no kinetic energy of its own); one atomic add per node where not zero.
   bool energy = false;
 };
 

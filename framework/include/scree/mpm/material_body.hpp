@@ -254,6 +254,11 @@ class MaterialBody final : public Body<D> {
 
   template <class Shape>
   void launch(const PassParams<D>& pp, const Shape& shape) {
+    if (pp.energy) {  // the energy ledger: its own kernel, the whole pass (ParticlePass's Ledger)
+      ParticlePass<D, Shape, M, kAllPhases, false, true> k{pp, store_.arrays(), shape, params_};
+      parallel_for_warps(exec_, store_.size(), k, pp.reference ? kCudaBlockSize : kStressBlock);
+      return;
+    }
     if (!pp.reference && (pp.flags & ~kTransferPhases) == 0) {
       ParticlePass<D, Shape, M, kTransferPhases> k{pp, store_.arrays(), shape, params_};
       parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
