@@ -137,8 +137,10 @@ status() { gpu_status 16; }
 
 collect() {
   mkdir -p "$out"
-  status > "$out/status.txt"
-  cp $S/device.txt $S/walltimes.txt "$out/" 2>/dev/null
+  status > $S/status.txt
+  # at most 8 files come back from a call: the notes in one, a tarball per run
+  (cd $S && tar -czf "$out/meta.tar.gz" status.txt device.txt walltimes.txt $(cd $S && ls logs/retries.txt logs/mps.err 2> /dev/null))
+  cat $S/status.txt
   local f label d keep t newest
   for f in $S/logs/*.dir; do
     [ -f "$f" ] || continue
@@ -146,13 +148,18 @@ collect() {
     d=$(cat "$f")
     [ -d "$d/postProcessing" ] || continue
     keep=()
+    # the frames at the paper's times for the figures' runs (pt*, frictional*), the last frame of every run
+    [[ $label == pt* || $label == frictional* ]] &&
     for t in 0 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05; do  # t = 0, the release, then 0.1 0.4 0.8 ... 3 s
       f=$(grep -oE "timestep=\"$t[0-9]*\"[^>]*file=\"[^\"]+\"" "$d/VTK/particles.pvd" 2>/dev/null | head -1 |
         sed -E 's/.*file="([^"]+)".*/\1/')
       [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
     done
-    # the newest checkpoint, and the last frame (a failed run's state, for the diagnosis)
-    newest=$(cd "$d" && ls checkpoints/*.ckpt 2>/dev/null | sort -t/ -k2 -g | tail -1)
+    # the newest checkpoint of an unfinished run (to continue it), and the last frame (a
+    # failed run's state, for the diagnosis)
+    newest=
+    grep -q "scree: done" $S/logs/$label.log 2> /dev/null ||
+      newest=$(cd "$d" && ls checkpoints/*.ckpt 2>/dev/null | sort -t/ -k2 -g | tail -1)
     f=$(grep -oE 'file="[^"]+"' "$d/VTK/particles.pvd" 2>/dev/null | tail -1 | sed -E 's/file="([^"]+)"/\1/')
     [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
     cp $S/logs/$label.log "$d/run.log"
