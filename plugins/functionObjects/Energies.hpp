@@ -23,8 +23,12 @@
 //                 elastic estimate (hypoelastic laws have no exact stored energy)
 //   picLoss       kinetic energy the FLIP/PIC blend took from the points (mpmSchemes picRate /
 //                 picFraction)
-//   dampingLoss   kinetic energy the local damping took from the nodes
-//   wallLoss      kinetic energy the walls (fixed, slip, friction, ...) took from the nodes
+//   dampingLoss   work of the local damping force on the nodes (impulse times the step's mean
+//                 nodal velocity)
+//   wallLoss      kinetic energy the walls (fixed, slip, friction, ...) took from the points:
+//                 each point's new velocity against the one the nodes would have given it
+//                 without their walls (USF, USL); with MUSL, on the nodes (the kinetic energy a
+//                 wall removes from v^k, the work of its reaction at the integration)
 //   residual      (kinetic + potential + W + picLoss + dampingLoss + wallLoss) minus its value at
 //                 the first row: energy the discretisation created (> 0) or lost (< 0) beyond
 //                 the named terms (the grid-particle transfers, the explicit integration)

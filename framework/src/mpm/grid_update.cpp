@@ -56,9 +56,10 @@ struct GridUpdate {
       Real v[D];
       for (int d = 0; d < D; ++d) v[d] = has_mass ? src[d][I] * rm : Real(0);
       if (mask) {
-        const Real e0 = p.energy && (p.modes & kNormalize) ? kinetic(m, v) : Real(0);
+        const bool count = p.energy_walls && (p.modes & kNormalize);
+        const Real e0 = count ? kinetic(m, v) : Real(0);
         apply_walls<D>(p.walls, mask, v, x, t);
-        if (p.energy && (p.modes & kNormalize)) ledger(kEnergyWalls, e0 - kinetic(m, v));
+        if (count) ledger(kEnergyWalls, e0 - kinetic(m, v));
       }
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
@@ -92,7 +93,7 @@ struct GridUpdate {
           w_wall += m * (v[d] - v_damped[d]) * vm;
         }
         ledger(kEnergyDamping, -w_damp);
-        ledger(kEnergyWalls, -w_wall);
+        if (p.energy_walls) ledger(kEnergyWalls, -w_wall);
       }
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }

@@ -139,6 +139,14 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.split_elastic = split_;
   pp.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
   pp.energy = energy_ledger_;
+  // The walls' share on the points where the gather still sees the step's force (USF, USL;
+  // MUSL re-maps momentum into the force array first): PassParams::wall_ledger.
+  pp.wall_ledger = energy_ledger_ && settings_.schemes.update_scheme != UpdateScheme::MUSL && !porous_;
+  pp.mass_eps = mass_eps_;
+  const DampingSettings& damping = settings_.schemes.damping;
+  pp.damping = damping.coefficient;
+  pp.damping_start = damping.start_time;
+  pp.damping_end = damping.end_time;
   return pp;
 }
 
@@ -159,6 +167,7 @@ GridUpdateParams<D> Solver<D>::grid_params(unsigned modes, int set) const {
   gp.damping_start = damping.start_time;
   gp.damping_end = damping.end_time;
   gp.energy = energy_ledger_;
+  gp.energy_walls = energy_ledger_ && (settings_.schemes.update_scheme == UpdateScheme::MUSL || porous_);
   if (policy_.sparse()) {
     gp.cur_stamps = tile_stamps_[set].data();
     gp.other_stamps = tile_stamps_[1 - set].data();

@@ -58,6 +58,9 @@ struct GridUpdateParams {
   /// the walls' reaction, impulse times (v^k + v^{k+1})/2 (kRemap's walls act on a velocity
   /// that carries no kinetic energy of its own); one atomic add per node where not zero.
   bool energy = false;
+  /// With `energy`: whether the walls' share is measured here (MUSL) or on the points
+  /// (USF, USL: PassParams::wall_ledger).
+  bool energy_walls = false;
 };
 
 /// Run the grid update on `ex`'s backend (defined in the core, instantiated for D = 2, 3).

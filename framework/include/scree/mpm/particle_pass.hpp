@@ -125,6 +125,15 @@ struct PassParams {
   /// Ledger: the whole pass, no elastic-first split, no register cap); off (the default)
   /// the kernels carry none of it.
   bool energy = false;
+  /// With `energy`: the walls' share measured on the points (USF, USL; the grid update then
+  /// leaves it out): the work of the velocity change the walls made at the point's nodes,
+  /// m sum N (v^{k+1} - v^{k+1} without walls) . (v_old + v_new)/2. The grid's own measure
+  /// misses what the FLIP update takes from the points beyond it (sum m_p N_Ip^2 < m_I): by
+  /// the budget's residual, 0.9 times the grid's figure in the flume and the column at 5-20
+  /// mm. MUSL re-maps momentum into the force array before its gather: measured on the grid.
+  bool wall_ledger = false;
+  Real mass_eps = 0;  ///< nodes lighter than this are not accelerated (the grid update's)
+  Real damping = 0, damping_start = 0, damping_end = 0;  ///< the grid update's local damping
 };
 
 /// The PIC share a of a step of length dt in the FLIP/PIC blend v <- a v_PIC + (1 - a) v_FLIP.
@@ -317,7 +326,8 @@ struct ParticlePass {
     // ---------------- gather phases (weights at the current position) ----------------
     Real speed = 0;  // signal speed c + |v| after the stress update
     FreshStress fresh;  // the stress and volume the update wrote, for the scatter's force
-    Real pic_loss = 0;  // the energy ledger: kinetic energy the PIC blend removed (PassParams::energy)
+    Real pic_loss = 0;   // the energy ledger: kinetic energy the PIC blend removed (PassParams::energy)
+    Real wall_loss = 0;  // ... and the walls (PassParams::wall_ledger)
     bool defer = false;  // ElasticFirst: the update is not elastic, left to the second kernel
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
@@ -326,6 +336,7 @@ struct ParticlePass {
         active = false;
       } else {
         Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero();
+        Vec<D> dw = Vec<D>::zero();  // Ledger, wall_ledger: sum N (v^{k+1} - v^{k+1} without the walls)
         Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
         const bool from_new = flags & kStressFromNew;
         const bool want_L = flags & kStressPhases;
@@ -356,6 +367,19 @@ SCREE_UNROLL
             Vec<D> v_mapped;
             for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] * rm : vi[d];
             dv += N * (vn - v_mapped);
+            if constexpr (Ledger)
+              if (pp.wall_ledger) {
+                // The node's v^{k+1} without the walls: the mapped velocity accelerated by
+                // the force (and the local damping) the grid update applied.
+                const Real t = ctl->t[pp.gather_parity];
+                const bool damp = pp.damping > 0 && t >= pp.damping_start && t < pp.damping_end;
+                for (int d = 0; d < D; ++d) {
+                  Real f = pp.gather.force[d][I];
+                  if (damp && vi[d] != 0) f -= pp.damping * fabs(f) * (vi[d] > 0 ? Real(1) : Real(-1));
+                  const Real free = m > pp.mass_eps ? v_mapped[d] + dt * f * rm : v_mapped[d];
+                  dw[d] += N * (vn[d] - free);
+                }
+              }
           }
           if (want_L)  // eq. (7); the velocity chosen per component (a reference to one of
             for (int d = 0; d < D; ++d)  // two vectors would put both in local memory)
@@ -379,6 +403,8 @@ SCREE_UNROLL
           } else {
             // FLIP (eq. 10) blended with PIC.
             const Real a = pic_share(pp, dt);
+            Vec<D> v_old = Vec<D>::zero();  // Ledger: the walls' work takes the step's mean velocity
+            if constexpr (Ledger) v_old = v;
             Real flip2 = 0, new2 = 0;
             for (int d = 0; d < D; ++d) {
               const Real vf = v[d] + dv[d];
@@ -387,7 +413,20 @@ SCREE_UNROLL
               new2 += v[d] * v[d];
             }
             if constexpr (Ledger)
-              if (flip_increment) pic_loss = Real(0.5) * mass * (flip2 - new2);
+              if (flip_increment) {
+                pic_loss = Real(0.5) * mass * (flip2 - new2);
+                if (pp.wall_ledger) {
+                  // The walls moved both the FLIP and the PIC part by sum N dw: their work on
+                  // the point is that impulse times the step's mean velocity (v_old +
+                  // v_new)/2, so that it adds up with the forces' to the point's kinetic
+                  // energy change, and is zero at rest. (The kinetic energy against the
+                  // velocity without walls counted the unbalanced acceleration the floor's
+                  // reaction cancels, 1/2 m (dt g)^2 at every step, under a resting body.)
+                  Real w = 0;
+                  for (int d = 0; d < D; ++d) w += dw[d] * (v_old[d] + v[d]);
+                  wall_loss = -Real(0.5) * mass * w;
+                }
+              }
           }
         }
         if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
@@ -399,10 +438,10 @@ SCREE_UNROLL
       push_index(pp.deferred, pp.deferred_count + pp.parity, p, defer, pp.serial);
       if (defer) {
         active = false;  // nothing of it is written or scattered here
-        pic_loss = 0;    // counted by the second kernel, which gathers it again
+        pic_loss = wall_loss = 0;  // counted by the second kernel, which gathers it again
       }
     }
-    if constexpr (Ledger) ledger(pic_loss, fresh);
+    if constexpr (Ledger) ledger(pic_loss, wall_loss, fresh);
     if constexpr ((May & kStressPhases) != 0)
       if ((flags & kStressPhases) && speed_wanted(pp)) {
         // The step's largest signal speed, for the adaptive time step: one atomic per warp.
@@ -445,11 +484,13 @@ SCREE_UNROLL
 
   /// The energy ledger (PassParams::energy): the warp's sums, added by its first lane.
   /// Warp-collective: every lane calls it (inactive ones with zeros).
-  SCREE_INLINE void ledger(Real pic_loss, const FreshStress& fresh) const {
+  SCREE_INLINE void ledger(Real pic_loss, Real wall_loss, const FreshStress& fresh) const {
     Real* e = pp.control->energy;
     const Real pic = warp_sum(pic_loss), work = warp_sum(fresh.work), diss = warp_sum(fresh.dissipated);
+    const Real wall = warp_sum(wall_loss);
     if (detail::first_lane()) {
       if (pic != 0) atomic_add(e + kEnergyPic, pic, pp.serial);
+      if (wall != 0) atomic_add(e + kEnergyWalls, wall, pp.serial);
       if (work != 0) atomic_add(e + kEnergyStressWork, work, pp.serial);
       if (diss != 0) atomic_add(e + kEnergyCollisional, diss, pp.serial);
     }
