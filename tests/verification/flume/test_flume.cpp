@@ -126,14 +126,18 @@ TEST(Flume, CoarseRunCreatesNoEnergyAndDissipates) {
     EXPECT_LE(e - e0, tol) << "energy created by " << t << " s";
     // The budget closes: the potential energy released since t = 0 is found again as
     // kinetic energy, work on the material and the named losses, within 2% of the potential
-    // energy at t = 0 (the acceptance of the energy budget; a term missing from the ledger,
-    // e.g. the walls' loss, is 30-70% of what was released here).
+    // energy at t = 0 (the acceptance of the energy budget; the walls' loss alone is 4% of
+    // what was released here, the work on the material 53%).
     const double released = start.potential - last.potential, residual = last.balance() - start.balance();
     std::printf("  budget: released %.4g J/m, work on the material %.4g, walls %.4g, damping %.4g, PIC %.4g, "
                 "residual %+.4g J/m (%.2f%% of PE0, %.1f%% of released)\n",
                 released, last.ledger.stress_work, last.ledger.walls, last.ledger.damping, last.ledger.pic, residual,
                 100 * residual / start.potential, 100 * residual / released);
     EXPECT_LE(std::fabs(residual), 0.02 * start.potential) << "the energy budget does not close at " << t;
+    // What is left is the discretisation's own error (the explicit step's 1/2 f.dv dt, the
+    // transfers at the nodes within the body): measured 0.1% of the released energy at most
+    // (2026-11-26). A term missing or counted twice is tens of per cent of it.
+    EXPECT_LE(std::fabs(residual), 0.01 * released) << "the energy budget does not close at " << t;
   }
   // Dissipation is never negative (the second law): the frictional dissipation, i.e. the work
   // on the material neither stored (elastic, granular) nor dissipated by collisions, and the
