@@ -10,9 +10,10 @@
 #                                         frames at the paper's times, the last frame, the
 #                                         newest checkpoint, the log), status and wall times
 #
-# RUN is LABEL=CASE[,endTime=T][,deltaT=DT][,tstep=W][,cpu]: CASE is `flume` (cases/flume) or a
-# variant (`variants/frictional`, `variants/S-1`, ...); endTime and deltaT replace the case's,
-# tstep the sand's timeStepTemperature (current, steady); `cpu` runs it on two of the machine's
+# RUN is LABEL=CASE[,endTime=T][,deltaT=DT][,cellSize=H][,tstep=W][,cpu]: CASE is `flume`
+# (cases/flume) or a variant (`variants/frictional`, `variants/S-1`, ...); endTime, deltaT and
+# cellSize replace the case's (cellSize=0.01 with variants/frictional: the frictional model at
+# S-2's cells), tstep the sand's timeStepTemperature (current, steady); `cpu` runs it on two of the machine's
 # CPU cores instead of the GPU. A run that the health checks stop (exit 5) without tstep=steady
 # continues once from its newest checkpoint with it (<label>-steady). Examples:
 #
@@ -45,6 +46,8 @@ prepare() {
   IFS=, read -r c opts <<< "$spec"
   local root=$S/runs/$label/flume
   mkdir -p "$S/runs/$label" && cp -r "$here/cases/flume" "$root"
+  local dir=$root
+  [ "$c" = flume ] || dir=$root/$c
   local cd=$root/system/controlDict
   sed -i -e "s|particles { type vtk; }|particles { type vtk; precision single; compressionLevel 6; fields ($fields); }|" "$cd"
   grep -q "precision single" "$cd" || { echo "$label: controlDict: writer not found" >&2; return 1; }
@@ -55,11 +58,12 @@ prepare() {
       tstep=*)  # the phaseTransition sand's timeStepTemperature (current, steady)
         sed -i -E "s|^( +)type( +)phaseTransition;|&\n\1timeStepTemperature ${opt#tstep=};|" \
           "$root/constant/materialProperties" ;;
+      cellSize=*) printf '\n#inputMode overwrite\ncellSize %s;\n' "${opt#cellSize=}" >> "$dir/system/gridDict" ;;
       cpu) ;;
       *) echo "$label: unknown option '$opt'" >&2; return 1 ;;
     esac
   done
-  if [ "$c" = flume ]; then echo "$root"; else echo "$root/$c"; fi
+  echo "$dir"
 }
 
 # launch LABEL SPEC CORES: run it (restarting from flume-carry/LABEL when that holds checkpoints)
@@ -184,6 +188,6 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
       done
       status ;;
     collect) collect ;;
-    *) echo "usage: $0 start LABEL=CASE[,endTime=T][,deltaT=DT][,cpu]...|status|wait SECONDS|collect" >&2; exit 2 ;;
+    *) echo "usage: $0 start LABEL=CASE[,endTime=T][,deltaT=DT][,cellSize=H][,tstep=W][,cpu]...|status|wait SECONDS|collect" >&2; exit 2 ;;
   esac
 fi
