@@ -9,6 +9,7 @@
 //   sum_I p_I = sum_p m_p v_p                      (P2G conserves momentum, APIC too)
 //   sum_I f_I = sum_p m_p g                        (internal forces cancel: sum grad N = 0)
 //   sum_p m_p v_p' = sum_p m_p v_p + dt sum_p m_p g  (a whole step, FLIP/PIC/APIC)
+// and the volume ratio J = prod det(I + L dt) of eq. (8) through a stretch of 1e17.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -289,6 +290,71 @@ TEST(PicBlend, PicRateDampsAModeTheGridCannotSeeAtItsRateWhateverTheStep) {
   EXPECT_NEAR(invisible_mode_left(5e-4, T, a, 0), std::pow(1 - a, 100), 1e-12);
   // Pure FLIP keeps it.
   EXPECT_NEAR(invisible_mode_left(1e-3, T, 0, 0), 1.0, 1e-12);
+}
+
+/// eq. (8) over a long isochoric flow whose principal axes turn: L(t) = Q(t) diag(e, -e)
+/// Q(t)^T, Q(t) the rotation by w t, imposed as the affine grid velocity v_I = L (x_I - x_c)
+/// (linear shape functions reproduce its gradient exactly). Every step has det(I + L dt) =
+/// 1 - e^2 dt^2, so the volume ratio after n steps is (1 - e^2 dt^2)^n exactly (the
+/// continuum's J = 1 up to that first-order term), whatever the accumulated stretch. F itself
+/// reaches a stretch of 2.3e17 here (e T = 40), where det F computed from F's entries is
+/// pure cancellation (2.5e17 instead of 0.992 in double precision): the 10 mm flume's points
+/// reached stretches of 1e9 and det F < 0 (cases/flume/README.md, "Why the runs blew up").
+TEST(VolumeRatio, IsTheProductOfTheStepsDeterminantsThroughAStretchOf1e17) {
+  const double e = 2, w = 0.05, dt = 1e-4, T = 20;
+  const int n = static_cast<int>(std::lround(T / dt));
+  Cloud<2> c = empty_cloud<2>(dt);
+  const Exec ex{test_device(), nullptr, 2};
+  BodySetup<2> s;
+  s.name = "stretched";
+  s.exec = ex;
+  s.shape = ShapeKind::linear;
+  s.transfer = Transfer::flip;
+  s.cell_size = c.grid.h;
+  const double xc = 0.55, V0 = 0.25e-2;
+  for (double dx : {-0.025, 0.025})
+    for (double dy : {-0.025, 0.025}) {
+      s.x.push_back(Vec<2>{{xc + dx, xc + dy}});
+      s.v.push_back(Vec<2>::zero());
+      s.volume.push_back(V0);
+      s.sigma.push_back(Sym3::zero());
+    }
+  LinearElastic::Params mp{1e6, 0.3, 2000, 0, 0};
+  mp.lambda = mp.E * mp.nu / ((1 + mp.nu) * (1 - 2 * mp.nu));
+  mp.G = mp.E / (2 * (1 + mp.nu));
+  c.body = make_material_body<2, LinearElastic>(mp, s);
+  PassParams<2> pp;
+  pp.grid = c.grid;
+  pp.control = c.ctl.data();
+  pp.gravity = Vec<2>::zero();
+  pp.flags = kStressFromNew;  // the stress update alone: the points stay where they are
+  pp.gather = c.sets[0];
+  const Index nn = c.grid.num_nodes();
+  std::vector<Real> vx(nn), vy(nn), one(nn, 1.0);
+  mem::copy(c.sets[0].mass, test_device(), one.data(), Device::cpu, nn * sizeof(Real));
+  for (int k = 0; k < n; ++k) {
+    const double a = w * k * dt, co = std::cos(a), si = std::sin(a);
+    // Q diag(e, -e) Q^T = e [[cos 2a, sin 2a], [sin 2a, -cos 2a]]
+    const double l00 = e * (co * co - si * si), l01 = e * 2 * co * si;
+    for (Index I = 0; I < nn; ++I) {
+      const Vec<2> x = c.grid.node_position(I);
+      vx[I] = l00 * (x[0] - xc) + l01 * (x[1] - xc);
+      vy[I] = l01 * (x[0] - xc) - l00 * (x[1] - xc);
+    }
+    for (Real* dst : {c.sets[0].velocity[0], c.sets[0].velocity_new[0]})
+      mem::copy(dst, test_device(), vx.data(), Device::cpu, nn * sizeof(Real));
+    for (Real* dst : {c.sets[0].velocity[1], c.sets[0].velocity_new[1]})
+      mem::copy(dst, test_device(), vy.data(), Device::cpu, nn * sizeof(Real));
+    c.body->pass(pp);
+  }
+  mem::synchronize(ex.device);
+  Snapshot snap;
+  snap.bodies.resize(1);
+  c.body->snapshot(snap.bodies[0]);
+  const auto& vol = snap.bodies[0].find("volume")->values;
+  const double J = std::pow(1 - e * e * dt * dt, n);  // 0.99203
+  // Round-off: n steps of a product and of L's sums, each ~1e-16 relative.
+  for (int p = 0; p < 4; ++p) EXPECT_NEAR(vol[p] / V0, J, 1e-9) << "point " << p;
 }
 
 class Transfers : public ::testing::TestWithParam<std::tuple<ShapeKind, Transfer, double>> {};

@@ -236,7 +236,18 @@ class MaterialBody final : public Body<D> {
     if (block.size() != store_.data().size())
       throw std::invalid_argument("body '" + name_ + "': a state of " + std::to_string(block.size()) +
                                   " values, not " + std::to_string(store_.data().size()));
-    store_.data().copy_from_host(block);  // same size: the arrays stay bound
+    // F as the kernels keep it, diag(det F, 1[, 1]) (ParticlePass::stress_update): a state
+    // written with the whole F (before that change) continues with its determinant.
+    std::vector<Real> s = block;
+    const Index n = store_.size();
+    const std::size_t cF = static_cast<std::size_t>(store_.c_F());
+    for (Index p = 0; p < n; ++p) {
+      Mat<D> F;
+      for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = s[(cF + i) * n + p];
+      const Real J = det(F);
+      for (int i = 0; i < D * D; ++i) s[(cF + i) * n + p] = i == 0 ? J : (i % (D + 1) == 0 ? Real(1) : Real(0));
+    }
+    store_.data().copy_from_host(s);  // same size: the arrays stay bound
     reset_split();
   }
 

@@ -65,7 +65,8 @@ struct ParticleArrays {
   Index n = 0;
   Real* x[D];              ///< position [m]
   Real* v[D];              ///< velocity [m/s]
-  Real* F[D * D];          ///< deformation gradient, row-major [-]
+  Real* F[D * D];          ///< deformation gradient, row-major [-], kept as diag(J, 1[, 1]): F[0] = J = det F
+                           ///< (ParticlePass::stress_update says why)
   Real* sigma[kStressComponents<D>];  ///< Cauchy stress (xx yy zz xy [yz zx]) [Pa]
   Real* mass;              ///< [kg] (per unit thickness in 2D)
   Real* volume0;           ///< initial volume [m^3] (area in 2D)
@@ -514,7 +515,7 @@ SCREE_UNROLL
         vol = fresh.volume;
       } else {
         sig = detail::load_stress<D>(pa.sigma, p);
-        vol = pa.volume0[p] * det(load_F(p));
+        vol = pa.volume0[p] * pa.F[0][p];  // J: F is kept as diag(J, 1[, 1]) (stress_update)
       }
     }
     const bool apic = pp.transfer == Transfer::apic;
@@ -564,12 +565,6 @@ SCREE_UNROLL
     }
   }
 
-  SCREE_INLINE Mat<D> load_F(Index p) const {
-    Mat<D> F;
-    for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
-    return F;
-  }
-
   /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c +
   /// v_start (|v| at the start of the step) when the step takes it (v_start >= 0), else 0.
   /// ElasticOnly: the material's update_elastic; when that declines, nothing is written and
@@ -577,21 +572,26 @@ SCREE_UNROLL
   template <bool ElasticOnly>
   SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, Real v_start, Real mass, Real& speed,
                                   FreshStress& fresh) const {
-    Mat<D> F = load_F(p);
-    F = (Mat<D>::identity() + L * dt) * F;  // eq. (8)
-    Real J = det(F);
+    // eq. (8), F <- (I + L dt) F, kept as its determinant alone: the point's volume ratio
+    // J = det F, the one part of F that anything uses (the volume V0 J; the materials get
+    // the increment, its spin and J). F is stored as diag(J, 1[, 1]), so the update is
+    // J <- det(I + L dt) J. (The accumulated F of a long granular flow holds stretches of up
+    // to 1e9, whose determinant, a difference of products near 1e17, its entries lose to
+    // cancellation: in the 10 mm flume a point reached det F = -288 while its void ratio,
+    // integrated from tr deps, said J = 1.66; with a negative volume its stress pushed the
+    // wrong way, and once compressed it blew the run up: cases/flume/README.md, "Why the runs
+    // blew up". A product of numbers near 1 keeps its precision.)
+    Real J = det(Mat<D>::identity() + L * dt) * pa.F[0][p];
     StrainIncrement inc;
     inc.deps = sym3_from(L) * dt;
     if (J > pp.max_volume_ratio) [[unlikely]] {
-      // The point's volume V0 J is capped at V0 max_volume_ratio by an isotropic scaling of
-      // F by r^(1/D), r = max_volume_ratio/J (the out-of-plane stretch is 1 in plane strain):
-      // its density, and so the signal speeds of the time step, stay bounded. The strain
-      // increment loses the same volume, ln r spread over the D normal components: the
+      // The point's volume V0 J is capped at V0 max_volume_ratio: its density, and so the
+      // signal speeds of the time step, stay bounded. The strain increment loses the same
+      // volume, ln r spread over the D normal components, r = max_volume_ratio/J: the
       // material's void ratio (1 + e follows exp(tr deps)) then stays that of the capped
       // volume. (Without this, e grew without bound at the cap: 3e12 where the cap allows
       // 998, flume at 1.13 s.)
       const Real r = pp.max_volume_ratio / J;
-      F = F * (D == 2 ? sqrt(r) : cbrt(r));
       J = pp.max_volume_ratio;
       const Real lr = log(r) / D;
       for (int d = 0; d < D; ++d) inc.deps[d] += lr;
@@ -629,7 +629,7 @@ SCREE_UNROLL
       // step and then maxDeltaT, and the health check read an infinite Courant number.)
       speed = vol > 0 ? M::wave_speed(mp, s, sigma, mass / vol, pp.grid.h) + v_start : v_start;
     }
-    for (int i = 0; i < D * D; ++i) pa.F[i][p] = F.a[i / D][i % D];
+    pa.F[0][p] = J;  // F = diag(J, 1[, 1]): its other entries stay those of the identity
     store_state<typename M::State, plane>(s, pa.state, pa.n, p);
     detail::store_stress<D>(pa.sigma, p, sigma);
     fresh = FreshStress{sigma, vol, true};
