@@ -50,8 +50,8 @@ Snapshot run(const RunSetup& s, bool reference, long steps, StressSplit split = 
 }
 
 /// Every particle field of the two runs, particle by particle (by id), within `rel` of
-/// the field's largest magnitude; and the grid's mass and velocity.
-void expect_same(const Snapshot& ref, const Snapshot& fast, double rel) {
+/// the field's largest magnitude plus `floor`; and the grid's mass and velocity.
+void expect_same(const Snapshot& ref, const Snapshot& fast, double rel, double floor = 1e-300) {
   ASSERT_EQ(ref.bodies.size(), fast.bodies.size());
   EXPECT_EQ(ref.step, fast.step);
   EXPECT_DOUBLE_EQ(ref.time, fast.time);
@@ -72,7 +72,7 @@ void expect_same(const Snapshot& ref, const Snapshot& fast, double rel) {
           diff = std::max(diff, std::fabs(x - y));
         }
       }
-      EXPECT_LE(diff, rel * scale + 1e-300) << "body " << b << ", field " << fa.name << ": differs by " << diff
+      EXPECT_LE(diff, rel * scale + floor) << "body " << b << ", field " << fa.name << ": differs by " << diff
                                             << " (scale " << scale << ")";
     }
   }
@@ -84,7 +84,7 @@ void expect_same(const Snapshot& ref, const Snapshot& fast, double rel) {
       scale = std::max(scale, std::fabs(a[i]));
       diff = std::max(diff, std::fabs(a[i] - b[i]));
     }
-    EXPECT_LE(diff, rel * scale + 1e-300) << "grid field " << ref.grid.fields[f].name;
+    EXPECT_LE(diff, rel * scale + floor) << "grid field " << ref.grid.fields[f].name;
   }
 }
 
@@ -193,8 +193,11 @@ TEST(VolumeLimit, CapsDetFInBothKernelsAndChangesNothingBelowIt) {
   RunSetup loose = s;
   loose.schemes += " maxVolumeRatio 10;";
   // Bit for bit on the CPU; on a GPU the nodal sums' atomics add in the order the warps
-  // arrive, which two runs need not share: round-off (1e-13 of each field's scale).
-  expect_same(free, run(loose, false, kSteps, StressSplit::on), test_device() == Device::cuda ? 1e-13 : 0);
+  // arrive, which two runs need not share: round-off, 1e-13 of each field's scale, and for
+  // the displacement x - x0 a few units in the last place of x itself (ulp(0.4 m) = 5.6e-17
+  // m, 1.7e-13 of this block's largest displacement: measured on an H100).
+  const bool gpu = test_device() == Device::cuda;
+  expect_same(free, run(loose, false, kSteps, StressSplit::on), gpu ? 1e-13 : 0, gpu ? 4 * 5.6e-17 : 1e-300);
 }
 
 // The cap takes the volume it removes from F out of the strain increment too, so that a
