@@ -9,6 +9,12 @@
 // README.md lists the parameters and every decision.
 //
 // This is the purely frictional model that the paper compares with (section 4.1.3).
+//
+// Dispersed points: below a solid fraction V_min = 1/(1 + e) (minSolidFraction) the grains
+// of a point no longer touch, so there is no contact network to carry a frictional stress:
+// such a point carries none and sets no wave speed (README, "Dispersed points"). The same
+// V_min and the same rule as phaseTransition's (kinetic_theory.hpp, dispersed()), so that
+// the two models of the paper's comparison differ only in the collisional stress.
 #pragma once
 
 #include <cmath>
@@ -27,6 +33,7 @@ struct Simsand {
     simsand::Params m;  ///< model constants
     Real rho_p;         ///< grain density [kg/m^3]
     Real e0;            ///< initial void ratio [-]
+    Real Vmin = 0;      ///< smallest solid fraction of a contact network [-]; 0: none (dispersed())
   };
   struct State {
     Real e;      ///< void ratio [-]
@@ -42,6 +49,12 @@ struct Simsand {
     s.scalar("particleDensity", "kg/m^3", "grain density rho_p; bulk density is rho_p/(1+e0)").positive();
     simsand::add_frictional_spec(s);
     s.scalar("initialVoidRatio", "-", "e0").positive();
+    s.scalar("minSolidFraction", "-",
+             "below this solid fraction 1/(1+e) a point is dispersed (its grains out of contact): it carries no "
+             "stress and sets no wave speed; phaseTransition's default, so that both models treat such points alike")
+        .range(0.0, 0.1)
+        .open_min()
+        .default_value(1e-3);
     return s;
   }
   static Params read(const ParamReader& r) {
@@ -49,6 +62,7 @@ struct Simsand {
     p.m = simsand::read_frictional(r);
     p.rho_p = r.scalar("particleDensity");
     p.e0 = r.scalar("initialVoidRatio");
+    p.Vmin = r.scalar("minSolidFraction");
     return p;
   }
   static Real density(const Params& p) { return p.rho_p / (1 + p.e0); }
@@ -58,16 +72,22 @@ struct Simsand {
     return State{v.e, v.kappa, v.epsEq, 0};
   }
 
+  /// Whether a point of void ratio e is dispersed: its solid fraction 1/(1+e) below V_min.
+  /// (A stretched point's void ratio follows its volume: 1 + e = (1 + e0) J.)
+  SCREE_HD static bool dispersed(const Params& p, Real e) { return (1 + e) * p.Vmin > 1; }
+
   SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     simsand::Vars v{s.e, s.kappa, s.epsEq};
     simsand::integrate(p.m, sigma, v, inc.deps);
     commit(s, v, inc);
+    sigma = sigma * (dispersed(p, s.e) ? Real(0) : Real(1));  // a select, not a branch
   }
   /// The elastic case of update() alone (material.hpp: optional update_elastic).
   SCREE_HD static bool update_elastic(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     simsand::Vars v{s.e, s.kappa, s.epsEq};
     if (!simsand::integrate_elastic(p.m, sigma, v, inc.deps)) return false;
     commit(s, v, inc);
+    sigma = sigma * (dispersed(p, s.e) ? Real(0) : Real(1));
     return true;
   }
   SCREE_HD static void commit(State& s, const simsand::Vars& v, const StrainIncrement& inc) {
@@ -77,8 +97,12 @@ struct Simsand {
     s.rate = inc.dt > 0 ? equivalent_deviatoric_strain(inc.deps) / inc.dt : Real(0);
   }
 
+  /// The p-wave speed; none for a dispersed point (no contacts: the stiffness of eq. 13 at
+  /// p_min and a density of 1e-3 of the grains' would otherwise set the step: the flume's
+  /// frictional run at 5 mm fell to dt = 7e-7 s on one point at J = 6.9e5).
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3& sigma, Real rho, Real) {
-    return simsand::pwave_speed(p.m, s.e, pressure(sigma), rho);
+    const Real c = simsand::pwave_speed(p.m, s.e, pressure(sigma), rho);
+    return dispersed(p, s.e) ? Real(0) : c;
   }
 
   static void describe(OutputFields<Simsand>& out) {
