@@ -167,8 +167,11 @@ collect() {
     f=$(grep -oE 'file="[^"]+"' "$d/VTK/particles.pvd" 2>/dev/null | tail -1 | sed -E 's/file="([^"]+)"/\1/')
     [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
     cp $S/logs/$label.log "$d/run.log"
-    (cd "$d" && tar -czf - run.log postProcessing VTK/particles.pvd $(printf '%s\n' "${keep[@]}" | sort -u) $newest) \
-      > "$out/$label.tar.gz"
+    # the stages' times (the release) for the figures: the main case's file, whose variants
+    # only include it
+    mkdir -p "$d/collected/system" && cp "$S/runs/$label/flume/system/stages" "$d/collected/system/stages"
+    (cd "$d" && tar -czf - run.log postProcessing VTK/particles.pvd $(printf '%s\n' "${keep[@]}" | sort -u) $newest \
+      -C collected system/stages) > "$out/$label.tar.gz"
   done
   ls -la "$out"
 }

@@ -128,6 +128,9 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     tr = release_time(a.case)
+    if not os.path.exists(os.path.join(a.case, "system", "stages")):
+        sys.exit("flume.py: %s has no system/stages: the gate's release time (_releaseTime) is "
+                 "needed to give times after the release" % a.case)
     pp = os.path.join(a.case, "postProcessing")
     if not os.path.isdir(pp):
         sys.exit("flume.py: no %s (did the run write its function objects?)" % pp)
@@ -291,7 +294,13 @@ def main():
         if os.path.exists(p):
             ro = read_csv(p)
             j = int(np.argmin(np.abs(ro["time"] - (trf + 3.0))))
-            summary["frictional_mass_front_at_3s_from_gate_m"] = float(along(ro["runout"][j], X_GATE))
+            if abs(ro["time"][j] - (trf + 3.0)) < 0.01:
+                summary["frictional_mass_front_at_3s_from_gate_m"] = float(along(ro["runout"][j], X_GATE))
+            else:  # an unfinished run: its last front, and when
+                summary["frictional_last_mass_front"] = {
+                    "time_after_release_s": float(ro["time"][-1] - trf),
+                    "from_gate_m": float(along(ro["runout"][-1], X_GATE)),
+                    "from_back_wall_m": float(along(ro["runout"][-1], X_TOP))}
 
     with open(os.path.join(a.out, "summary.json"), "w") as fo:
         json.dump(summary, fo, indent=1)
