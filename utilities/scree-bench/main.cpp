@@ -20,8 +20,9 @@
 // collapse (from step 60,000 by default; plastic flow, points sheared apart at the free
 // surface, whose slowest stress updates set the step time); the wall time of the paper's
 // 100,000 steps is estimated from them. (b) cases/flume at 5 mm, at rest, right after the
-// release (at 0.05 s) and later in the flow (from step 150,000 by default: 0.1 s after the
-// release, where a whole run's step already costs several times the first flowing steps').
+// release (at 0.05 s: step 2,500 at the case's dt of 2e-5 s) and later in the flow (from
+// step 150,000 by default: about 1.3 s, the flow reaching the floor, where a step costs
+// several times the first flowing steps'); the whole run took 405,933 steps on an H100.
 // (c) weak scaling of a granular block resting on a floor from 1e4 to 1e7 particles,
 // for linearElastic and phaseTransition and each shape function. (d) cpu: Scree's CPU
 // backend against a straightforward scalar loop written for the comparison
@@ -443,7 +444,7 @@ int main(int argc, char** argv) {
       "column collapse: step from which a second flowing window of column-steps steps is timed (GPU; 0: none): "
       "the late collapse, whose step costs several times the first steps after the release")(
       "flume-steps", po::value<long long>()->default_value(2000),
-      "flume: steps timed after the release (release at step 50,000)")(
+      "flume: steps timed after the release (release at step 2,500)")(
       "flume-late-at", po::value<long long>()->default_value(150000),
       "flume: step from which a second flowing window of flume-steps steps is timed (GPU; 0: none): "
       "the flow down the slope, whose step costs several times the first steps after the release")(
@@ -528,8 +529,8 @@ int main(int argc, char** argv) {
                      quick ? 0 : vm["column-late-at"].as<long long>()});
   if (wants("flume"))
     paper.push_back({"flume", quick ? "flume S-1 (20 mm)" : "flume 5 mm (paper)",
-                     quick ? src / "cases/flume/variants/S-1" : src / "cases/flume", quick ? 20 : 50000,
-                     quick ? 10 : vm["flume-steps"].as<long long>(), 3000000,
+                     quick ? src / "cases/flume/variants/S-1" : src / "cases/flume", quick ? 20 : 2500,
+                     quick ? 10 : vm["flume-steps"].as<long long>(), 405933,
                      quick ? 0 : vm["flume-late-at"].as<long long>()});
   for (const Paper& pc : paper) {
     if (!fs::exists(pc.dir)) continue;
@@ -553,13 +554,14 @@ int main(int argc, char** argv) {
             rows.push_back(x);
           }
           if (r.size() >= 2) {
-            // the paper's run: its steps to the release at rest, the rest at the flowing rate
+            // the whole run (the column: the paper's 100,000 steps; the flume: the 405,933 its
+            // case took at 2e-5 s): its steps to the release at rest, the rest at the flowing rate
             // (the first flowing window's up to the late window, the late one's after it)
             const long long early = late ? std::min(pc.late_at, pc.total) - pc.release : pc.total - pc.release;
             const double est = (r[0].ms_per_step * pc.release + r[1].ms_per_step * early +
                                 (late ? r[2].ms_per_step * (pc.total - pc.release - early) : 0.0)) /
                                1e3;
-            std::printf("  %-44s %-4s %-9s estimated wall time of the paper's %lld steps: %.1f s\n", pc.name.c_str(),
+            std::printf("  %-44s %-4s %-9s estimated wall time of a whole run's %lld steps: %.1f s\n", pc.name.c_str(),
                         r[0].device.c_str(), v.c_str(), pc.total, est);
           }
         } catch (const std::exception& e) {
