@@ -103,6 +103,43 @@ Cloud<D> empty_cloud(double dt) {
   return c;
 }
 
+/// linearElastic, E 1 MPa, nu 0.3, rho 2000 kg/m^3.
+LinearElastic::Params elastic_params() {
+  LinearElastic::Params mp{1e6, 0.3, 2000, 0, 0};
+  mp.lambda = mp.E * mp.nu / ((1 + mp.nu) * (1 - 2 * mp.nu));
+  mp.G = mp.E / (2 * (1 + mp.nu));
+  return mp;
+}
+
+/// A 2D FLIP body with linear shape functions on the cloud's grid; the caller adds the points.
+BodySetup<2> flip_setup(const Cloud<2>& c, const char* name) {
+  BodySetup<2> s;
+  s.name = name;
+  s.exec = Exec{test_device(), nullptr, 2};
+  s.shape = ShapeKind::linear;
+  s.transfer = Transfer::flip;
+  s.cell_size = c.grid.h;
+  return s;
+}
+
+/// Pass parameters on the cloud's grid and step control, without gravity.
+PassParams<2> pass_params_of(Cloud<2>& c) {
+  PassParams<2> pp;
+  pp.grid = c.grid;
+  pp.control = c.ctl.data();
+  pp.gravity = Vec<2>::zero();
+  return pp;
+}
+
+/// The body's snapshot once the device is done (the cloud's one body).
+BodySnapshot snapshot_of(Cloud<2>& c) {
+  mem::synchronize(test_device());
+  Snapshot snap;
+  snap.bodies.resize(1);
+  c.body->snapshot(snap.bodies[0]);
+  return std::move(snap.bodies[0]);
+}
+
 template <int D>
 Cloud<D> make_cloud(ShapeKind shape, Transfer transfer, double dt) {
   Cloud<D> c = empty_cloud<D>(dt);
@@ -130,9 +167,7 @@ Cloud<D> make_cloud(ShapeKind shape, Transfer transfer, double dt) {
   }
   for (int d = 0; d < D; ++d)
     for (int e = 0; e < D; ++e) s.velocity_gradient.a[d][e] = vel(rng);  // APIC: a random affine part
-  LinearElastic::Params mp{1e6, 0.3, 2000, 0, 0};
-  mp.lambda = mp.E * mp.nu / ((1 + mp.nu) * (1 - 2 * mp.nu));
-  mp.G = mp.E / (2 * (1 + mp.nu));
+  const LinearElastic::Params mp = elastic_params();
   for (Index p = 0; p < 500; ++p) c.m.push_back(mp.rho * s.volume[p]);
   c.v = s.v;
   c.body = make_material_body<D, LinearElastic>(mp, s);
@@ -217,13 +252,8 @@ void conservation(ShapeKind shape, Transfer transfer, Real pic) {
 /// steps dt: v/v0 = (1 - a)^(T/dt) exactly. Returns that ratio from the kernels.
 double invisible_mode_left(double dt, double T, double pic_fraction, double pic_rate) {
   Cloud<2> c = empty_cloud<2>(dt);
-  const Exec ex{test_device(), nullptr, 2};
-  BodySetup<2> s;
-  s.name = "mode";
-  s.exec = ex;
-  s.shape = ShapeKind::linear;
-  s.transfer = Transfer::flip;
-  s.cell_size = c.grid.h;
+  BodySetup<2> s = flip_setup(c, "mode");
+  const Exec ex = s.exec;
   const double h = c.grid.h, x0 = 0.5, y0 = 0.5, u = 0.3;  // the cell [0.5, 0.6]^2
   const double xi[3] = {1.0 / 6, 0.5, 5.0 / 6}, sgn[3] = {1, -2, 1};
   for (int j = 0; j < 3; ++j)
@@ -233,14 +263,8 @@ double invisible_mode_left(double dt, double T, double pic_fraction, double pic_
       s.volume.push_back(h * h / 9);
       s.sigma.push_back(Sym3::zero());
     }
-  LinearElastic::Params mp{1e6, 0.3, 2000, 0, 0};
-  mp.lambda = mp.E * mp.nu / ((1 + mp.nu) * (1 - 2 * mp.nu));
-  mp.G = mp.E / (2 * (1 + mp.nu));
-  c.body = make_material_body<2, LinearElastic>(mp, s);
-  PassParams<2> pp;
-  pp.grid = c.grid;
-  pp.control = c.ctl.data();
-  pp.gravity = Vec<2>::zero();
+  c.body = make_material_body<2, LinearElastic>(elastic_params(), s);
+  PassParams<2> pp = pass_params_of(c);
   pp.pic_fraction = pic_fraction;
   pp.pic_rate = pic_rate;
   GridUpdateParams<2> gp;
@@ -261,12 +285,9 @@ double invisible_mode_left(double dt, double T, double pic_fraction, double pic_
     pp.gather = c.sets[0];
     c.body->pass(pp);
   }
-  mem::synchronize(ex.device);
-  Snapshot snap;
-  snap.bodies.resize(1);
-  c.body->snapshot(snap.bodies[0]);
-  const auto& vel = snap.bodies[0].find("velocity")->values;
-  const auto& pos = snap.bodies[0].position;
+  const BodySnapshot b = snapshot_of(c);
+  const auto& vel = b.find("velocity")->values;
+  const auto& pos = b.position;
   double ratio = vel[0] / u;
   for (int p = 0; p < 9; ++p) {
     EXPECT_NEAR(vel[3 * p], ratio * u * sgn[p % 3], 1e-12) << "the mode keeps its shape, point " << p;
@@ -304,13 +325,7 @@ TEST(VolumeRatio, IsTheProductOfTheStepsDeterminantsThroughAStretchOf1e17) {
   const double e = 2, w = 0.05, dt = 1e-4, T = 20;
   const int n = static_cast<int>(std::lround(T / dt));
   Cloud<2> c = empty_cloud<2>(dt);
-  const Exec ex{test_device(), nullptr, 2};
-  BodySetup<2> s;
-  s.name = "stretched";
-  s.exec = ex;
-  s.shape = ShapeKind::linear;
-  s.transfer = Transfer::flip;
-  s.cell_size = c.grid.h;
+  BodySetup<2> s = flip_setup(c, "stretched");
   const double xc = 0.55, V0 = 0.25e-2;
   for (double dx : {-0.025, 0.025})
     for (double dy : {-0.025, 0.025}) {
@@ -319,14 +334,8 @@ TEST(VolumeRatio, IsTheProductOfTheStepsDeterminantsThroughAStretchOf1e17) {
       s.volume.push_back(V0);
       s.sigma.push_back(Sym3::zero());
     }
-  LinearElastic::Params mp{1e6, 0.3, 2000, 0, 0};
-  mp.lambda = mp.E * mp.nu / ((1 + mp.nu) * (1 - 2 * mp.nu));
-  mp.G = mp.E / (2 * (1 + mp.nu));
-  c.body = make_material_body<2, LinearElastic>(mp, s);
-  PassParams<2> pp;
-  pp.grid = c.grid;
-  pp.control = c.ctl.data();
-  pp.gravity = Vec<2>::zero();
+  c.body = make_material_body<2, LinearElastic>(elastic_params(), s);
+  PassParams<2> pp = pass_params_of(c);
   pp.flags = kStressFromNew;  // the stress update alone: the points stay where they are
   pp.gather = c.sets[0];
   const Index nn = c.grid.num_nodes();
@@ -347,11 +356,8 @@ TEST(VolumeRatio, IsTheProductOfTheStepsDeterminantsThroughAStretchOf1e17) {
       mem::copy(dst, test_device(), vy.data(), Device::cpu, nn * sizeof(Real));
     c.body->pass(pp);
   }
-  mem::synchronize(ex.device);
-  Snapshot snap;
-  snap.bodies.resize(1);
-  c.body->snapshot(snap.bodies[0]);
-  const auto& vol = snap.bodies[0].find("volume")->values;
+  const BodySnapshot b = snapshot_of(c);
+  const auto& vol = b.find("volume")->values;
   const double J = std::pow(1 - e * e * dt * dt, n);  // 0.99203
   // Round-off: n steps of a product and of L's sums, each ~1e-16 relative.
   for (int p = 0; p < 4; ++p) EXPECT_NEAR(vol[p] / V0, J, 1e-9) << "point " << p;
