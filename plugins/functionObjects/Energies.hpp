@@ -14,7 +14,9 @@
 //                 elasticEnergy [J/m^3]; 0 for a material without one)
 //   granular      sum 3/2 m T, the energy of the granular temperature (eq. 27; the field
 //                 granularTemperature, 0 without one)
-//   stressWork    W = sum over steps and points of V sigma : deps: the work done on the material
+//   stressWork    W = sum over steps and points of V (sigma^n + sigma^{n+1})/2 : deps (the
+//                 trapezoidal rule, exact for a linear elastic increment): the work done on
+//                 the material
 //   collisional   D_col = sum V Gamma dt, the collisional dissipation (eq. 28; the material's
 //                 collisional_dissipation)
 //   plastic       D_p = W - (elastic - elastic_0) - (granular - granular_0) - D_col: the stress

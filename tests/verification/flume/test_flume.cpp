@@ -13,7 +13,7 @@
 //   (frictional sand on a no-slip slope).
 // - The energy budget closes (the paper's Appendix B; plugins/functionObjects/Energies.hpp):
 //   the potential energy released since t = 0 is found again as kinetic energy, the work done
-//   on the material (sum V sigma : deps) and the kinetic energy the damping, the PIC blend and
+//   on the material (sum V (sigma^n + sigma^{n+1})/2 : deps) and the kinetic energy the damping, the PIC blend and
 //   the walls removed, within 2% of the initial potential energy; and the frictional and
 //   collisional dissipation it implies are not negative (the second law).
 // - Nothing leaves the grid, every point stays finite.

@@ -74,7 +74,7 @@ struct GridSnapshot {
 /// object asks for it (FunctionObject::needs_energy_ledger); `kept` says whether it was.
 struct EnergyLedger {
   bool kept = false;
-  Real stress_work = 0;  ///< sum of V sigma : deps over steps and points (into the material)
+  Real stress_work = 0;  ///< sum of V (sigma^n + sigma^{n+1})/2 : deps over steps and points (into the material)
   Real collisional = 0;  ///< collisional dissipation, sum of V Gamma dt
   Real pic = 0;          ///< kinetic energy removed by the FLIP/PIC blend
   Real damping = 0;      ///< kinetic energy removed by the local damping

@@ -37,7 +37,7 @@ enum StepFailure : unsigned {
 /// object `energies` (`budget yes`; plugins/functionObjects/Energies.hpp says how they close).
 /// Kept only when PassParams::energy / GridUpdateParams::energy is set: off, nothing is added.
 enum EnergyTerm : int {
-  kEnergyStressWork = 0,   ///< sum over steps and points of V sigma : deps (the stress power times dt)
+  kEnergyStressWork = 0,   ///< sum over steps and points of V (sigma^n + sigma^{n+1})/2 : deps (trapezoidal)
   kEnergyCollisional = 1,  ///< collisional dissipation, sum V Gamma dt (material hook collisional_dissipation)
   kEnergyPic = 2,          ///< kinetic energy the FLIP/PIC blend removed from the points (>= 0 when it damps)
   kEnergyDamping = 3,      ///< kinetic energy the local damping removed from the nodes
