@@ -1,5 +1,6 @@
 // The grid-update kernel (compiled as CUDA when the CUDA backend is on).
 #include "scree/mpm/grid_update.hpp"
+#include "scree/mpm/schemes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -65,14 +66,14 @@ struct GridUpdate {
     }
     if (p.modes & kIntegrate) {
       Real v[D], v_free[D];
-      const bool damp = p.damping > 0 && t >= p.damping_start && t < p.damping_end;
+      const bool damp = damping_active(p.damping, t, p.damping_start, p.damping_end);
       Real probe = 0;  // health: the nodal velocity and force (report_nonfinite_node)
       for (int d = 0; d < D; ++d) {
         const Real vk = g.velocity[d][I];
         Real f = g.force[d][I];
         probe += vk + f;
         v_free[d] = accelerate ? vk + dt * f * rm : vk;  // without damping (the ledger's reference)
-        if (damp && vk != 0) f -= p.damping * fabs(f) * (vk > 0 ? Real(1) : Real(-1));
+        if (damp) f = damped_force(f, vk, p.damping);
         v[d] = accelerate ? vk + dt * f * rm : vk;
       }
       if (!(probe - probe == 0)) [[unlikely]]

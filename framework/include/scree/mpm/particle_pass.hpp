@@ -374,10 +374,10 @@ SCREE_UNROLL
                 // The node's v^{k+1} without the walls: the mapped velocity accelerated by
                 // the force (and the local damping) the grid update applied.
                 const Real t = ctl->t[pp.gather_parity];
-                const bool damp = pp.damping > 0 && t >= pp.damping_start && t < pp.damping_end;
+                const bool damp = damping_active(pp.damping, t, pp.damping_start, pp.damping_end);
                 for (int d = 0; d < D; ++d) {
                   Real f = pp.gather.force[d][I];
-                  if (damp && vi[d] != 0) f -= pp.damping * fabs(f) * (vi[d] > 0 ? Real(1) : Real(-1));
+                  if (damp) f = damped_force(f, vi[d], pp.damping);
                   const Real free = m > pp.mass_eps ? v_mapped[d] + dt * f * rm : v_mapped[d];
                   dw[d] += N * (vn[d] - free);
                 }

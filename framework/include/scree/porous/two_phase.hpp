@@ -794,7 +794,7 @@ struct TwoPhaseGridUpdate {
       solid.velocity[d][I] = vs[d];  // the solid pass's FLIP increment reads it (PoreRate: M_l v_l / M_l)
     }
     Real ws[D], wl[D], fls[D];
-    const bool damp = damping > 0 && t >= damping_start && t < damping_end;
+    const bool damp = damping_active(damping, t, damping_start, damping_end);
     // The liquid's boundary term. The weak form of -grad p_w on the points' domain carries
     // -int N p_b n dGamma; left out, it makes every surface p_b = 0: open, the liquid enters
     // or leaves as the pore pressure drives it (ponding, a drained face). A surface is closed
@@ -844,8 +844,8 @@ struct TwoPhaseGridUpdate {
       probe += vs[d] + vl[d] + fm + fl;
       fls[d] = 0;
       if (damp) {
-        if (vs[d] != 0) fm -= damping * fabs(fm) * (vs[d] > 0 ? Real(1) : Real(-1));
-        if (vl[d] != 0) fl -= damping * fabs(fl) * (vl[d] > 0 ? Real(1) : Real(-1));
+        fm = damped_force(fm, vs[d], damping);
+        fl = damped_force(fl, vl[d], damping);
       }
       ws[d] = vs[d];
       wl[d] = vl[d];
