@@ -21,6 +21,7 @@
 #include <string>
 
 #include "scree/material/material.hpp"
+#include "scree/materials/dispersed.hpp"
 #include "scree/materials/simsand_model.hpp"
 #include "scree/materials/simsand_spec.hpp"
 
@@ -49,12 +50,9 @@ struct Simsand {
     s.scalar("particleDensity", "kg/m^3", "grain density rho_p; bulk density is rho_p/(1+e0)").positive();
     simsand::add_frictional_spec(s);
     s.scalar("initialVoidRatio", "-", "e0").positive();
-    s.scalar("minSolidFraction", "-",
-             "below this solid fraction 1/(1+e) a point is dispersed (its grains out of contact): it carries no "
-             "stress and sets no wave speed; phaseTransition's default, so that both models treat such points alike")
-        .range(0.0, 0.1)
-        .open_min()
-        .default_value(1e-3);
+    add_min_solid_fraction(s,
+                           "below this solid fraction 1/(1+e) a point is dispersed (its grains out of contact): it "
+                           "carries no stress and sets no wave speed, as in phaseTransition");
     return s;
   }
   static Params read(const ParamReader& r) {
@@ -74,7 +72,7 @@ struct Simsand {
 
   /// Whether a point of void ratio e is dispersed: its solid fraction 1/(1+e) below V_min.
   /// (A stretched point's void ratio follows its volume: 1 + e = (1 + e0) J.)
-  SCREE_HD static bool dispersed(const Params& p, Real e) { return (1 + e) * p.Vmin > 1; }
+  SCREE_HD static bool dispersed(const Params& p, Real e) { return dispersed_below(p.Vmin, e); }
 
   SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     simsand::Vars v{s.e, s.kappa, s.epsEq};

@@ -19,6 +19,7 @@
 
 #include "scree/core/config.hpp"
 #include "scree/core/tensor.hpp"
+#include "scree/materials/dispersed.hpp"
 
 namespace scree::materials::kt {
 
@@ -106,7 +107,7 @@ SCREE_HD inline Real solid_fraction(const Params& P, Real e) {
 /// granular temperature has no production. Left to eqs. (19)-(27), such points are heated
 /// by their own stretching to T ~ (d D/V)^2 and set the time step through their viscous and
 /// sound speeds (materials/kineticTheory/README.md, "Dispersed points").
-SCREE_HD inline bool dispersed(const Params& P, Real e) { return (1 + e) * P.Vmin > 1; }
+SCREE_HD inline bool dispersed(const Params& P, Real e) { return dispersed_below(P.Vmin, e); }
 
 /// 1/(2 V_sd V_m - V_m^2 - V_sd^2), the denominator of eq. (26) as a reciprocal (a
 /// parameter-only factor: Prepared::rf).

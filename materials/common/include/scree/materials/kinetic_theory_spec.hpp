@@ -41,13 +41,10 @@ inline void add_collisional_spec(ParamSpec& s) {
            "cap of g0 (eq. 25) as V -> V_sd: V is limited to V_sd - 2/g0max")
       .min(10.0)
       .default_value(1000.0);
-  s.scalar("minSolidFraction", "-",
-           "below this solid fraction a point is dispersed (grains in free flight, the kinetic theory's mean "
-           "free path longer than the flow): it carries no stress and its granular temperature is not produced "
-           "(kinetic_theory.hpp, dispersed())")
-      .range(0.0, 0.1)
-      .open_min()
-      .default_value(1e-3);
+  add_min_solid_fraction(s,
+                         "below this solid fraction a point is dispersed (grains in free flight, the kinetic theory's "
+                         "mean free path longer than the flow): it carries no stress and its granular temperature is "
+                         "not produced (kinetic_theory.hpp, dispersed())");
   s.word("bulkViscosity", "gamma* of (A5): 'GD99' (Garzo & Dufty 1999, proportional to V^2 g0, the default) or "
                           "'printed' (the paper's (A5) as printed, V g0: 1/V times larger)")
       .choices({"GD99", "printed"})
