@@ -109,13 +109,8 @@ start() {
   cp -r "${SCREE_BUILD_DIR:-build-cuda}" $S/build && cp -r .gpu-bundle/lib $S/lib
   nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv > $S/device.txt
   export LD_LIBRARY_PATH=$S/lib:${LD_LIBRARY_PATH:-}
-  local mps=${SCREE_MPS:-1}
-  if [ "$mps" = 1 ]; then
-    export CUDA_MPS_PIPE_DIRECTORY=$S/mps-pipe CUDA_MPS_LOG_DIRECTORY=$S/mps-log
-    mkdir -p $CUDA_MPS_PIPE_DIRECTORY $CUDA_MPS_LOG_DIRECTORY
-    if nvidia-cuda-mps-control -d 2> $S/logs/mps.err; then echo "MPS daemon started" >> $S/device.txt
-    else echo "MPS not available: one GPU run after another" >> $S/device.txt; mps=0; fi
-  fi
+  local mps=1
+  mps_start >> $S/device.txt || mps=0
   local r core=0 gpu=()
   for r in "$@"; do
     local label=${r%%=*} spec=${r#*=}
