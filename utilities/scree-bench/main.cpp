@@ -2,7 +2,7 @@
 //
 //   scree-bench [--device cpu|cuda|both] [--quick] [--cases column,flume,scaling,cpu,updates]
 //               [--kernels fast,reference,uncapped] [--steps N] [--cpu-steps N]
-//               [--max-particles N] [--column-steps N] [--column-late-at STEP] [--flume-steps N]
+//               [--max-particles N] [--dimensions 2,3] [--column-steps N] [--column-late-at STEP] [--flume-steps N]
 //               [--flume-late-at STEP]
 //               [--csv FILE] [--json FILE]
 //
@@ -24,7 +24,8 @@
 // step 150,000 by default: about 1.3 s, the flow reaching the floor, where a step costs
 // several times the first flowing steps'); the whole run took 405,933 steps on an H100.
 // (c) weak scaling of a granular block resting on a floor from 1e4 to 1e7 particles,
-// for linearElastic and phaseTransition and each shape function. (d) cpu: Scree's CPU
+// for linearElastic and phaseTransition and each shape function, in 2D (a square) and,
+// with --dimensions 3, in 3D (a cube). (d) cpu: Scree's CPU
 // backend against a straightforward scalar loop written for the comparison
 // (scalar_mpm.hpp), particle-steps/s per core. (e) updates: the slow SIMSAND stress
 // updates recorded late in the 1 mm column collapse, replayed on one CPU thread (us per
@@ -219,25 +220,31 @@ std::string material_dictionary(const std::string& material, const fs::path& sou
   return ss.str();
 }
 
-/// A granular block of about n particles (4 per cell) resting on a floor.
+/// A granular block of about n particles resting on a floor: in 2D a 1 m x 1 m block,
+/// 4 points per cell; in 3D a 1 m cube, 8 points per cell, with slip walls at x = 0 and
+/// z = 0 (the same block, quartered by its symmetry planes).
 fs::path write_block_case(const fs::path& root, long long n, const std::string& material, const std::string& shape,
-                          const std::string& scheme, const fs::path& source_dir) {
-  const long long cells = std::max(1LL, n / 4);
-  const long long side = std::max(4LL, static_cast<long long>(std::llround(std::sqrt(double(cells)))));
-  const double h = 1.0 / side;  // a 1 m x 1 m block
+                          const std::string& scheme, const fs::path& source_dir, int dim = 2) {
+  const long long cells = std::max(1LL, n / (dim == 2 ? 4 : 8));
+  const double root_of_cells = dim == 2 ? std::sqrt(double(cells)) : std::cbrt(double(cells));
+  const long long side = std::max(4LL, static_cast<long long>(std::llround(root_of_cells)));
+  const double h = 1.0 / side;  // a 1 m block
   std::ostringstream tag;
-  tag << "block_" << material << "_" << shape << "_" << scheme << "_" << n;
+  tag << (dim == 2 ? "block_" : "block3d_") << material << "_" << shape << "_" << scheme << "_" << n;
   const fs::path d = root / tag.str();
   fs::create_directories(d / "system");
   fs::create_directories(d / "constant");
   auto put = [&](const std::string& rel, const std::string& text) { std::ofstream(d / rel) << text; };
   put("system/controlDict", "endTime 100;\ndeltaT " + std::to_string(0.2 * h / 60.0) + ";\nwriteInterval 100;\n");
   std::ostringstream grid;
-  grid << "dimension 2;\nlower (0 0);\nupper (1.5 1.2);\ncellSize " << std::setprecision(12) << h << ";\n";
+  if (dim == 2)
+    grid << "dimension 2;\nlower (0 0);\nupper (1.5 1.2);\ncellSize " << std::setprecision(12) << h << ";\n";
+  else
+    grid << "dimension 3;\nlower (0 0 0);\nupper (1.25 1.1 1.25);\ncellSize " << std::setprecision(12) << h << ";\n";
   put("system/gridDict", grid.str());
   put("system/mpmSchemes", "updateScheme " + scheme + ";\nshapeFunction " + shape + ";\n" +
                                (shape == "linear" ? "" : "transfer APIC;\n") + "sortInterval 50;\n");
-  put("constant/g", "value (0 -9.81);\n");
+  put("constant/g", dim == 2 ? "value (0 -9.81);\n" : "value (0 -9.81 0);\n");
   put("constant/materialProperties", material_dictionary(material, source_dir));
   // twoPhase: the elastic block as the skeleton of unsaturated soil (porous/two_phase.hpp),
   // van Genuchten and Mualem, a water table at mid-height; K_l = 2 MPa keeps the undrained
@@ -248,10 +255,12 @@ fs::path write_block_case(const fs::path& root, long long n, const std::string& 
             "retention { type vanGenuchten; p0 22295; lambda 0.671; Smin 0.23; Smax 1; } "
             "permeability { type mualemVanGenuchten; } initialPorePressure { type hydrostatic; waterTable 0.5; } } "
           : "";
-  put("constant/bodies", "block { material sand; region { type rectangle; lower (0 0); upper (1 1); } "
-                         "particlesPerCell 2; initialStress { type geostatic; K0 0.5; } " +
-                             pores + "}\n");
-  put("constant/boundaryConditions", "floor { type fixed; face yMin; } left { type slip; face xMin; }\n");
+  put("constant/bodies", std::string("block { material sand; region { ") +
+                             (dim == 2 ? "type rectangle; lower (0 0); upper (1 1);"
+                                       : "type box; lower (0 0 0); upper (1 1 1);") +
+                             " } particlesPerCell 2; initialStress { type geostatic; K0 0.5; } " + pores + "}\n");
+  put("constant/boundaryConditions", std::string("floor { type fixed; face yMin; } left { type slip; face xMin; }\n") +
+                                         (dim == 3 ? "back { type slip; face zMin; }\n" : ""));
   return d;
 }
 
@@ -438,6 +447,8 @@ int main(int argc, char** argv) {
       "scaling materials: linearElastic, phaseTransition, twoPhase (the elastic block with pore liquid)")(
       "shapes", po::value<std::string>()->default_value("linear,gimp,bspline2"), "scaling shape functions")(
       "schemes", po::value<std::string>()->default_value("USL"), "scaling update schemes")(
+      "dimensions", po::value<std::string>()->default_value("2"),
+      "scaling block dimensions: 2 (a square, 4 points per cell), 3 (a cube, 8 points per cell) or 2,3")(
       "column-steps", po::value<long long>()->default_value(2000),
       "column collapse: steps timed after the release (release at step 10,000)")(
       "column-late-at", po::value<long long>()->default_value(60000),
@@ -468,6 +479,11 @@ int main(int argc, char** argv) {
     std::cout << opts;
     return 0;
   }
+  for (const std::string& d : split(vm["dimensions"].as<std::string>()))
+    if (d != "2" && d != "3") {
+      std::cerr << "scree-bench: --dimensions: '" << d << "' is not a dimension (valid: 2, 3, or 2,3)\n";
+      return 2;
+    }
   const bool quick = vm.count("quick");
   const fs::path src = vm["source-dir"].as<std::string>();
   const auto want = split(vm["cases"].as<std::string>());
@@ -571,11 +587,14 @@ int main(int argc, char** argv) {
   }
 
   if (wants("scaling")) {
+    for (const std::string& dim_text : split(vm["dimensions"].as<std::string>()))
     for (const std::string& mat : split(vm["materials"].as<std::string>()))
       for (const std::string& shape : split(vm["shapes"].as<std::string>()))
         for (const std::string& scheme : split(vm["schemes"].as<std::string>()))
           for (long long n = quick ? 1000 : 10000; n <= max_n; n = n * 10 > max_n && n < max_n ? max_n : n * 10) {
-            const fs::path dir = write_block_case(tmp, n, mat, shape, scheme, src);
+            const int dim = dim_text == "3" ? 3 : 2;
+            const fs::path dir = write_block_case(tmp, n, mat, shape, scheme, src, dim);
+            const std::string block = dim == 2 ? "block " : "block3d ";
             for (auto d : devices) {
               // The CPU gets the sizes up to 1e6 only (minutes otherwise).
               if (d == scree::Device::cpu && n > 1000000) continue;
@@ -583,12 +602,12 @@ int main(int argc, char** argv) {
                 if (d == scree::Device::cpu && v != "fast") continue;
                 const long long steps = d == scree::Device::cuda ? std::max(20LL, gpu_steps / 4) : cpu_steps;
                 try {
-                  auto r = measure_windows(rt, dir, "block " + mat + " " + shape + " " + scheme + " " + std::to_string(n),
+                  auto r = measure_windows(rt, dir, block + mat + " " + shape + " " + scheme + " " + std::to_string(n),
                                            d, threads, v, std::max(2LL, steps / 10), {{"", steps}}, copy[d]);
                   report(r[0]);
                   rows.push_back(r[0]);
                 } catch (const std::exception& e) {
-                  std::printf("  block %s %s %lld %s %s failed: %s\n", mat.c_str(), shape.c_str(), n,
+                  std::printf("  %s%s %s %lld %s %s failed: %s\n", block.c_str(), mat.c_str(), shape.c_str(), n,
                               scree::to_string(d), v.c_str(), e.what());
                 }
               }
