@@ -205,7 +205,9 @@ Vec3 read_point(const ParamReader& r, const char* key, const SolverContext& ctx)
 Vec3 read_direction(const ParamReader& r, const char* key, const SolverContext& ctx, Vec3 def) {
   Vec3 v = r.has(key) ? read_point(r, key, ctx) : def;
   const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (!(len > 0) || !std::isfinite(len)) throw InputError(where_of(r, key), std::string(key) + ": must not be zero");
+  if (!(len > 0) || !std::isfinite(len))
+    throw InputError(where_of(r, key), std::string(key) + ": expected a non-zero direction (it is normalised), found " +
+                                           (r.has(key) ? r.entry(key).value_string() : std::string("zero")));
   for (auto& c : v) c /= len;
   return v;
 }
