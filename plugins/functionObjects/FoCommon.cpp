@@ -167,6 +167,33 @@ void ensure_writable_dir(const fs::path& dir, const std::string& who) {
                              " is not writable: " + std::system_category().message(errno));
 }
 
+void check_writable_dir(const fs::path& dir, const std::string& who) {
+  std::error_code ec;
+  fs::path p = dir;
+  while (!p.empty() && !fs::exists(p, ec) && p.has_relative_path() && p != p.parent_path()) p = p.parent_path();
+  if (p.empty()) p = ".";
+  if (!fs::is_directory(p, ec))
+    throw std::runtime_error(who + ": cannot create the output directory " + dir.string() + ": " + p.string() +
+                             " is not a directory");
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
+    throw std::runtime_error(who + ": the output directory " + dir.string() + " cannot be made or written: " +
+                             p.string() + ": " + std::system_category().message(errno));
+}
+
+void prepare_time_files(const fs::path& dir, const std::string& who, double start_time, const std::string& also) {
+  ensure_writable_dir(dir, who);
+  if (start_time > 0) return;  // a restart keeps them
+  std::error_code ec;
+  if (!also.empty()) fs::remove(dir / also, ec);
+  for (const auto& de : fs::directory_iterator(dir, ec)) {
+    if (de.path().extension() != ".csv") continue;
+    const std::string stem = de.path().stem().string();
+    char* end = nullptr;
+    std::strtod(stem.c_str(), &end);
+    if (!stem.empty() && end == stem.c_str() + stem.size()) fs::remove(de.path(), ec);
+  }
+}
+
 SourceLocation where_of(const ParamReader& r, const char* key) {
   if (const Entry* e = r.dict().find(key)) return e->where();
   return r.dict().where();

@@ -62,6 +62,17 @@ class CsvFile {
 /// Create `dir` (and parents) and check that it is writable; throws std::runtime_error
 /// naming `who` and the directory otherwise.
 void ensure_writable_dir(const std::filesystem::path& dir, const std::string& who);
+/// The same check without creating anything (constructors: a plugin constructed after
+/// this one may still stop the run on a user error, which must leave the case as it
+/// was): `dir` is a writable directory, or its nearest existing ancestor is. Throws
+/// std::runtime_error naming `who` and the directory otherwise. The directory and the
+/// files are made at the first execution (ensure_writable_dir).
+void check_writable_dir(const std::filesystem::path& dir, const std::string& who);
+/// At the first execution of a function object writing one file per time: create `dir`
+/// (ensure_writable_dir) and, for a fresh run (start_time <= 0), remove the files of an
+/// earlier run there: those named <number>.csv and `also` (if given).
+void prepare_time_files(const std::filesystem::path& dir, const std::string& who, double start_time,
+                        const std::string& also = "");
 
 /// Location of `key` in a plugin dictionary (the dictionary itself when defaulted).
 SourceLocation where_of(const ParamReader& r, const char* key);

@@ -124,18 +124,10 @@ SurfaceProfile::SurfaceProfile(const ParamReader& r, const SolverContext& ctx)
     }
     if (bins > 1e7) throw InputError(where_of(r, "range"), "range: more than 10^7 bins of width " + csv_number(width_));
   }
-  ensure_writable_dir(dir_, who_);
-  if (ctx.start_time <= 0) {
-    // A fresh run: remove the profiles of an earlier run (files named <number>.csv).
-    std::error_code ec;
-    for (const auto& de : fs::directory_iterator(dir_, ec)) {
-      if (de.path().extension() != ".csv") continue;
-      const std::string stem = de.path().stem().string();
-      char* end = nullptr;
-      std::strtod(stem.c_str(), &end);
-      if (!stem.empty() && end == stem.c_str() + stem.size()) fs::remove(de.path(), ec);
-    }
-  }
+  // The directory is made, and a fresh run's old profiles (<number>.csv) removed, at the
+  // first execution.
+  check_writable_dir(dir_, who_);
+  start_time_ = ctx.start_time;
 }
 
 std::vector<SurfaceProfile::Bin> SurfaceProfile::evaluate(const Snapshot& s) const {
@@ -234,6 +226,10 @@ std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot&
 void SurfaceProfile::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
+  if (!prepared_) {
+    prepare_time_files(dir_, who_, start_time_);
+    prepared_ = true;
+  }
   if (field_) {
     const auto cells = evaluate_field(s);
     write_file_atomically(dir_ / (time_name(s.time) + ".csv"), [&](const fs::path& tmp) {

@@ -79,6 +79,8 @@ class SurfaceProfile final : public FunctionObject {
   Vec3 axis_a_{0, 0, 0}, axis_b_{0, 0, 0};
   std::string name_a_, name_b_;
   double lo_b_ = 0, hi_b_ = 0;
+  double start_time_ = 0;
+  bool prepared_ = false;  ///< the directory made (first execution)
   std::int64_t last_step_ = -1;
 };
 

@@ -126,3 +126,34 @@ TEST(FreeFall3D, EnergiesRunOutHeightFieldAndVtk) {
     for (int c = 0; c < 6; ++c) EXPECT_NEAR(s->GetComponent(p, c), 0.0, 1e-6) << c;  // |stress| << rho g L = 2000 Pa
   }
 }
+
+// A user error in a function object constructed after the vtk writer and another
+// function object (a 2-number direction in a 3D radial front): scree stops with a
+// non-zero status naming the file, line and key, and the case is left as it was (no
+// VTK/, no postProcessing/: the plugins constructed before it write nothing until the
+// first output).
+TEST(FreeFall3D, UserErrorStopsBeforeAnythingIsWritten) {
+  TempDir dir;
+  write_case(dir.path());
+  write_file(dir.path() / "system" / "controlDict",
+             "endTime 0.05;\ndeltaT 1e-4;\nwriteControl adjustableRunTime;\nwriteInterval 0.025;\n"
+             "writers { vtk { type vtk; } }\n"
+             "functions {\n"
+             "  energy { type energies; }\n"
+             "  front { type runOut; radial { centre (0.2 0.2 0); directions ((1 0 0) (0 1)); } }\n"
+             "}\n");
+  const fs::path log = dir.path() / ".." / (dir.path().filename().string() + ".log");
+  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.path().string() +
+                          "' --device cpu --threads 1 > '" + log.string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream lf(log);
+  std::stringstream out;
+  out << lf.rdbuf();
+  fs::remove(log);
+  EXPECT_NE(rc, 0) << out.str();
+  EXPECT_NE(out.str().find("system/controlDict:8:"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("radial.directions: element 2 must be a direction of 3 numbers"), std::string::npos)
+      << out.str();
+  EXPECT_FALSE(fs::exists(dir.path() / "VTK"));
+  EXPECT_FALSE(fs::exists(dir.path() / "postProcessing"));
+}
