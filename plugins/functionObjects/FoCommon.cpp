@@ -229,12 +229,30 @@ Vec3 read_point(const ParamReader& r, const char* key, const SolverContext& ctx)
   return p;
 }
 
+std::string zero_direction(const std::string& key, const std::string& found) {
+  return key + ": expected a non-zero direction (it is normalised), found " + found;
+}
+
+bool zero_vector(const Dictionary& d, const char* key) {
+  const Entry* e = d.find(key);
+  if (!e || e->items().size() != 1 || e->items()[0].kind != Item::Kind::list) return false;
+  for (const Item& x : e->items()[0].list)
+    if (x.kind != Item::Kind::number || x.number != 0) return false;
+  return true;
+}
+
+int given_dimension(const Dictionary& d, std::initializer_list<const char*> keys) {
+  for (const char* k : keys)
+    if (const Entry* e = d.find(k); e && e->items().size() == 1 && e->items()[0].kind == Item::Kind::list)
+      return static_cast<int>(e->items()[0].list.size());
+  return 0;
+}
+
 Vec3 read_direction(const ParamReader& r, const char* key, const SolverContext& ctx, Vec3 def) {
   Vec3 v = r.has(key) ? read_point(r, key, ctx) : def;
   const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(len > 0) || !std::isfinite(len))
-    throw InputError(where_of(r, key), std::string(key) + ": expected a non-zero direction (it is normalised), found " +
-                                           (r.has(key) ? r.entry(key).value_string() : std::string("zero")));
+    throw InputError(where_of(r, key), zero_direction(key, r.has(key) ? r.entry(key).value_string() : "zero"));
   for (auto& c : v) c /= len;
   return v;
 }

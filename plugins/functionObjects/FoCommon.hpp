@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,15 @@ bool selected(const std::vector<std::string>& selection, const BodySnapshot& b);
 /// A unit vector from the optional vector entry `key` (dimension components), or `def`.
 /// InputError when the entry is the zero vector.
 Vec3 read_direction(const ParamReader& r, const char* key, const SolverContext& ctx, Vec3 def);
+/// The message for a zero direction `key` (`found`: the entry as written).
+std::string zero_direction(const std::string& key, const std::string& found);
+/// Whether the vector entry `key` of `d` is present and all zeros (for the specs'
+/// whole-dictionary checks).
+bool zero_vector(const Dictionary& d, const char* key);
+/// The number of components of the first present vector entry among `keys` (validated
+/// to one per dimension), 0 when none is present: the case's dimension as a spec's
+/// check can know it.
+int given_dimension(const Dictionary& d, std::initializer_list<const char*> keys);
 /// A point from the optional vector entry `key`, or the origin.
 Vec3 read_point(const ParamReader& r, const char* key, const SolverContext& ctx);
 /// "Up": -gravity normalised, or +y (2D) / +z (3D) without gravity.

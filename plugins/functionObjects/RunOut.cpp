@@ -32,6 +32,10 @@ std::string axis_label(const Vec3& d) {
   return "";
 }
 
+std::string not_with_radial(const char* key) {
+  return std::string(key) + ": not with radial (radial mode measures from radial's centre, along its axis)";
+}
+
 /// The parameters of `radial { }` (declared once, read with a ParamReader on the sub-dictionary).
 std::shared_ptr<const ParamSpec> radial_spec() {
   static const auto spec = [] {
@@ -53,6 +57,99 @@ std::shared_ptr<const ParamSpec> radial_spec() {
     return s;
   }();
   return spec;
+}
+
+/// The unit sector directions of `radial { directions (...); }`: each of `dim` numbers,
+/// projected on the plane normal to `axis` (a unit vector) and normalised; an element that
+/// is not `dim` numbers, is zero or parallel to the axis, or repeats one before is an
+/// error appended to `errors`. axis null: not known yet (the spec's check, where the
+/// default axis, from gravity, is not known): only the count and the repeats of the
+/// directions as given are checked. Used by the spec's check (scree --check, before any
+/// plugin exists) and by the constructor: one rule, one message.
+std::vector<Vec3> sector_directions(const Dictionary& radial, int dim, const Vec3* axis,
+                                    std::vector<InputError>& errors) {
+  std::vector<Vec3> out;
+  const Entry* de = radial.find("directions");
+  if (!de) return out;
+  const std::string form = dim == 3 ? "((1 0 0) (0 0 1))" : "((1 0) (-1 0))";
+  if (de->items().size() != 1 || de->items()[0].kind != Item::Kind::list || de->items()[0].list.empty()) {
+    errors.emplace_back(de->where(), "radial.directions: expected a non-empty list of directions, e.g. " + form);
+    return out;
+  }
+  const Item& list = de->items()[0];
+  std::vector<Vec3> given;
+  for (std::size_t i = 0; i < list.list.size(); ++i) {
+    const Item& it = list.list[i];
+    const SourceLocation at = it.where.file ? it.where : de->where();
+    const std::string which = "radial.directions: element " + std::to_string(i + 1) + " ";
+    bool ok = it.kind == Item::Kind::list && static_cast<int>(it.list.size()) == dim;
+    Vec3 v{0, 0, 0};
+    for (int k = 0; ok && k < dim; ++k) {
+      ok = it.list[k].kind == Item::Kind::number && std::isfinite(it.list[k].number);
+      if (ok) v[k] = it.list[k].number;
+    }
+    if (!ok) {
+      errors.emplace_back(at, which + "must be a direction of " + std::to_string(dim) + " numbers, e.g. " + form +
+                                  ", found " + it.to_string());
+      continue;
+    }
+    if (axis) {
+      const double along = v[0] * (*axis)[0] + v[1] * (*axis)[1] + v[2] * (*axis)[2];
+      for (int k = 0; k < 3; ++k) v[k] -= along * (*axis)[k];  // onto the plane normal to the axis
+      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (!(len > 1e-9 * (std::fabs(along) + 1))) {
+        errors.emplace_back(at, which + it.to_string() +
+                                    " is zero or parallel to the axis; expected a direction with a component normal "
+                                    "to the axis");
+        continue;
+      }
+      for (auto& c : v) c /= len;
+    } else {
+      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (!(len > 0)) {
+        errors.emplace_back(at, which + it.to_string() + " is zero; expected a direction with a component normal "
+                                                         "to the axis");
+        continue;
+      }
+      for (auto& c : v) c /= len;
+    }
+    for (const auto& u : out)
+      if (std::fabs(u[0] - v[0]) + std::fabs(u[1] - v[1]) + std::fabs(u[2] - v[2]) < 1e-9) {
+        errors.emplace_back(at, which + it.to_string() + " repeats an earlier direction");
+        break;
+      }
+    out.push_back(v);
+  }
+  return out;
+}
+
+/// The whole-dictionary rules of runOut that need no case (run by the validation, so
+/// scree --check reports them before any plugin is built); the constructor applies the
+/// same ones (read_direction, sector_directions) with the case's gravity.
+void check_runout(const Dictionary& d, std::vector<InputError>& errors) {
+  for (const char* k : {"direction", "up"})
+    if (zero_vector(d, k))
+      errors.emplace_back(d.find(k)->where(), zero_direction(k, d.find(k)->value_string()));
+  const Entry* re = d.find("radial");
+  if (!re || !re->is_dict()) return;
+  for (const char* k : {"direction", "origin", "up"})
+    if (d.has(k)) errors.emplace_back(d.find(k)->where(), not_with_radial(k));
+  const Dictionary& rd = re->dict();
+  const Entry* centre = rd.find("centre");
+  if (!centre || centre->items().size() != 1) return;
+  const int dim = static_cast<int>(centre->items()[0].list.size());  // validated: one per dimension
+  if (zero_vector(rd, "axis"))
+    errors.emplace_back(rd.find("axis")->where(), zero_direction("axis", rd.find("axis")->value_string()));
+  Vec3 axis{0, 0, 0};
+  const bool given = rd.has("axis") && !zero_vector(rd, "axis");
+  if (given) {
+    const auto v = rd.find("axis")->as_scalar_list();
+    double len = 0;
+    for (std::size_t k = 0; k < v.size() && k < 3; ++k) len += v[k] * v[k];
+    len = std::sqrt(len);
+    for (std::size_t k = 0; k < v.size() && k < 3; ++k) axis[k] = v[k] / len;
+  }
+  sector_directions(rd, dim, given ? &axis : nullptr, errors);
 }
 
 }  // namespace
@@ -81,6 +178,7 @@ ParamSpec RunOut::spec() {
                 "(a b): measure the height only over particles whose distance along direction from origin is "
                 "in [a, b] (radial: the distance from the axis; default: all particles)")
       .optional();
+  s.check(check_runout);
   s.dict("radial",
          "radial mode: the run-out is the distance from the axis through centre (the height along the axis from "
          "centre), with optional fronts in sectors around given directions; not with direction, origin, up")
@@ -100,50 +198,16 @@ RunOut::RunOut(const ParamReader& r, const SolverContext& ctx)
       height_quantile_(r.scalar("heightQuantile")) {
   if (r.has("radial")) {
     for (const char* k : {"direction", "origin", "up"})
-      if (r.has(k))
-        throw InputError(where_of(r, k), std::string(k) +
-                                             ": not with radial (radial mode measures from radial's centre, along "
-                                             "its axis)");
+      if (r.has(k)) throw InputError(where_of(r, k), not_with_radial(k));
     const Dictionary& d = r.dict().sub("radial");
     ParamReader rr(*radial_spec(), d);
     radial_ = true;
     centre_ = read_point(rr, "centre", ctx);
     axis_ = read_direction(rr, "axis", ctx, default_up(ctx));
     sector_cos_ = std::cos(rr.scalar("sectorHalfAngle") * M_PI / 180.0);
-    if (rr.has("directions")) {
-      const Entry& de = rr.entry("directions");
-      const Item& list = de.single_item();
-      const int dim = dimension_ == 3 ? 3 : 2;
-      const std::string form = dim == 3 ? "((1 0 0) (0 0 1))" : "((1 0) (-1 0))";
-      if (list.kind != Item::Kind::list || list.list.empty())
-        throw InputError(de.where(), "radial.directions: expected a non-empty list of directions, e.g. " + form);
-      for (std::size_t i = 0; i < list.list.size(); ++i) {
-        const Item& it = list.list[i];
-        const SourceLocation at = it.where.file ? it.where : de.where();
-        bool ok = it.kind == Item::Kind::list && static_cast<int>(it.list.size()) == dim;
-        Vec3 v{0, 0, 0};
-        for (int k = 0; ok && k < dim; ++k) {
-          ok = it.list[k].kind == Item::Kind::number && std::isfinite(it.list[k].number);
-          if (ok) v[k] = it.list[k].number;
-        }
-        if (!ok)
-          throw InputError(at, "radial.directions: element " + std::to_string(i + 1) + " must be a direction of " +
-                                   std::to_string(dim) + " numbers, e.g. " + form + ", found " + it.to_string());
-        const double along = v[0] * axis_[0] + v[1] * axis_[1] + v[2] * axis_[2];
-        for (int k = 0; k < 3; ++k) v[k] -= along * axis_[k];  // onto the plane normal to the axis
-        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        if (!(len > 1e-9 * (std::fabs(along) + 1)))
-          throw InputError(at, "radial.directions: element " + std::to_string(i + 1) + " " + it.to_string() +
-                                   " is zero or parallel to the axis; expected a direction with a component "
-                                   "normal to the axis");
-        for (auto& c : v) c /= len;
-        for (const auto& u : sector_dirs_)
-          if (std::fabs(u[0] - v[0]) + std::fabs(u[1] - v[1]) + std::fabs(u[2] - v[2]) < 1e-9)
-            throw InputError(at, "radial.directions: element " + std::to_string(i + 1) + " " + it.to_string() +
-                                     " repeats an earlier direction");
-        sector_dirs_.push_back(v);
-      }
-    }
+    std::vector<InputError> errors;
+    sector_dirs_ = sector_directions(d, dimension_ == 3 ? 3 : 2, &axis_, errors);
+    if (!errors.empty()) throw errors.front();
   }
   if (r.has("heightWindow")) {
     const auto w = r.scalars("heightWindow");

@@ -15,6 +15,41 @@ namespace fs = std::filesystem;
 
 namespace scree::fo {
 
+namespace {
+
+const char* const kWidthOnlySection =
+    "width: only for a 3D section (a 3D case with direction); without direction a 3D case gives a height field, "
+    "which counts every particle, and in 2D every particle counts";
+const char* const kRangeProfile = "range: expected (a b) with a < b [m] (distances from origin along direction)";
+const char* const kRangeField =
+    "range: expected (a1 b1 a2 b2) with a1 < b1, a2 < b2 [m] (a 3D height field: distances from origin along its "
+    "two horizontal axes)";
+
+/// Whether `range` (v) fits: a height field needs (a1 b1 a2 b2), a profile (a b).
+bool range_fits(const std::vector<double>& v, bool field) {
+  return field ? v.size() == 4 && v[0] < v[1] && v[2] < v[3] : v.size() == 2 && v[0] < v[1];
+}
+
+/// The rules of surfaceProfile that need no case (run by the validation, so scree --check
+/// reports them before any plugin is built); the constructor applies the same ones with
+/// the case's dimension. The dimension is known here only from a vector given.
+void check_surface(const Dictionary& d, std::vector<InputError>& errors) {
+  for (const char* k : {"direction", "up"})
+    if (zero_vector(d, k)) errors.emplace_back(d.find(k)->where(), zero_direction(k, d.find(k)->value_string()));
+  const int dim = given_dimension(d, {"direction", "origin", "up"});
+  const bool section = d.has("direction");
+  if (const Entry* w = d.find("width"); w && (!section || dim == 2)) errors.emplace_back(w->where(), kWidthOnlySection);
+  if (const Entry* r = d.find("range"); r && (section || dim != 0)) {
+    const bool field = dim == 3 && !section;
+    std::vector<double> v;
+    for (const Item& x : r->items().size() == 1 ? r->items()[0].list : std::vector<Item>{})
+      v.push_back(x.kind == Item::Kind::number ? x.number : std::nan(""));
+    if (!range_fits(v, field)) errors.emplace_back(r->where(), field ? kRangeField : kRangeProfile);
+  }
+}
+
+}  // namespace
+
 ParamSpec SurfaceProfile::spec() {
   ParamSpec s(type_name,
               "free surface of the selected bodies: a profile (highest particle per bin along a direction; 2D, or "
@@ -42,6 +77,7 @@ ParamSpec SurfaceProfile::spec() {
            "direction (default: all particles)")
       .positive()
       .optional();
+  s.check(check_surface);
   return s;
 }
 
@@ -74,12 +110,7 @@ SurfaceProfile::SurfaceProfile(const ParamReader& r, const SolverContext& ctx)
   const bool three_d = ctx.dimension == 3;
   field_ = three_d && !r.has("direction");
   if (r.has("width")) {
-    if (!three_d || field_)
-      throw InputError(where_of(r, "width"),
-                       "width: only for a 3D section (a 3D case with direction); " +
-                           std::string(three_d ? "without direction this is a height field, which counts every "
-                                                 "particle"
-                                               : "in 2D every particle counts"));
+    if (!three_d || field_) throw InputError(where_of(r, "width"), kWidthOnlySection);
     // The band around the vertical plane holding direction: distances along direction x up.
     const Vec3& d = direction_;
     const Vec3 n{d[1] * up_[2] - d[2] * up_[1], d[2] * up_[0] - d[0] * up_[2], d[0] * up_[1] - d[1] * up_[0]};
@@ -107,12 +138,7 @@ SurfaceProfile::SurfaceProfile(const ParamReader& r, const SolverContext& ctx)
   }
   if (r.has("range")) {
     const auto v = r.scalars("range");
-    const bool ok = field_ ? v.size() == 4 && v[0] < v[1] && v[2] < v[3] : v.size() == 2 && v[0] < v[1];
-    if (!ok)
-      throw InputError(where_of(r, "range"), field_ ? "range: expected (a1 b1 a2 b2) with a1 < b1, a2 < b2 [m] (a "
-                                                      "height field: distances from origin along " +
-                                                          name_a_ + " and " + name_b_ + ")"
-                                                    : "range: expected (a b) with a < b [m]");
+    if (!range_fits(v, field_)) throw InputError(where_of(r, "range"), field_ ? kRangeField : kRangeProfile);
     fixed_range_ = true;
     lo_ = v[0];
     hi_ = v[1];

@@ -243,6 +243,17 @@ TEST(RunOut3D, InputErrorsNameFileLineAndKey) {
   EXPECT_NE(m.find("centre"), std::string::npos) << m;
   EXPECT_NE(m.find("sectorHalfAngle"), std::string::npos) << m;
   EXPECT_EQ(validation_errors("runOut", "radial { centre (1 2 3); directions ((1 0 0)); }", 3), "");
+  // The rules that need no case are also the spec's (scree --check reports them before
+  // any plugin is built), with the constructor's messages.
+  m = validation_errors("runOut", "radial { centre (0 0 0);\n directions ((1 0) (0 1 0)); }", 3);
+  EXPECT_NE(m.find("system/controlDict:2:"), std::string::npos) << m;
+  EXPECT_NE(m.find("radial.directions: element 1 must be a direction of 3 numbers"), std::string::npos) << m;
+  m = validation_errors("runOut", "direction (0 0 0);", 3);
+  EXPECT_NE(m.find("direction: expected a non-zero direction"), std::string::npos) << m;
+  m = validation_errors("runOut", "radial { centre (0 0 0); axis (0 0 1); directions ((0 0 2)); }", 3);
+  EXPECT_NE(m.find("parallel to the axis"), std::string::npos) << m;
+  m = validation_errors("runOut", "up (0 0 1); radial { centre (0 0 0); }", 3);
+  EXPECT_NE(m.find("up: not with radial"), std::string::npos) << m;
 }
 
 // ------------------------------------------------------------------ surfaceProfile
@@ -313,6 +324,16 @@ TEST(SurfaceProfile3D, InputErrors) {
   EXPECT_NE(m.find("range: expected (a1 b1 a2 b2)"), std::string::npos) << m;
   m = input_error("surfaceProfile", "direction (0 0 1); width 0.1;", make_context(dir.path(), "v", 3));
   EXPECT_NE(m.find("direction: parallel to up"), std::string::npos) << m;
+  // The same rules in the spec's check (scree --check), where a vector given tells the
+  // dimension.
+  EXPECT_NE(validation_errors("surfaceProfile", "width 0.1;", 3).find("width: only for a 3D section"),
+            std::string::npos);
+  EXPECT_NE(validation_errors("surfaceProfile", "direction (1 0);\nwidth 0.1;", 2).find("system/controlDict:2:"),
+            std::string::npos);
+  m = validation_errors("surfaceProfile", "origin (0 0 0); range (0 1);", 3);
+  EXPECT_NE(m.find("range: expected (a1 b1 a2 b2)"), std::string::npos) << m;
+  EXPECT_EQ(validation_errors("surfaceProfile", "origin (0 0 0); range (0 1 0 1);", 3), "");
+  EXPECT_EQ(validation_errors("surfaceProfile", "direction (1 0 0); width 0.1; range (0 1);", 3), "");
 }
 
 // ------------------------------------------------------------------ particleProbes
