@@ -167,6 +167,33 @@ void ensure_writable_dir(const fs::path& dir, const std::string& who) {
                              " is not writable: " + std::system_category().message(errno));
 }
 
+void check_writable_dir(const fs::path& dir, const std::string& who) {
+  std::error_code ec;
+  fs::path p = dir;
+  while (!p.empty() && !fs::exists(p, ec) && p.has_relative_path() && p != p.parent_path()) p = p.parent_path();
+  if (p.empty()) p = ".";
+  if (!fs::is_directory(p, ec))
+    throw std::runtime_error(who + ": cannot create the output directory " + dir.string() + ": " + p.string() +
+                             " is not a directory");
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
+    throw std::runtime_error(who + ": the output directory " + dir.string() + " cannot be made or written: " +
+                             p.string() + ": " + std::system_category().message(errno));
+}
+
+void prepare_time_files(const fs::path& dir, const std::string& who, double start_time, const std::string& also) {
+  ensure_writable_dir(dir, who);
+  if (start_time > 0) return;  // a restart keeps them
+  std::error_code ec;
+  if (!also.empty()) fs::remove(dir / also, ec);
+  for (const auto& de : fs::directory_iterator(dir, ec)) {
+    if (de.path().extension() != ".csv") continue;
+    const std::string stem = de.path().stem().string();
+    char* end = nullptr;
+    std::strtod(stem.c_str(), &end);
+    if (!stem.empty() && end == stem.c_str() + stem.size()) fs::remove(de.path(), ec);
+  }
+}
+
 SourceLocation where_of(const ParamReader& r, const char* key) {
   if (const Entry* e = r.dict().find(key)) return e->where();
   return r.dict().where();
@@ -202,10 +229,30 @@ Vec3 read_point(const ParamReader& r, const char* key, const SolverContext& ctx)
   return p;
 }
 
+std::string zero_direction(const std::string& key, const std::string& found) {
+  return key + ": expected a non-zero direction (it is normalised), found " + found;
+}
+
+bool zero_vector(const Dictionary& d, const char* key) {
+  const Entry* e = d.find(key);
+  if (!e || e->items().size() != 1 || e->items()[0].kind != Item::Kind::list) return false;
+  for (const Item& x : e->items()[0].list)
+    if (x.kind != Item::Kind::number || x.number != 0) return false;
+  return true;
+}
+
+int given_dimension(const Dictionary& d, std::initializer_list<const char*> keys) {
+  for (const char* k : keys)
+    if (const Entry* e = d.find(k); e && e->items().size() == 1 && e->items()[0].kind == Item::Kind::list)
+      return static_cast<int>(e->items()[0].list.size());
+  return 0;
+}
+
 Vec3 read_direction(const ParamReader& r, const char* key, const SolverContext& ctx, Vec3 def) {
   Vec3 v = r.has(key) ? read_point(r, key, ctx) : def;
   const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (!(len > 0) || !std::isfinite(len)) throw InputError(where_of(r, key), std::string(key) + ": must not be zero");
+  if (!(len > 0) || !std::isfinite(len))
+    throw InputError(where_of(r, key), zero_direction(key, r.has(key) ? r.entry(key).value_string() : "zero"));
   for (auto& c : v) c /= len;
   return v;
 }

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,17 @@ class CsvFile {
 /// Create `dir` (and parents) and check that it is writable; throws std::runtime_error
 /// naming `who` and the directory otherwise.
 void ensure_writable_dir(const std::filesystem::path& dir, const std::string& who);
+/// The same check without creating anything (constructors: a plugin constructed after
+/// this one may still stop the run on a user error, which must leave the case as it
+/// was): `dir` is a writable directory, or its nearest existing ancestor is. Throws
+/// std::runtime_error naming `who` and the directory otherwise. The directory and the
+/// files are made at the first execution (ensure_writable_dir).
+void check_writable_dir(const std::filesystem::path& dir, const std::string& who);
+/// At the first execution of a function object writing one file per time: create `dir`
+/// (ensure_writable_dir) and, for a fresh run (start_time <= 0), remove the files of an
+/// earlier run there: those named <number>.csv and `also` (if given).
+void prepare_time_files(const std::filesystem::path& dir, const std::string& who, double start_time,
+                        const std::string& also = "");
 
 /// Location of `key` in a plugin dictionary (the dictionary itself when defaulted).
 SourceLocation where_of(const ParamReader& r, const char* key);
@@ -75,6 +87,15 @@ bool selected(const std::vector<std::string>& selection, const BodySnapshot& b);
 /// A unit vector from the optional vector entry `key` (dimension components), or `def`.
 /// InputError when the entry is the zero vector.
 Vec3 read_direction(const ParamReader& r, const char* key, const SolverContext& ctx, Vec3 def);
+/// The message for a zero direction `key` (`found`: the entry as written).
+std::string zero_direction(const std::string& key, const std::string& found);
+/// Whether the vector entry `key` of `d` is present and all zeros (for the specs'
+/// whole-dictionary checks).
+bool zero_vector(const Dictionary& d, const char* key);
+/// The number of components of the first present vector entry among `keys` (validated
+/// to one per dimension), 0 when none is present: the case's dimension as a spec's
+/// check can know it.
+int given_dimension(const Dictionary& d, std::initializer_list<const char*> keys);
 /// A point from the optional vector entry `key`, or the origin.
 Vec3 read_point(const ParamReader& r, const char* key, const SolverContext& ctx);
 /// "Up": -gravity normalised, or +y (2D) / +z (3D) without gravity.

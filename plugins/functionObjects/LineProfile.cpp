@@ -93,20 +93,9 @@ LineProfile::LineProfile(const ParamReader& r, const SolverContext& ctx)
   for (const auto& f : fw)
     if (f != "all" && std::find(fields_.begin(), fields_.end(), f) == fields_.end()) fields_.push_back(f);
 
-  ensure_writable_dir(dir_, who_);
-  if (start_time_ <= 0) {
-    // A fresh run: remove the profiles of an earlier run (files named <number>.csv, and
-    // the long-format file, rewritten from the first execution on).
-    std::error_code ec;
-    fs::remove(dir_ / "lineProfile.csv", ec);
-    for (const auto& de : fs::directory_iterator(dir_, ec)) {
-      if (de.path().extension() != ".csv") continue;
-      const std::string stem = de.path().stem().string();
-      char* e = nullptr;
-      std::strtod(stem.c_str(), &e);
-      if (!stem.empty() && e == stem.c_str() + stem.size()) fs::remove(de.path(), ec);
-    }
-  }
+  // The directory is made, and a fresh run's old profiles (<number>.csv and the
+  // long-format file) removed, at the first execution.
+  check_writable_dir(dir_, who_);
 }
 
 void LineProfile::decide_columns(const Snapshot& s) {
@@ -216,6 +205,10 @@ void LineProfile::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   const Profile prof = evaluate(s);
   last_step_ = s.step;
+  if (!prepared_) {
+    prepare_time_files(dir_, who_, start_time_, "lineProfile.csv");
+    prepared_ = true;
+  }
   auto cells = [&](std::size_t k) {
     std::vector<std::string> row = {csv_number(prof.distance[k])};
     for (int d = 0; d < dimension_; ++d) row.push_back(csv_number(prof.position[k][d]));

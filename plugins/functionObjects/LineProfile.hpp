@@ -76,6 +76,7 @@ class LineProfile final : public FunctionObject {
   std::vector<Column> columns_;
   bool long_format_ = false;
   CsvFile long_csv_;
+  bool prepared_ = false;  ///< the directory made (first execution)
   std::int64_t last_step_ = -1;
 };
 

@@ -83,7 +83,7 @@ ParticleProbes::ParticleProbes(const ParamReader& r, const SolverContext& ctx)
   }
   const auto fw = r.words("fields");
   all_fields_ = fw.empty() || std::find(fw.begin(), fw.end(), "all") != fw.end();
-  ensure_writable_dir(dir_, who_);
+  check_writable_dir(dir_, who_);  // made at the first execution
 }
 
 std::vector<std::int64_t> ParticleProbes::tracked_ids() const {
@@ -213,6 +213,7 @@ void ParticleProbes::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
   if (!picked_) {
+    ensure_writable_dir(dir_, who_);
     if (!(start_time_ > 0 && load_selection())) {
       pick(s);
       save_selection(s);

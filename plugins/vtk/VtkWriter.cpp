@@ -224,19 +224,25 @@ VtkWriter::VtkWriter(const ParamReader& r, const SolverContext& ctx)
     }
   }
 
-  // The output directory: created now, so that an unwritable place fails before the run.
+  // The output directory: checked now, so that an unwritable place fails before the run,
+  // and made at the first write, so that a user error found in a plugin constructed
+  // after this one leaves the case as it was. Checked: the directory, or its nearest
+  // existing ancestor, is a writable directory.
   const std::string dir_text = r.word("directory");
   if (dir_text.empty()) throw InputError(where_of(r, "directory"), "directory: must not be empty");
   dir_ = ctx.case_dir / dir_text;
   std::error_code ec;
-  fs::create_directories(dir_, ec);
-  if (ec || !fs::is_directory(dir_))
+  fs::path p = dir_;
+  while (!p.empty() && !fs::exists(p, ec) && p.has_relative_path() && p != p.parent_path()) p = p.parent_path();
+  if (p.empty()) p = ".";
+  if (!fs::is_directory(p, ec))
     throw InputError(where_of(r, "directory"), "cannot create the output directory " + dir_.string() + ": " +
-                                                   (ec ? ec.message() : "a file of that name exists"));
-  if (::access(dir_.c_str(), W_OK | X_OK) != 0)
+                                                   p.string() + " is a file, not a directory");
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
     throw InputError(where_of(r, "directory"),
-                     "the output directory " + dir_.string() + " is not writable: " +
+                     "the output directory " + dir_.string() + " cannot be made or written: " + p.string() + ": " +
                          std::system_category().message(errno));
+  where_ = where_of(r, "directory");
 }
 
 VtkWriter::~VtkWriter() = default;
@@ -248,6 +254,11 @@ bool VtkWriter::body_selected(const BodySnapshot& b) const {
 // ------------------------------------------------------------------ the series
 
 void VtkWriter::start_series() {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec || !fs::is_directory(dir_))
+    throw InputError(where_, "cannot create the output directory " + dir_.string() + ": " +
+                                 (ec ? ec.message() : "a file of that name exists"));
   particles_ = PvdSeries(dir_ / (name_ + ".pvd"));
   grid_series_ = PvdSeries(dir_ / (name_ + "_grid.pvd"));
   const std::string vtp_prefix = name_ + "_", grid_prefix = name_ + "_grid_";
@@ -274,7 +285,7 @@ void VtkWriter::start_series() {
   std::set<std::string> listed;
   for (const auto& e : particles_.entries()) listed.insert(e.file);
   for (const auto& e : grid_series_.entries()) listed.insert(e.file);
-  std::error_code ec;
+  ec.clear();
   for (const auto& de : fs::directory_iterator(dir_, ec)) {
     std::string f = de.path().filename().string();
     bool temporary = false;

@@ -59,7 +59,8 @@ class VtkWriter final : public Writer {
   bool body_selected(const BodySnapshot& b) const;
 
   std::string name_;            // the writer's name in controlDict (file prefix)
-  std::filesystem::path dir_;   // output directory (absolute or relative to the cwd)
+  std::filesystem::path dir_;   // output directory (absolute or relative to the cwd); made at the first write
+  SourceLocation where_;        // of the `directory` entry (messages at the first write)
   double start_time_ = 0;
   bool all_fields_ = true;
   std::vector<std::string> requested_fields_;

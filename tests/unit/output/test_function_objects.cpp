@@ -129,7 +129,9 @@ TEST(RunOut, RestartKeepsEarlierRowsFreshRunReplaces) {
   EXPECT_NEAR(c.num(2, "time [s]"), 0.15, kTol);
   {
     auto f = make_function("runOut", "", make_context(dir.path(), "front"));
-    EXPECT_EQ(read_csv(file).rows.size(), 0u);  // header only, already on disk
+    // Nothing written before the first execution (a user error in a plugin constructed
+    // later must leave the case as it was); then the file is replaced.
+    EXPECT_EQ(read_csv(file).rows.size(), 3u);
     f->execute(layout(0, 0));
     EXPECT_EQ(read_csv(file).rows.size(), 1u);  // flushed at once
   }
@@ -139,7 +141,19 @@ TEST(RunOut, InputErrors) {
   TempDir dir;
   auto ctx = make_context(dir.path(), "e");
   EXPECT_THROW(make_function("runOut", "heightWindow (1 0);", ctx), scree::InputError);
-  EXPECT_THROW(make_function("runOut", "direction (0 0);", ctx), scree::InputError);
+  {
+    // A zero direction: reported by the spec's validation (scree --check, located) and by
+    // the constructor.
+    auto d = scree::Dictionary::parse("type runOut; direction (0 0);", "test");
+    const auto& e = runtime().registry().get(scree::PluginKind::functionObject, "runOut", {});
+    std::vector<scree::InputError> errors;
+    scree::validate(*e.spec, d, errors, 2);
+    ASSERT_EQ(errors.size(), 1u);
+    EXPECT_NE(std::string(errors[0].what()).find("test:1:14: direction: expected a non-zero direction"),
+              std::string::npos)
+        << errors[0].what();
+    EXPECT_THROW(e.function_object(d, ctx), scree::InputError);
+  }
   try {
     make_function("runOut", "bodies (rigt);", ctx);
     ADD_FAILURE() << "expected an InputError";
