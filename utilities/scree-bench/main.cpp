@@ -142,6 +142,7 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   if (variant == "split") k.split = scree::StressSplit::on;
   if (variant == "unsplit") k.split = scree::StressSplit::off;
   if (variant.rfind("speed-every-", 0) == 0) k.speed_every = std::stoi(variant.substr(12));
+  if (variant == "no-health") k.health_checks = false;
   if (variant == "elastic-uncapped") {
     k.split = scree::StressSplit::on;
     k.elastic_blocks_per_sm = 0;
@@ -440,7 +441,8 @@ int main(int argc, char** argv) {
       "comma-separated kernel variants: fast, reference (the straightforward kernels), uncapped (CUDA: no register "
       "cap on the 2D stress kernel), split / unsplit (the stress pass always / never split in an elastic-only kernel and one for the rest; "
       "fast chooses by timing both), elastic-uncapped (CUDA: always split, no register cap on the elastic-only kernel), speed-every-N (a fixed step's "
-      "signal speed, for the stopCo check, every N steps: KernelPolicy::speed_every)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
+      "signal speed, for the stopCo check, every N steps: KernelPolicy::speed_every), no-health (the kernels' health checks off, "
+      "to measure their cost: KernelPolicy::health_checks)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
       "cpu-steps", po::value<long long>()->default_value(50), "timed steps on the CPU")(
       "max-particles", po::value<long long>()->default_value(10000000), "largest scaling size")(
       "materials", po::value<std::string>()->default_value("linearElastic,phaseTransition"),

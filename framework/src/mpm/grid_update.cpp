@@ -71,7 +71,7 @@ struct GridUpdate {
       for (int d = 0; d < D; ++d) {
         const Real vk = g.velocity[d][I];
         Real f = g.force[d][I];
-        probe += vk + f;
+        if (p.health) probe += vk + f;
         v_free[d] = accelerate ? vk + dt * f * rm : vk;  // without damping (the ledger's reference)
         if (damp) f = damped_force(f, vk, p.damping);
         v[d] = accelerate ? vk + dt * f * rm : vk;

@@ -131,7 +131,7 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.serial = exec_.device == Device::cpu && exec_.threads == 1;
   pp.reference = policy_.reference;
   // The signal speed: for the adaptive step, and for the health check of a fixed one (stopCo).
-  pp.need_speed = time_.adaptive() || policy_.reference || host_ctl_.stop_co > 0;
+  pp.need_speed = time_.adaptive() || policy_.reference || (host_ctl_.stop_co > 0 && policy_.health_checks);
   // A fixed step wants the speed for the stopCo check alone: sampled (PassParams::speed_mask).
   pp.speed_mask = time_.adaptive() || policy_.reference ? 0u : static_cast<unsigned>(policy_.speed_every - 1);
   pp.tile_stamps = policy_.sparse() ? tile_stamps_[scatter_set].data() : nullptr;
@@ -168,6 +168,7 @@ GridUpdateParams<D> Solver<D>::grid_params(unsigned modes, int set) const {
   gp.damping_end = damping.end_time;
   gp.energy = energy_ledger_;
   gp.energy_walls = energy_ledger_ && (settings_.schemes.update_scheme == UpdateScheme::MUSL || porous_);
+  gp.health = policy_.health_checks;
   if (policy_.sparse()) {
     gp.cur_stamps = tile_stamps_[set].data();
     gp.other_stamps = tile_stamps_[1 - set].data();

@@ -17,6 +17,9 @@
 //   speedEvery    fixed step: the signal speed (the stopCo health check's only use of it)
 //                 measured every this many steps; the adaptive step measures it every step
 //   sortInterval  is a case setting (system/mpmSchemes); the reference kernels never sort
+//   healthChecks  the grid update's non-finite probe and the fixed step's stopCo speed
+//                 samples (on; off only to measure what they cost: scree-bench --kernels
+//                 no-health. A run without them does not stop on a blow-up)
 //
 // A register cap is a compile-time launch bound, so only the values a kernel was compiled
 // for exist: check() rejects any other (an unsupported cap used to run uncapped, silently).
@@ -51,6 +54,9 @@ struct KernelPolicy {
   /// block, whose wave speed is the dearest, 4.9% slower than no check (performance log,
   /// entries 27 and 29).
   int speed_every = 64;
+  /// The health checks the kernels carry (see the top of this file): the grid update's
+  /// probe of the nodal velocity and force, and the stopCo speed samples of a fixed step.
+  bool health_checks = true;
 
   /// The straightforward kernels (see the top of this file).
   static KernelPolicy reference_kernels() {

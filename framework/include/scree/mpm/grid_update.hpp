@@ -61,6 +61,9 @@ struct GridUpdateParams {
   /// With `energy`: whether the walls' share is measured here (MUSL) or on the points
   /// (USF, USL: PassParams::wall_ledger).
   bool energy_walls = false;
+  /// Probe the nodal velocity and force for non-finite values (report_nonfinite_node):
+  /// KernelPolicy::health_checks; off only to measure the probe's cost.
+  bool health = true;
 };
 
 /// Run the grid update on `ex`'s backend (defined in the core, instantiated for D = 2, 3).
