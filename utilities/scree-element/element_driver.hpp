@@ -10,12 +10,18 @@
 //                          time). Otherwise mixed control falls back to an elastic-stiffness
 //                          feedback without iterations, and says so on stderr.
 //
-// Loading programs (all in the x-y plane, y vertical, z out of plane):
+// Loading programs (y vertical/axial, x-y the shear plane, z out of plane; the material sees the
+// full 3D tensor in all of them: the triaxial ones are 3D states, the others plane strain):
 //   undrainedSimpleShear  constant volume: L = [[0, gamma_dot, 0], 0, 0]  (deps_xy = gamma_dot dt/2,
 //                         spin W_xy = gamma_dot dt/2 unless spin is off)
 //   drainedSimpleShear    the same with the vertical stress held (unknown eps_yy, Newton)
 //   drainedTriaxial       axial (y) strain rate prescribed; lateral (x, z) strains unknown with
 //                         constant cell pressure or constant mean stress (Newton)
+//   drainedTrueTriaxial   3D: axial (y) strain rate prescribed; lateral (x, z) strains unknown with
+//                         constant mean stress and constant b = (sigma_2 - sigma_3)/(sigma_1 - sigma_3)
+//                         (sigma_1 = sigma_yy, sigma_2 = sigma_zz, sigma_3 = sigma_xx, compression
+//                         positive): b = 0 triaxial compression, b = 1 triaxial extension, between
+//                         them a fixed intermediate Lode angle (Newton)
 //   undrainedTriaxial     isochoric: eps_xx = eps_zz = -eps_yy/2
 //   isotropicCompression  eps_xx = eps_yy = eps_zz
 // The rate history is piecewise linear in time (segments of constant rate or constant
@@ -119,7 +125,14 @@ using ErasedElementPoint = ErasedElementPointT<>;
 
 // ---------------------------------------------------------------- the loading program
 
-enum class Loading { undrainedSimpleShear, drainedSimpleShear, drainedTriaxial, undrainedTriaxial, isotropicCompression };
+enum class Loading {
+  undrainedSimpleShear,
+  drainedSimpleShear,
+  drainedTriaxial,
+  undrainedTriaxial,
+  isotropicCompression,
+  drainedTrueTriaxial
+};
 enum class TriaxialControl { constantCellPressure, constantMeanStress };
 
 inline const char* to_string(Loading l) {
@@ -129,6 +142,7 @@ inline const char* to_string(Loading l) {
     case Loading::drainedTriaxial: return "drainedTriaxial";
     case Loading::undrainedTriaxial: return "undrainedTriaxial";
     case Loading::isotropicCompression: return "isotropicCompression";
+    case Loading::drainedTrueTriaxial: return "drainedTrueTriaxial";
   }
   return "?";
 }
@@ -151,6 +165,9 @@ struct Program {
   bool spin = true;             ///< simple shear: apply the spin increment (objective rotation)
   Sym3 sigma0 = Sym3::zero();   ///< initial stress, tension positive [Pa]
   Real newton_tolerance = 1e-10;  ///< relative residual of the stress conditions
+  /// drainedTrueTriaxial: b = (sigma_2 - sigma_3)/(sigma_1 - sigma_3) held, with sigma_1 = sigma_yy,
+  /// sigma_2 = sigma_zz, sigma_3 = sigma_xx (compression positive) [-], in [0, 1]
+  Real b = 0;
   int newton_max_iterations = 25;
 
   Real duration() const {
@@ -266,6 +283,7 @@ inline IncrementPlan plan(const Program& P, Real rate, Real dt) {
       }
       break;
     case Loading::drainedTriaxial:
+    case Loading::drainedTrueTriaxial:
       ip.known[1] = -rate * dt;
       ip.unknown[0] = 0;
       ip.unknown[1] = 2;
@@ -299,6 +317,13 @@ inline Eigen::VectorXd residual(const Program& P, const Sym3& s0, const Sym3& s)
         r(0) = s[0] - s[2];
         r(1) = pressure(s) - pressure(s0);
       }
+      break;
+    case Loading::drainedTrueTriaxial:
+      // p held, and (sigma_zz - sigma_xx) = b (sigma_yy - sigma_xx): linear in the stress, the
+      // same in either sign convention
+      r.resize(2);
+      r(0) = pressure(s) - pressure(s0);
+      r(1) = (s[2] - s[0]) - P.b * (s[1] - s[0]);
       break;
     default: r.resize(0);
   }
@@ -465,10 +490,22 @@ inline void write_csv_header(std::ostream& os, const ElementPoint& m, const Prog
   os << "time,shear_strain,shear_rate,loading_rate,axial_strain,volumetric_strain,sigma_v,sigma_h,tau,p,q,"
         "void_ratio,granular_temperature,sigma_v_f,tau_f,sigma_v_col,tau_col,p_f,q_f,p_col,q_col,K_col";
   for (const auto& n : extra_names) os << "," << n;
+  if (P.loading == Loading::drainedTrueTriaxial) os << ",sigma_z,sin3theta";
   os << "\n";
 }
 
-inline void write_csv_row(std::ostream& os, const Row& r) {
+/// sin(3 theta) of a stress, compression-positive convention: (3 sqrt3/2) J3(-s)/J2^{3/2}, +1 in
+/// triaxial compression, -1 in triaxial extension (the Lode angle of materials/simsand/README.md).
+inline Real lode_sin3theta(const Sym3& sigma) {
+  const Sym3 s = deviator(sigma * Real(-1));
+  const Real J2 = Real(0.5) * ddot(s, s);
+  const Real J3 = s[0] * (s[1] * s[2] - s[4] * s[4]) - s[3] * (s[3] * s[2] - s[4] * s[5]) +
+                  s[5] * (s[3] * s[4] - s[1] * s[5]);
+  return J2 > 0 ? std::clamp(Real(2.598076211353316) * J3 / (J2 * std::sqrt(J2)), Real(-1), Real(1)) : Real(0);
+}
+
+/// One row; `three_d` (drainedTrueTriaxial) adds sigma_z = -sigma_zz and sin3theta at the end.
+inline void write_csv_row(std::ostream& os, const Row& r, bool three_d = false) {
   const Sym3 sc = r.sigma - r.sigma_f;
   const Real qf = deviatoric_stress(r.sigma_f), qc = deviatoric_stress(sc);
   const Real Kcol = qf + qc > 0 ? qc / (qf + qc) : 0;
@@ -504,6 +541,12 @@ inline void write_csv_row(std::ostream& os, const Row& r) {
   for (Real x : r.extra) {
     std::snprintf(buf, sizeof buf, "%.10g", x + Real(0));
     os << "," << buf;
+  }
+  if (three_d) {
+    for (Real x : {detail::neg(r.sigma[2]), lode_sin3theta(r.sigma)}) {
+      std::snprintf(buf, sizeof buf, "%.10g", x + Real(0));
+      os << "," << buf;
+    }
   }
   os << "\n";
 }

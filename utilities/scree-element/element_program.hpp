@@ -67,7 +67,7 @@ inline std::shared_ptr<ParamSpec> loading_spec() {
   auto s = std::make_shared<ParamSpec>("loading", "the loading program");
   s->word("type", "the element test")
       .choices({"undrainedSimpleShear", "drainedSimpleShear", "drainedTriaxial", "undrainedTriaxial",
-                "isotropicCompression"});
+                "isotropicCompression", "drainedTrueTriaxial"});
   s->dict("segments", "rate history: sub-dictionaries { duration; rate; acceleration; } in file order")
       .each_entry(segment_spec());
   s->scalar("timeStep", "s", "time step of the increments").positive().optional();
@@ -81,6 +81,11 @@ inline std::shared_ptr<ParamSpec> loading_spec() {
   s->word("control", "drainedTriaxial: constantCellPressure or constantMeanStress")
       .choices({"constantCellPressure", "constantMeanStress"})
       .default_value("constantCellPressure");
+  s->scalar("b", "-",
+            "drainedTrueTriaxial: b = (sigma_2 - sigma_3)/(sigma_1 - sigma_3) held at constant p, sigma_1 = "
+            "sigma_yy (axial), sigma_2 = sigma_zz, sigma_3 = sigma_xx; 0 triaxial compression, 1 extension")
+      .range(0.0, 1.0)
+      .default_value(0.0);
   s->boolean("spin", "simple shear: co-rotate the stress with the spin W dt (objective)").default_value("yes");
   s->scalar("newtonTolerance", "-", "relative tolerance of the stress conditions (mixed control)")
       .positive()
@@ -127,6 +132,8 @@ inline Program read_program(const Dictionary& d) {
   if (t == "drainedTriaxial") P.loading = Loading::drainedTriaxial;
   if (t == "undrainedTriaxial") P.loading = Loading::undrainedTriaxial;
   if (t == "isotropicCompression") P.loading = Loading::isotropicCompression;
+  if (t == "drainedTrueTriaxial") P.loading = Loading::drainedTrueTriaxial;
+  P.b = r.scalar("b");
   P.control = r.word("control") == "constantMeanStress" ? TriaxialControl::constantMeanStress
                                                         : TriaxialControl::constantCellPressure;
   auto sspec = segment_spec();

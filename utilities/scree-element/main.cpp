@@ -95,7 +95,9 @@ int main(int argc, char** argv) {
       scree::element::detail::map_fields(point, names);
       scree::element::write_csv_header(csv, point, program, names, dict_path);
       const auto res = scree::element::run(
-          point, program, [&](const scree::element::Row& r) { scree::element::write_csv_row(csv, r); }, false);
+          point, program, [&](const scree::element::Row& r) {
+            scree::element::write_csv_row(csv, r, program.loading == scree::element::Loading::drainedTrueTriaxial);
+          }, false);
       std::cout << "scree-element: " << res.increments << " increments of " << program.dt << " s, "
                 << "material " << point.type_name() << ", wrote " << out_path << "\n";
       if (res.newton_failures > 0) {

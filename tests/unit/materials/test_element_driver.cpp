@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "element_driver.hpp"
+#include "linearElastic/LinearElastic.hpp"
 #include "material_test_util.hpp"
 
 using namespace scree;
@@ -146,4 +147,43 @@ TEST(ElementDriver, CsvHeaderAndRows) {
   int lines = 0;
   for (char c : s) lines += c == '\n';
   EXPECT_GE(lines, 20 + 7);
+}
+
+// drainedTrueTriaxial on linear elasticity, whose answer is known in closed form: p held means
+// tr(eps) = 0, and sigma = -p0 I + 2G eps; with eps_yy = -a, eps_zz = a - eps_xx, the b condition
+// sigma_zz - sigma_xx = b (sigma_yy - sigma_xx) gives eps_xx = a (1 + b)/(2 - b). So
+//   sigma_xx = -p0 + 2G a (1 + b)/(2 - b),  sigma_yy = -p0 - 2G a,  sigma_zz = -p0 + 2G (a - eps_xx).
+// Newton tolerance 1e-10 relative; the elastic response is linear, so 1e-8 of p0 is ample.
+// The CSV of this loading ends in sigma_z and sin3theta (b = 0.5: 0).
+TEST(ElementDriver, TrueTriaxialOnLinearElasticityMatchesTheClosedForm) {
+  const double E = 1e7, nu = 0.25, G = E / (2 * (1 + nu)), p0 = 1e5, a = 1e-3;
+  const LinearElastic::Params L{E, nu, 1000, E * nu / ((1 + nu) * (1 - 2 * nu)), G};
+  for (const double b : {0.0, 0.3, 0.5, 1.0}) {
+    ElementPointOf<LinearElastic> m(L);
+    Program P;
+    P.loading = Loading::drainedTrueTriaxial;
+    P.b = b;
+    P.segments = {Segment{1.0, a, true, 0}};
+    P.dt = 0.01;
+    P.output_interval = 1.0;
+    P.sigma0 = iso_stress(p0);
+    std::ostringstream os;
+    std::vector<std::string> names;
+    detail::map_fields(m, names);
+    write_csv_header(os, m, P, names);
+    const Result r = run(m, P, [&](const Row& row) { write_csv_row(os, row, true); });
+    EXPECT_EQ(r.newton_failures, 0);
+    const Sym3 s = r.rows.back().sigma;
+    const double exx = a * (1 + b) / (2 - b);
+    EXPECT_NEAR(s[0], -p0 + 2 * G * exx, 1e-8 * p0) << "b " << b;
+    EXPECT_NEAR(s[1], -p0 - 2 * G * a, 1e-8 * p0) << "b " << b;
+    EXPECT_NEAR(s[2], -p0 + 2 * G * (a - exx), 1e-8 * p0) << "b " << b;
+    EXPECT_NEAR(r.rows.back().axial_strain, a, 1e-12);
+    EXPECT_NEAR(r.rows.back().volumetric_strain, 0, 1e-12);
+    const std::string csv = os.str();
+    EXPECT_NE(csv.find(",sigma_z,sin3theta\n"), std::string::npos);
+    if (b == 0.0 || b == 0.5 || b == 1.0) {
+      EXPECT_NEAR(lode_sin3theta(s), 1 - 2 * b, 1e-9) << "b " << b;  // +1, 0, -1
+    }
+  }
 }
