@@ -253,6 +253,14 @@ InputError region_outside(const Dictionary& region, const Vec<D>& outside, const
                                         point_text(hi, D) + "; expected a region inside the domain");
 }
 
+/// angularVelocity with the other dimension's components: (omega_z) in 3D, (wx wy wz) in 2D.
+template <int D>
+InputError angular_velocity_error(const Entry& e) {
+  return InputError(e.where(), std::string("angularVelocity: expected ") +
+                                   (D == 2 ? "(omega_z): one component in 2D" : "(wx wy wz) in 3D") + ", found " +
+                                   e.value_string());
+}
+
 }  // namespace
 
 template <int D>
@@ -282,10 +290,7 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   out.v.assign(out.x.size(), v0);
   if (const Entry* e = body.find("angularVelocity")) {
     const auto w = e->as_scalar_list();
-    if (static_cast<int>(w.size()) != (D == 2 ? 1 : 3))
-      throw InputError(e->where(), std::string("angularVelocity: expected ") +
-                                       (D == 2 ? "(omega_z): one component in 2D" : "(wx wy wz) in 3D") +
-                                       ", found " + e->value_string());
+    if (static_cast<int>(w.size()) != (D == 2 ? 1 : 3)) throw angular_velocity_error<D>(*e);
     Vec<D> c = Vec<D>::zero();
     if (const Entry* ce = body.find("rotationCentre")) {
       const auto cc = ce->as_scalar_list();
@@ -398,6 +403,9 @@ void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vecto
   for (const Entry& e : bodies.entries()) {
     if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
     const Dictionary& body = e.dict();
+    // What generate_particles reads besides the region, and the spec does not size.
+    if (const Entry* w = body.find("angularVelocity"); w && static_cast<int>(w->as_scalar_list().size()) != (D == 2 ? 1 : 3))
+      errors.push_back(angular_velocity_error<D>(*w));
     try {
       const Dictionary& region = body.sub("region");
       Placed p{e.key(), read_shape<D>(body, case_dir), BodySettings::read(body).particles_per_cell,
