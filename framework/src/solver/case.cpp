@@ -215,9 +215,12 @@ const CoreSpecs& CoreSpecs::get() {
     region->scalar("radius", "m", "radius (cylinder, sphere)").positive().optional();
     region->word("axis", "direction of extrusion (extrudedPolygon); the points are in the two axes after it")
         .choices({"x", "y", "z"})
-        .optional();
+        .default_value("z");
     region->scalar_list("range", "m", "(min max) along axis (extrudedPolygon)").optional();
-    region->word("file", "STL file relative to the case, e.g. \"constant/triSurface/terrain.stl\" (stl)")
+    region->word("file",
+                 "STL file relative to the case, e.g. \"constant/triSurface/terrain.stl\" (stl): a closed surface "
+                 "(every edge shared by two triangles) of triangles with non-zero area, ASCII or binary; the "
+                 "particles are the sub-cell centres inside it")
         .optional();
     region->check([](const Dictionary& d, std::vector<InputError>& errors) {
       const std::string t = d.get_word("type");
@@ -287,7 +290,10 @@ const CoreSpecs& CoreSpecs::get() {
       }
     });
     init->scalar("K0", "-", "lateral earth pressure coefficient (geostatic)").default_value(0.5).non_negative();
-    init->scalar("surface", "m", "elevation of the free surface along -g (default: top of the body)").optional();
+    init->scalar("surface", "m",
+                 "elevation of the free surface along -g (default: top of the body, one level for the whole body in "
+                 "2D and 3D: with g along -y, sigma_yy = -rho g (H - y), sigma_xx = sigma_zz = K0 sigma_yy)")
+        .optional();
     b->dict("initialStress", "initial stress (default none)").sub_spec(init).optional();
     b->dict("twoPhase", "a porous body with a pore liquid (the two-phase formulation, porous/two_phase.hpp)")
         .sub_spec(two_phase_spec())

@@ -155,7 +155,7 @@ Shape<D> read_shape(const Dictionary& body, const std::filesystem::path& case_di
     take(s.sphere.bounds());
   } else if (type == "extrudedPolygon") {
     s.kind = Shape<D>::Kind::extruded;
-    const std::string axis = region.has("axis") ? region.get_word("axis") : "z";
+    const std::string axis = ParamReader(*CoreSpecs::get().body->find("region")->sub(), region).word("axis");
     s.extruded.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
     static const char* kPlane[3] = {"(y z)", "(z x)", "(x y)"};
     for (const auto& p : read_points(region.at("points"), kPlane[s.extruded.axis])) s.extruded.points.push_back(p);
