@@ -7,6 +7,7 @@
 
 #include "../porous/porous_media.hpp"
 #include "scree/output/snapshot.hpp"
+#include "scree/solver/particle_generation.hpp"
 
 namespace fs = std::filesystem;
 
@@ -495,6 +496,16 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     ++nbodies;
     const Dictionary& b = e.dict();
     validate(*cs.body, b, errors, dim);
+    // A region type of the other dimension, here where a cylinder's 3-component p1 in a 2D
+    // case would otherwise be the only complaint (check_bodies says the same of a valid dict).
+    if (const Entry* r = b.find("region"); dim && r && r->is_dict())
+      if (const Entry* t = r->dict().find("type")) {
+        try {
+          const std::string why = region_dimension_mismatch(t->as_word(), dim);
+          if (!why.empty()) errors.emplace_back(t->where(), why);
+        } catch (const InputError&) {  // not a word: the spec has said so
+        }
+      }
     // A two-phase body's retention and permeability models: their plugins' specs.
     if (const Entry* tp = b.find("twoPhase"); tp && tp->is_dict())
       for (const auto& [key, kind] : {std::pair{"retention", PluginKind::retention},

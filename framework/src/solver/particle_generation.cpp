@@ -116,13 +116,8 @@ Shape<D> read_shape(const Dictionary& body, const std::filesystem::path& case_di
   Shape<D> s;
   s.dict = &region;
   const std::string type = region.get_word("type");
-  const bool two_d = type == "rectangle" || type == "polygon";
-  if (two_d != (D == 2))
-    throw InputError(region.at("type").where(),
-                     "type: region type " + type + " does not fit a " + std::to_string(D) + "D case; expected " +
-                         (D == 2 ? "rectangle or polygon in 2D (box, cylinder, sphere, extrudedPolygon and stl are 3D)"
-                                 : "box, cylinder, sphere, extrudedPolygon or stl in 3D (rectangle and polygon are "
-                                   "2D; a 2D section extruded across the width is an extrudedPolygon)"));
+  if (const std::string why = region_dimension_mismatch(type, D); !why.empty())
+    throw InputError(region.at("type").where(), why);
   Real lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   auto take = [&](const geometry::Box3& b) {
     for (int d = 0; d < 3; ++d) lo[d] = b.lo[d], hi[d] = b.hi[d];
@@ -262,6 +257,17 @@ InputError angular_velocity_error(const Entry& e) {
 }
 
 }  // namespace
+
+std::string region_dimension_mismatch(const std::string& type, int dimension) {
+  static const char* kTypes[] = {"rectangle", "polygon", "box", "cylinder", "sphere", "extrudedPolygon", "stl"};
+  if (std::find(std::begin(kTypes), std::end(kTypes), type) == std::end(kTypes)) return {};  // the spec's to say
+  const bool two_d = type == "rectangle" || type == "polygon";
+  if (two_d == (dimension == 2)) return {};
+  return "type: region type " + type + " does not fit a " + std::to_string(dimension) + "D case; expected " +
+         (dimension == 2 ? "rectangle or polygon in 2D (box, cylinder, sphere, extrudedPolygon and stl are 3D)"
+                         : "box, cylinder, sphere, extrudedPolygon or stl in 3D (rectangle and polygon are 2D; a 2D "
+                           "section extruded across the width is an extrudedPolygon)");
+}
 
 template <int D>
 GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& g, Real density,

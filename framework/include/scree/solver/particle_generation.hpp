@@ -24,6 +24,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "scree/core/tensor.hpp"
@@ -39,6 +40,11 @@ struct GeneratedParticles {
   std::vector<Sym3> sigma;
   Mat<D> velocity_gradient = Mat<D>::zero();  ///< of the initial velocity field
 };
+
+/// "" if region type `type` fits a case of `dimension` (rectangle, polygon: 2D; box,
+/// cylinder, sphere, extrudedPolygon, stl: 3D), else the message "type: region type ...
+/// does not fit a 3D case; expected ..." (an unknown type: "", the spec reports it).
+SCREE_API std::string region_dimension_mismatch(const std::string& type, int dimension);
 
 /// Generate the particles of one body dictionary (validated against CoreSpecs::body).
 /// `density` is the material's initial mass density (for the geostatic stress). Throws
