@@ -235,6 +235,7 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
   auto id = [&](const Point3& p) { return ids.emplace(p, static_cast<int>(ids.size())).first->second; };
   struct EdgeUse {
     int count = 0;
+    int forward = 0;  ///< uses from the lower vertex id to the higher
     const Triangle* first = nullptr;
     Point3 a, b;
   };
@@ -245,6 +246,7 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
       const int a = v[k], b = v[(k + 1) % 3];
       const std::uint64_t e = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
       EdgeUse& u = edges[e];
+      u.forward += a < b;
       if (!u.count++) {
         u.first = &t;
         u.a = t.v[k];
@@ -253,12 +255,15 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
     }
   }
   long long open = 0;
+  bool oriented = true;  // every edge run once each way: the normals all point out (or all in)
   const EdgeUse* example = nullptr;
-  for (const auto& [e, u] : edges)
+  for (const auto& [e, u] : edges) {
+    oriented = oriented && u.forward == 1;
     if (u.count != 2) {
       ++open;
       if (!example || u.first->line < example->first->line) example = &u;
     }
+  }
   if (open)
     throw InputError(key, "file: the surface of " + display + " is not closed: " + std::to_string(open) + " of its " +
                               std::to_string(edges.size()) +
@@ -315,6 +320,22 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
         for (int i2 = cell(ulo, g.u0, g.du, n); i2 <= cell(uhi, g.u0, g.du, n); ++i2)
           g.buckets[static_cast<std::size_t>(j) * n + i2].push_back(static_cast<int>(i));
     }
+  }
+  // Triangles not oriented alike (STL writers do not all keep the rule): the divergence
+  // theorem's sum means nothing; the volume is the bounds' times the share of 48^3
+  // midpoints inside (for the memory estimate only: the particles do not use it).
+  if (!oriented) {
+    constexpr int n = 48;
+    long long in = 0;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const int ijk[3] = {i, j, k};
+          Point3 x;
+          for (int d = 0; d < 3; ++d) x[d] = b.lo[d] + (ijk[d] + 0.5) * (b.hi[d] - b.lo[d]) / n;
+          in += s->contains(x);
+        }
+    s->volume_ = b.volume() * static_cast<double>(in) / (static_cast<double>(n) * n * n);
   }
   return s;
 }

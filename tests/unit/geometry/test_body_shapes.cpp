@@ -233,6 +233,24 @@ TEST(StlInside, PointsOnTheMainDiagonalOfACube) {
   EXPECT_DOUBLE_EQ(s->volume(), 1.0);
 }
 
+TEST(StlInside, TrianglesOrientedEitherWayEncloseTheSameVolume) {
+  // Half the faces of a cube turned inside out: the inside test does not use the normals,
+  // and the volume (the memory estimate's) falls back to sampling: 1 within the share of
+  // 48^3 midpoints a cube aligned with them gives exactly.
+  std::vector<geometry::TriSurface::Triangle> t;
+  int k = 0;
+  for (const auto& tri : box({0, 0, 0}, {1, 1, 1})) {
+    if (k++ % 4 < 2)
+      t.push_back({{tri[0], tri[1], tri[2]}, 0});
+    else
+      t.push_back({{tri[0], tri[2], tri[1]}, 0});
+  }
+  auto s = geometry::TriSurface::from_triangles(t, "cube", SourceLocation{});
+  EXPECT_TRUE(s->contains({0.3, 0.6, 0.2}));
+  EXPECT_FALSE(s->contains({1.3, 0.6, 0.2}));
+  EXPECT_NEAR(s->volume(), 1.0, 1e-12);
+}
+
 // ---- geostatic initial stress in 3D --------------------------------------------------
 
 /// sigma_yy = -rho g (H - y), sigma_xx = sigma_zz = K0 sigma_yy, no shear, at every point of
@@ -395,6 +413,15 @@ TEST(ShapeErrors, StlFileMissingMalformedOpenOrDegenerate) {
     std::filesystem::create_directories(tc.dir() / "constant/triSurface");
     write_binary_stl((tc.dir() / "constant/triSurface/s.stl").string(), t);
   });
+}
+
+// ---- overlap and domain checks of 3D bodies -------------------------------------------
+
+TEST(ShapeErrors, OverlappingSpheresAndASphereOutsideTheDomain) {
+  expect_error(3, "region { type sphere; centre (0 0 0); radius 0.3; }",
+               "region: body 'c' overlaps body 'b'", "}\nc\n{\n    material soil;\n    region { type sphere; centre (0.4 0 0); radius 0.2; }\n");
+  expect_error(3, "region { type sphere; centre (0.9 0 0); radius 0.3; }",
+               "constant/bodies:4:5: region: extends outside the domain of system/gridDict");
 }
 
 }  // namespace

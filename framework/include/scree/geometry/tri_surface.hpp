@@ -52,7 +52,8 @@ class SCREE_API TriSurface {
 
   bool contains(const Point3& x) const;
   const Box3& bounds() const { return bounds_; }
-  /// |sum over triangles of v0 . (v1 x v2)| / 6 (the divergence theorem).
+  /// |sum over triangles of v0 . (v1 x v2)| / 6 (the divergence theorem), where the
+  /// triangles are oriented alike; else sampled on 48^3 midpoints of the bounds.
   double volume() const { return volume_; }
   std::size_t size() const { return tris_.size(); }
 
