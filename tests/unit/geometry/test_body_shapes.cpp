@@ -160,6 +160,37 @@ TEST(BodyMass, StlBoxAlignedWithTheSubCellsIsExact) {
               mass("region { type stl; file \"constant/triSurface/box_binary.stl\"; }", tc.dir()), V, 1e-9 * V);
 }
 
+TEST(BodyMass, StlLShapedPrismIsExact) {
+  // A concave surface: an L (three 0.2 m squares) extruded along z, its caps fans from the
+  // reflex corner. Rays cross it up to four times. Faces on sub-cell boundaries: exact.
+  const double a = 0.2, z0 = -0.3, z1 = 0.2, x0 = -0.2, y0 = -0.1;
+  const std::vector<std::array<double, 2>> L = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  auto at = [&](const std::array<double, 2>& p, double z) { return P3{x0 + a * p[0], y0 + a * p[1], z}; };
+  std::vector<Tri> tris;
+  for (std::size_t i = 0; i < L.size(); ++i) {  // the sides, outward for the counter-clockwise L
+    const auto& p = L[i];
+    const auto& q = L[(i + 1) % L.size()];
+    tris.push_back({at(p, z0), at(q, z0), at(q, z1)});
+    tris.push_back({at(p, z0), at(q, z1), at(p, z1)});
+  }
+  for (std::size_t i = 4; i < L.size() + 2; ++i) {  // the caps: fans from the reflex corner L[3]
+    const auto& p = L[i % L.size()];
+    const auto& q = L[(i + 1) % L.size()];
+    tris.push_back({at(L[3], z1), at(p, z1), at(q, z1)});
+    tris.push_back({at(L[3], z0), at(q, z0), at(p, z0)});
+  }
+  TempCase tc("stl_L");
+  std::filesystem::create_directories(tc.dir() / "constant/triSurface");
+  write_ascii_stl((tc.dir() / "constant/triSurface/L.stl").string(), tris);
+  const double V = 3 * a * a * (z1 - z0);
+  expect_mass("stl L-shaped prism", mass("region { type stl; file \"constant/triSurface/L.stl\"; }", tc.dir()), V,
+              1e-9 * V);
+  auto s = geometry::TriSurface::load(tc.dir() / "constant/triSurface/L.stl", "L.stl", SourceLocation{});
+  EXPECT_NEAR(s->volume(), V, 1e-12);
+  EXPECT_FALSE(s->contains({x0 + 1.5 * a, y0 + 1.5 * a, 0}));  // the notch
+  EXPECT_TRUE(s->contains({x0 + 0.5 * a, y0 + 1.5 * a, 0}));
+}
+
 TEST(BodyMass, StlTetrahedronIsRhoDetOverSix) {
   TempCase tc("stl_tet");
   std::filesystem::create_directories(tc.dir() / "constant/triSurface");
