@@ -16,17 +16,6 @@
 namespace scree {
 namespace {
 
-/// Even-odd rule point-in-polygon test.
-bool inside_polygon(const std::vector<std::array<Real, 2>>& poly, Real x, Real y) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const auto& a = poly[i];
-    const auto& b = poly[j];
-    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0]) in = !in;
-  }
-  return in;
-}
-
 std::string point_text(const Real* x, int dim) {
   std::string s = "(";
   char buf[32];
@@ -58,7 +47,7 @@ struct Shape {
     if (clipped)
       for (int d = 0; d < D; ++d)
         if (x[d] < clip_lo[d] || x[d] > clip_hi[d]) return false;
-    if (kind == Kind::polygon) return inside_polygon(poly, x[0], x[1]);
+    if (kind == Kind::polygon) return geometry::inside_polygon(poly, x[0], x[1]);
     if (kind == Kind::box) {
       for (int d = 0; d < D; ++d)
         if (x[d] < lo[d] || x[d] > hi[d]) return false;

