@@ -7,6 +7,7 @@
 
 #include "../porous/porous_media.hpp"
 #include "scree/output/snapshot.hpp"
+#include "scree/solver/particle_generation.hpp"
 
 namespace fs = std::filesystem;
 
@@ -197,18 +198,78 @@ const CoreSpecs& CoreSpecs::get() {
     auto b = std::make_shared<ParamSpec>("body", "a set of particles with one material (constant/bodies)");
     b->word("material", "name of a material in constant/materialProperties");
     auto region = std::make_shared<ParamSpec>("region", "where the particles are");
-    region->word("type", "rectangle (2D) / box (3D): lower..upper; polygon (2D): points")
-        .choices({"rectangle", "box", "polygon"});
+    region
+        ->word("type",
+               "2D: rectangle (lower, upper), polygon (points); 3D: box (lower, upper), cylinder (p1, p2, radius: "
+               "the axis from p1 to p2, as OpenFOAM's cylinderToCell), sphere (centre, radius), extrudedPolygon "
+               "(points in the plane of the two axes after `axis` in cyclic order: axis z (x y), x (y z), y (z x); "
+               "extruded over `range`), stl (file: a closed triangulated surface, ASCII or binary STL, relative to "
+               "the case)")
+        .choices({"rectangle", "box", "polygon", "cylinder", "sphere", "extrudedPolygon", "stl"});
     region->vector("lower", "m", "lower corner (rectangle, box)").size(-1).optional();
     region->vector("upper", "m", "upper corner (rectangle, box)").size(-1).optional();
-    region->list("points", "polygon vertices ((x0 y0) (x1 y1) ...), in order").optional();
+    region->list("points", "vertices ((a0 b0) (a1 b1) ...), in order (polygon: (x y); extrudedPolygon: see axis)")
+        .optional();
+    region->vector("p1", "m", "start of the axis (cylinder)").size(3).optional();
+    region->vector("p2", "m", "end of the axis (cylinder)").size(3).optional();
+    region->vector("centre", "m", "centre (sphere)").size(3).optional();
+    region->scalar("radius", "m", "radius (cylinder, sphere)").positive().optional();
+    region->word("axis", "direction of extrusion (extrudedPolygon); the points are in the two axes after it")
+        .choices({"x", "y", "z"})
+        .default_value("z");
+    region->scalar_list("range", "m", "(min max) along axis (extrudedPolygon)").optional();
+    region->word("file",
+                 "STL file relative to the case, e.g. \"constant/triSurface/terrain.stl\" (stl): a closed surface "
+                 "(every edge shared by two triangles) of triangles with non-zero area, ASCII or binary; the "
+                 "particles are the sub-cell centres inside it")
+        .optional();
     region->check([](const Dictionary& d, std::vector<InputError>& errors) {
       const std::string t = d.get_word("type");
-      if ((t == "rectangle" || t == "box") && (!d.has("lower") || !d.has("upper")))
-        errors.emplace_back(d.where(), "region of type " + t + " needs lower and upper");
-      if (t == "polygon" && !d.has("points")) errors.emplace_back(d.where(), "region of type polygon needs points");
+      // The keys of each type; any other is an error (a cylinder's `lower` would be ignored).
+      static const std::vector<std::pair<std::string, std::vector<std::string>>> keys = {
+          {"rectangle", {"lower", "upper"}},   {"box", {"lower", "upper"}},
+          {"polygon", {"points"}},             {"cylinder", {"p1", "p2", "radius"}},
+          {"sphere", {"centre", "radius"}},    {"extrudedPolygon", {"points", "axis", "range"}},
+          {"stl", {"file"}}};
+      std::vector<std::string> own;
+      for (const auto& [type, k] : keys)
+        if (type == t) own = k;
+      std::string list;
+      for (const auto& k : own) list += (list.empty() ? "" : ", ") + k;
+      for (const auto& k : own)
+        if (k != "axis" && !d.has(k))
+          errors.emplace_back(d.where(), "region of type " + t + " needs " + k + " (it takes " + list + ")");
+      for (const Entry& e : d.entries())
+        if (e.key() != "type" && e.key()[0] != '_' && std::find(own.begin(), own.end(), e.key()) == own.end())
+          errors.emplace_back(e.where(), e.key() + ": not a key of a region of type " + t + "; it takes " + list);
+      if (t == "cylinder" && d.has("p1") && d.has("p2") && d.at("p1").as_scalar_list() == d.at("p2").as_scalar_list())
+        errors.emplace_back(d.at("p2").where(), "p2: equals p1, so the cylinder has no axis; expected p2 != p1 (the "
+                                                "axis runs from p1 to p2)");
+      if (t == "extrudedPolygon" && d.has("range")) {
+        const auto r = d.at("range").as_scalar_list();
+        if (r.size() != 2)
+          errors.emplace_back(d.at("range").where(), "range: expected (min max), found " + d.at("range").value_string());
+        else if (!(r[0] < r[1]))
+          errors.emplace_back(d.at("range").where(), "range: expected (min max) with min < max, found " +
+                                                         d.at("range").value_string());
+      }
     });
     b->dict("region", "the region filled with particles").sub_spec(region);
+    auto clip = std::make_shared<ParamSpec>("clip", "a box the region is cut to");
+    clip->vector("lower", "m", "lower corner").size(-1);
+    clip->vector("upper", "m", "upper corner").size(-1);
+    clip->check([](const Dictionary& d, std::vector<InputError>& errors) {
+      const auto lo = d.at("lower").as_scalar_list(), hi = d.at("upper").as_scalar_list();
+      for (std::size_t i = 0; i < lo.size() && i < hi.size(); ++i)
+        if (!(hi[i] > lo[i]))
+          errors.emplace_back(d.at("upper").where(), "upper: each component must exceed lower's (component " +
+                                                         std::to_string(i) + ")");
+    });
+    b->dict("clip",
+            "particles only where the region and this box { lower (..); upper (..); } both hold, e.g. a quarter "
+            "cylinder beside two symmetry planes")
+        .sub_spec(clip)
+        .optional();
     b->integer("particlesPerCell", "particles per cell along each axis (2: 4 per cell in 2D)")
         .default_value(2.0)
         .range(1, 8);
@@ -230,7 +291,10 @@ const CoreSpecs& CoreSpecs::get() {
       }
     });
     init->scalar("K0", "-", "lateral earth pressure coefficient (geostatic)").default_value(0.5).non_negative();
-    init->scalar("surface", "m", "elevation of the free surface along -g (default: top of the body)").optional();
+    init->scalar("surface", "m",
+                 "elevation of the free surface along -g (default: top of the body, one level for the whole body in "
+                 "2D and 3D: with g along -y, sigma_yy = -rho g (H - y), sigma_xx = sigma_zz = K0 sigma_yy)")
+        .optional();
     b->dict("initialStress", "initial stress (default none)").sub_spec(init).optional();
     b->dict("twoPhase", "a porous body with a pore liquid (the two-phase formulation, porous/two_phase.hpp)")
         .sub_spec(two_phase_spec())
@@ -432,6 +496,16 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     ++nbodies;
     const Dictionary& b = e.dict();
     validate(*cs.body, b, errors, dim);
+    // A region type of the other dimension, here where a cylinder's 3-component p1 in a 2D
+    // case would otherwise be the only complaint (check_bodies says the same of a valid dict).
+    if (const Entry* r = b.find("region"); dim && r && r->is_dict())
+      if (const Entry* t = r->dict().find("type")) {
+        try {
+          const std::string why = region_dimension_mismatch(t->as_word(), dim);
+          if (!why.empty()) errors.emplace_back(t->where(), why);
+        } catch (const InputError&) {  // not a word: the spec has said so
+        }
+      }
     // A two-phase body's retention and permeability models: their plugins' specs.
     if (const Entry* tp = b.find("twoPhase"); tp && tp->is_dict())
       for (const auto& [key, kind] : {std::pair{"retention", PluginKind::retention},

@@ -48,6 +48,7 @@ struct Model {
   Device device = Device::cpu;
   bool output = false;  ///< snapshots are taken (writers or function objects)
   GridSettings grid;
+  std::filesystem::path case_dir;  ///< an stl region's file is relative to it
   SourceLocation cell_size_where;
   bool walls = false, two_phase = false, apic = false, sorts = false;
   std::vector<Body> bodies;
@@ -57,6 +58,7 @@ Model read_model(const Case& c, const Registry& reg, Device device, bool with_ou
   const CaseSettings& s = c.settings();
   Model m;
   m.dim = c.dimension();
+  m.case_dir = c.dir();
   m.device = device;
   m.output = with_output && (c.control().has("writers") || c.control().has("functions"));
   m.grid = s.grid;
@@ -96,8 +98,8 @@ double grid_nodes(const GridSettings& g, double h) {
 }
 
 template <int D>
-double points(const Dictionary& body, double h, int ppc) {
-  return estimate_particle_count<D>(body, static_cast<Real>(h), ppc);
+double points(const Dictionary& body, double h, int ppc, const std::filesystem::path& case_dir) {
+  return estimate_particle_count<D>(body, static_cast<Real>(h), ppc, case_dir);
 }
 
 /// The estimate for cell size h, with `ppc` particles per cell in body `body` (-1: as given).
@@ -130,7 +132,7 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     const Model::Body& b = m.bodies[i];
     const int n_ppc = static_cast<int>(i) == body ? ppc : b.ppc;
     MemoryPart p{"body '" + b.name + "'", "particlesPerCell", b.where,
-                 D == 2 ? points<2>(*b.dict, h, n_ppc) : points<3>(*b.dict, h, n_ppc)};
+                 D == 2 ? points<2>(*b.dict, h, n_ppc, m.case_dir) : points<3>(*b.dict, h, n_ppc, m.case_dir)};
     // particle_storage.hpp: x, v, x0 (D each), F (D^2), sigma (4 in 2D, 6 in 3D), mass,
     // volume0, id, C (D^2, APIC), the state, a two-phase body's 4 + 2 D extra columns.
     const double columns = 3 * D + D * D + (D == 2 ? 4 : 6) + 3 + (m.apic ? D * D : 0) + b.state_reals +

@@ -5,23 +5,16 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <memory>
 #include <string>
 
+#include "scree/geometry/shapes.hpp"
+#include "scree/geometry/tri_surface.hpp"
 #include "scree/solver/case.hpp"
 
 namespace scree {
 namespace {
-
-/// Even-odd rule point-in-polygon test.
-bool inside_polygon(const std::vector<std::array<Real, 2>>& poly, Real x, Real y) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const auto& a = poly[i];
-    const auto& b = poly[j];
-    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0]) in = !in;
-  }
-  return in;
-}
 
 std::string point_text(const Real* x, int dim) {
   std::string s = "(";
@@ -33,60 +26,158 @@ std::string point_text(const Real* x, int dim) {
   return s + ")";
 }
 
-/// A body's region (rectangle/box or polygon) read from its validated dictionary.
+/// A body's region read from its validated dictionary: rectangle/box or polygon (2D), and
+/// in 3D cylinder, sphere, extrudedPolygon or stl (geometry/shapes.hpp, tri_surface.hpp),
+/// cut to the body's `clip` box if it has one.
 template <int D>
 struct Shape {
+  enum class Kind { box, polygon, cylinder, sphere, extruded, stl };
+  Kind kind = Kind::box;
   const Dictionary* dict = nullptr;  ///< the region { } dictionary
-  Vec<D> lo, hi;                     ///< bounding box
+  Vec<D> lo, hi;                     ///< bounding box (of the clipped region)
   std::vector<std::array<Real, 2>> poly;
+  geometry::Cylinder cylinder;
+  geometry::Sphere sphere;
+  geometry::ExtrudedPolygon extruded;
+  std::shared_ptr<const geometry::TriSurface> surface;
+  bool clipped = false;
+  Vec<D> clip_lo, clip_hi;
 
   bool contains(const Vec<D>& x) const {
-    if (!poly.empty()) return inside_polygon(poly, x[0], x[1]);
-    for (int d = 0; d < D; ++d)
-      if (x[d] < lo[d] || x[d] > hi[d]) return false;
-    return true;
+    if (clipped)
+      for (int d = 0; d < D; ++d)
+        if (x[d] < clip_lo[d] || x[d] > clip_hi[d]) return false;
+    if (kind == Kind::polygon) return geometry::inside_polygon(poly, x[0], x[1]);
+    if (kind == Kind::box) {
+      for (int d = 0; d < D; ++d)
+        if (x[d] < lo[d] || x[d] > hi[d]) return false;
+      return true;
+    }
+    geometry::Point3 p{0, 0, 0};
+    for (int d = 0; d < D; ++d) p[d] = x[d];
+    switch (kind) {
+      case Kind::cylinder: return cylinder.contains(p);
+      case Kind::sphere: return sphere.contains(p);
+      case Kind::extruded: return extruded.contains(p);
+      case Kind::stl: return surface->contains(p);
+      default: return false;
+    }
+  }
+
+  /// The region's exact volume (area in 2D), clip aside; < 0 for none known.
+  double measure() const {
+    switch (kind) {
+      case Kind::polygon: return geometry::polygon_area(std::vector<std::array<double, 2>>(poly.begin(), poly.end()));
+      case Kind::cylinder: return cylinder.volume();
+      case Kind::sphere: return sphere.volume();
+      case Kind::extruded: return extruded.volume();
+      case Kind::stl: return surface->volume();
+      default: return -1;
+    }
   }
 };
 
-/// Throws InputError for a region that does not fit the case: a polygon in 3D or with
-/// fewer than 3 vertices, a rectangle in 3D or a box in 2D.
+std::vector<std::array<Real, 2>> read_points(const Entry& pts, const std::string& what) {
+  std::vector<std::array<Real, 2>> poly;
+  const Item& list = pts.single_item();
+  for (const Item& p : list.list) {
+    if (p.kind != Item::Kind::list || p.list.size() != 2 || p.list[0].kind != Item::Kind::number ||
+        p.list[1].kind != Item::Kind::number)
+      throw InputError(p.where, "points: each vertex must be " + what + ", found " + p.to_string());
+    poly.push_back({p.list[0].number, p.list[1].number});
+  }
+  if (poly.size() < 3)
+    throw InputError(pts.where(), "points: a polygon needs at least 3 vertices, found " + std::to_string(poly.size()));
+  return poly;
+}
+
+geometry::Point3 point3(const Dictionary& d, const char* key) {
+  const auto v = d.at(key).as_scalar_list();
+  return {v.at(0), v.at(1), v.at(2)};
+}
+
+/// Throws InputError for a region that does not fit the case: a 2D type (rectangle,
+/// polygon) in 3D or a 3D one in 2D, a polygon with fewer than 3 vertices, an STL file that
+/// cannot be read or is not closed, a clip box that misses the region.
 template <int D>
-Shape<D> read_shape(const Dictionary& region) {
+Shape<D> read_shape(const Dictionary& body, const std::filesystem::path& case_dir) {
+  const Dictionary& region = body.sub("region");
   Shape<D> s;
   s.dict = &region;
   const std::string type = region.get_word("type");
+  if (const std::string why = region_dimension_mismatch(type, D); !why.empty())
+    throw InputError(region.at("type").where(), why);
+  Real lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  auto take = [&](const geometry::Box3& b) {
+    for (int d = 0; d < 3; ++d) lo[d] = b.lo[d], hi[d] = b.hi[d];
+  };
   if (type == "polygon") {
-    if (D != 2) throw InputError(region.at("type").where(), "type: polygon regions are 2D only; use box in 3D");
-    const Entry& pts = region.at("points");
-    const Item& list = pts.single_item();
-    for (const Item& p : list.list) {
-      if (p.kind != Item::Kind::list || p.list.size() != 2 || p.list[0].kind != Item::Kind::number ||
-          p.list[1].kind != Item::Kind::number)
-        throw InputError(p.where, "points: each vertex must be (x y), found " + p.to_string());
-      s.poly.push_back({p.list[0].number, p.list[1].number});
-    }
-    if (s.poly.size() < 3)
-      throw InputError(pts.where(), "points: a polygon needs at least 3 vertices, found " +
-                                        std::to_string(s.poly.size()));
+    s.kind = Shape<D>::Kind::polygon;
+    s.poly = read_points(region.at("points"), "(x y)");
     for (int d = 0; d < D; ++d) {
-      s.lo[d] = 1e300;
-      s.hi[d] = -1e300;
+      lo[d] = 1e300;
+      hi[d] = -1e300;
     }
     for (auto& p : s.poly)
       for (int d = 0; d < 2; ++d) {
-        s.lo[d] = std::min(s.lo[d], p[d]);
-        s.hi[d] = std::max(s.hi[d], p[d]);
+        lo[d] = std::min(lo[d], p[d]);
+        hi[d] = std::max(hi[d], p[d]);
       }
-  } else {
-    if ((type == "rectangle" && D != 2) || (type == "box" && D != 3))
-      throw InputError(region.at("type").where(),
-                       "type: region type " + type + " does not fit a " + std::to_string(D) + "D case (use " +
-                           (D == 2 ? "rectangle" : "box") + ")");
+  } else if (type == "rectangle" || type == "box") {
     const auto l = region.at("lower").as_scalar_list(), u = region.at("upper").as_scalar_list();
     for (int d = 0; d < D; ++d) {
-      s.lo[d] = l[d];
-      s.hi[d] = u[d];
+      lo[d] = l[d];
+      hi[d] = u[d];
     }
+  } else if (type == "cylinder") {
+    s.kind = Shape<D>::Kind::cylinder;
+    s.cylinder = {point3(region, "p1"), point3(region, "p2"), region.get_scalar("radius")};
+    take(s.cylinder.bounds());
+  } else if (type == "sphere") {
+    s.kind = Shape<D>::Kind::sphere;
+    s.sphere = {point3(region, "centre"), region.get_scalar("radius")};
+    take(s.sphere.bounds());
+  } else if (type == "extrudedPolygon") {
+    s.kind = Shape<D>::Kind::extruded;
+    const std::string axis = ParamReader(*CoreSpecs::get().body->find("region")->sub(), region).word("axis");
+    s.extruded.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+    static const char* kPlane[3] = {"(y z)", "(z x)", "(x y)"};
+    for (const auto& p : read_points(region.at("points"), kPlane[s.extruded.axis])) s.extruded.points.push_back(p);
+    const auto r = region.at("range").as_scalar_list();
+    s.extruded.min = r.at(0);
+    s.extruded.max = r.at(1);
+    take(s.extruded.bounds());
+  } else if (type == "stl") {
+    s.kind = Shape<D>::Kind::stl;
+    const Entry& f = region.at("file");
+    const std::string rel = f.as_word();
+    const std::filesystem::path path = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel)
+                                                                                 : case_dir / rel;
+    s.surface = geometry::TriSurface::load(path, rel, f.where());
+    take(s.surface->bounds());
+  }
+  for (int d = 0; d < D; ++d) {
+    s.lo[d] = lo[d];
+    s.hi[d] = hi[d];
+  }
+
+  if (const Entry* c = body.find("clip")) {
+    const Dictionary& cd = c->dict();
+    const auto l = cd.at("lower").as_scalar_list(), u = cd.at("upper").as_scalar_list();
+    s.clipped = true;
+    bool misses = false;
+    for (int d = 0; d < D; ++d) {
+      s.clip_lo[d] = l[d];
+      s.clip_hi[d] = u[d];
+      s.lo[d] = std::max(s.lo[d], s.clip_lo[d]);
+      s.hi[d] = std::min(s.hi[d], s.clip_hi[d]);
+      misses = misses || s.hi[d] < s.lo[d];
+    }
+    if (misses)
+      throw InputError(cd.where(), "clip: the box " + point_text(&s.clip_lo[0], D) + " .. " +
+                                       point_text(&s.clip_hi[0], D) + " does not meet the region, whose bounds are " +
+                                       point_text(lo, D) + " .. " + point_text(hi, D) +
+                                       ", so the body would be empty; expected a clip box that overlaps the region");
   }
   return s;
 }
@@ -146,15 +237,34 @@ InputError region_outside(const Dictionary& region, const Vec<D>& outside, const
                                         point_text(hi, D) + "; expected a region inside the domain");
 }
 
+/// angularVelocity with the other dimension's components: (omega_z) in 3D, (wx wy wz) in 2D.
+template <int D>
+InputError angular_velocity_error(const Entry& e) {
+  return InputError(e.where(), std::string("angularVelocity: expected ") +
+                                   (D == 2 ? "(omega_z): one component in 2D" : "(wx wy wz) in 3D") + ", found " +
+                                   e.value_string());
+}
+
 }  // namespace
+
+std::string region_dimension_mismatch(const std::string& type, int dimension) {
+  static const char* kTypes[] = {"rectangle", "polygon", "box", "cylinder", "sphere", "extrudedPolygon", "stl"};
+  if (std::find(std::begin(kTypes), std::end(kTypes), type) == std::end(kTypes)) return {};  // the spec's to say
+  const bool two_d = type == "rectangle" || type == "polygon";
+  if (two_d == (dimension == 2)) return {};
+  return "type: region type " + type + " does not fit a " + std::to_string(dimension) + "D case; expected " +
+         (dimension == 2 ? "rectangle or polygon in 2D (box, cylinder, sphere, extrudedPolygon and stl are 3D)"
+                         : "box, cylinder, sphere, extrudedPolygon or stl in 3D (rectangle and polygon are 2D; a 2D "
+                           "section extruded across the width is an extrudedPolygon)");
+}
 
 template <int D>
 GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& g, Real density,
-                                         const Vec<D>& gravity) {
+                                         const Vec<D>& gravity, const std::filesystem::path& case_dir) {
   GeneratedParticles<D> out;
   const Dictionary& region = body.sub("region");
   const int n = BodySettings::read(body).particles_per_cell;
-  const Shape<D> shape = read_shape<D>(region);
+  const Shape<D> shape = read_shape<D>(body, case_dir);
   const Real sub = g.h / n;
   Real vol = 1;
   for (int d = 0; d < D; ++d) vol *= sub;
@@ -175,10 +285,7 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   out.v.assign(out.x.size(), v0);
   if (const Entry* e = body.find("angularVelocity")) {
     const auto w = e->as_scalar_list();
-    if (static_cast<int>(w.size()) != (D == 2 ? 1 : 3))
-      throw InputError(e->where(), std::string("angularVelocity: expected ") +
-                                       (D == 2 ? "(omega_z): one component in 2D" : "(wx wy wz) in 3D") +
-                                       ", found " + e->value_string());
+    if (static_cast<int>(w.size()) != (D == 2 ? 1 : 3)) throw angular_velocity_error<D>(*e);
     Vec<D> c = Vec<D>::zero();
     if (const Entry* ce = body.find("rotationCentre")) {
       const auto cc = ce->as_scalar_list();
@@ -244,27 +351,42 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
 }
 
 template <int D>
-double estimate_particle_count(const Dictionary& body, Real cell_size, int particles_per_cell) {
+double estimate_particle_count(const Dictionary& body, Real cell_size, int particles_per_cell,
+                               const std::filesystem::path& case_dir) {
   Shape<D> shape;
   try {
-    shape = read_shape<D>(body.sub("region"));
+    shape = read_shape<D>(body, case_dir);
   } catch (const InputError&) {
     return 0;
   }
-  double measure = 1;
-  if (!shape.poly.empty()) {  // the shoelace formula
-    double twice = 0;
-    for (std::size_t i = 0, j = shape.poly.size() - 1; i < shape.poly.size(); j = i++)
-      twice += shape.poly[j][0] * shape.poly[i][1] - shape.poly[i][0] * shape.poly[j][1];
-    measure = std::fabs(twice) / 2;
-  } else {
-    for (int d = 0; d < D; ++d) measure *= std::max(0.0, static_cast<double>(shape.hi[d] - shape.lo[d]));
+  // The region's volume: exact for each shape (the shoelace formula for a polygon, the
+  // divergence theorem for a surface). Cut by a clip box, the share of the clipped bounds
+  // inside the region, counted on a lattice of 32 midpoints per axis (the region's own test).
+  double box = 1;
+  for (int d = 0; d < D; ++d) box *= std::max(0.0, static_cast<double>(shape.hi[d] - shape.lo[d]));
+  double measure = shape.measure();
+  if (measure < 0) measure = box;
+  if (shape.clipped && box > 0) {
+    constexpr int kSamples = 32;
+    long long in = 0, total = 1;
+    for (int d = 0; d < D; ++d) total *= kSamples;
+    for (long long k = 0; k < total; ++k) {
+      long long r = k;
+      Vec<D> x;
+      for (int d = 0; d < D; ++d) {
+        x[d] = shape.lo[d] + (static_cast<Real>(r % kSamples) + Real(0.5)) * (shape.hi[d] - shape.lo[d]) / kSamples;
+        r /= kSamples;
+      }
+      in += shape.contains(x);
+    }
+    measure = box * static_cast<double>(in) / static_cast<double>(total);
   }
   return measure * std::pow(particles_per_cell / static_cast<double>(cell_size), D);
 }
 
 template <int D>
-void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vector<InputError>& errors) {
+void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vector<InputError>& errors,
+                  const std::filesystem::path& case_dir) {
   struct Placed {
     std::string name;
     Shape<D> shape;
@@ -276,9 +398,12 @@ void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vecto
   for (const Entry& e : bodies.entries()) {
     if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
     const Dictionary& body = e.dict();
+    // What generate_particles reads besides the region, and the spec does not size.
+    if (const Entry* w = body.find("angularVelocity"); w && static_cast<int>(w->as_scalar_list().size()) != (D == 2 ? 1 : 3))
+      errors.push_back(angular_velocity_error<D>(*w));
     try {
       const Dictionary& region = body.sub("region");
-      Placed p{e.key(), read_shape<D>(region), BodySettings::read(body).particles_per_cell,
+      Placed p{e.key(), read_shape<D>(body, case_dir), BodySettings::read(body).particles_per_cell,
                ParamReader(spec, body).boolean("allowOverlap")};
       bool any = false, outside = false;
       for_each_position(p.shape, g, p.n, [&](const Vec<D>& x) {
@@ -325,12 +450,14 @@ void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vecto
 }
 
 template GeneratedParticles<2> generate_particles<2>(const Dictionary&, const GridGeometry<2>&, Real,
-                                                     const Vec<2>&);
+                                                     const Vec<2>&, const std::filesystem::path&);
 template GeneratedParticles<3> generate_particles<3>(const Dictionary&, const GridGeometry<3>&, Real,
-                                                     const Vec<3>&);
-template double estimate_particle_count<2>(const Dictionary&, Real, int);
-template double estimate_particle_count<3>(const Dictionary&, Real, int);
-template void check_bodies<2>(const Dictionary&, const GridGeometry<2>&, std::vector<InputError>&);
-template void check_bodies<3>(const Dictionary&, const GridGeometry<3>&, std::vector<InputError>&);
+                                                     const Vec<3>&, const std::filesystem::path&);
+template double estimate_particle_count<2>(const Dictionary&, Real, int, const std::filesystem::path&);
+template double estimate_particle_count<3>(const Dictionary&, Real, int, const std::filesystem::path&);
+template void check_bodies<2>(const Dictionary&, const GridGeometry<2>&, std::vector<InputError>&,
+                              const std::filesystem::path&);
+template void check_bodies<3>(const Dictionary&, const GridGeometry<3>&, std::vector<InputError>&,
+                              const std::filesystem::path&);
 
 }  // namespace scree

@@ -80,7 +80,7 @@ template <int D>
 void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
   const CaseSettings& s = c.settings();
   const GridGeometry<D> grid = grid_geometry<D>(s.grid);
-  check_bodies<D>(c.bodies(), grid, report.errors);
+  check_bodies<D>(c.bodies(), grid, report.errors, c.dir());
 
   // Boundary conditions: built on the host against this grid, as the run builds them.
   SolverContext ctx;

@@ -277,7 +277,7 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   const PluginEntry& pe = reg.get(PluginKind::material, type.as_word(), type.where());
   const Real density = pe.material.point(mat)->density();
 
-  GeneratedParticles<D> gp = generate_particles<D>(b, grid_, density, gravity_);
+  GeneratedParticles<D> gp = generate_particles<D>(b, grid_, density, gravity_, case_.dir());
   BodySetup<D> s;
   s.name = e.key();
   s.body_id = id++;

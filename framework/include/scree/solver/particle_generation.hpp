@@ -1,17 +1,30 @@
 // Filling a body's region with particles (constant/bodies).
 //
-// The region (rectangle/box, or polygon in 2D) is filled with n points per cell along
-// each axis, at the centres of the n^D sub-cells of each background cell, keeping the
-// points inside the region; each point carries the volume (h/n)^D of its sub-cell.
+// The region is filled with n points per cell along each axis, at the centres of the n^D
+// sub-cells of each background cell, keeping the points inside the region; each point
+// carries the volume (h/n)^D of its sub-cell. Regions: rectangle and polygon in 2D; box,
+// cylinder, sphere, extrudedPolygon and stl in 3D (geometry/shapes.hpp, tri_surface.hpp;
+// their keys are documented by the body spec, solver/case.cpp, and `scree --list-plugins`).
+// A body's `clip { lower (..); upper (..); }` keeps the points inside that box as well
+// (a quarter cylinder beside two symmetry planes). The mass of a body is rho times the
+// volume of its sub-cells whose centres are inside: within the volume of the shell of
+// half-width sqrt(D)/2 h/n about the region's surface of the exact rho V.
 // Initial velocity: uniform `velocity`, plus a rigid rotation `angularVelocity` about
 // the region's centroid (or `rotationCentre`): v = v0 + omega x (x - c).
 // Geostatic initial stress:
 //   sigma_v = -rho |g| (s - z),  sigma_h = K0 sigma_v  (tension positive)
 // with z the elevation along -g and s the free-surface elevation (default: the top of
 // the body), so a column of height H starts with sigma_v = -rho g H at its base.
+// The same in 3D: with g along -y, sigma_yy = -rho g (H - y) and sigma_xx = sigma_zz =
+// K0 sigma_yy. s is one elevation for the whole body, in 2D and 3D alike: the highest
+// point of the body (its top particle plus half a spacing), not the surface above each
+// point; a body whose top is not level (a slope, a sphere, a cylinder lying on its side)
+// starts with the stress of the water-table-like level s, or of `surface`.
 // Bodies may not overlap unless one of them says `allowOverlap yes` (check_bodies).
 #pragma once
 
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include "scree/core/tensor.hpp"
@@ -28,33 +41,45 @@ struct GeneratedParticles {
   Mat<D> velocity_gradient = Mat<D>::zero();  ///< of the initial velocity field
 };
 
+/// "" if region type `type` fits a case of `dimension` (rectangle, polygon: 2D; box,
+/// cylinder, sphere, extrudedPolygon, stl: 3D), else the message "type: region type ...
+/// does not fit a 3D case; expected ..." (an unknown type: "", the spec reports it).
+SCREE_API std::string region_dimension_mismatch(const std::string& type, int dimension);
+
 /// Generate the particles of one body dictionary (validated against CoreSpecs::body).
 /// `density` is the material's initial mass density (for the geostatic stress). Throws
 /// InputError, at the region's file:line, for a region that does not fit the case or
-/// the grid (see check_bodies).
+/// the grid (see check_bodies). `case_dir`: what an stl region's file is relative to.
 template <int D>
 SCREE_API GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& grid,
-                                                   Real density, const Vec<D>& gravity);
+                                                   Real density, const Vec<D>& gravity,
+                                                   const std::filesystem::path& case_dir = {});
 
 /// The number of particles generate_particles makes for `body` with `particles_per_cell`
 /// points per cell along each axis on cells of size `cell_size`, estimated without making
 /// them: the region's area (volume in 3D) times (particles_per_cell / cell_size)^D, the
-/// points' density (the cut cells along the region's edge aside). 0 for a region that
-/// does not fit the case (check_bodies reports it). A double: a case may ask for more
-/// points than any integer type holds.
+/// points' density (the cut cells along the region's edge aside). The volume is exact for
+/// every shape (an STL's by the divergence theorem); a clipped region's is its clipped
+/// bounds' times the share of 32^D midpoints inside. 0 for a region that does not fit the
+/// case (check_bodies reports it). A double: a case may ask for more points than any
+/// integer type holds.
 template <int D>
-SCREE_API double estimate_particle_count(const Dictionary& body, Real cell_size, int particles_per_cell);
+SCREE_API double estimate_particle_count(const Dictionary& body, Real cell_size, int particles_per_cell,
+                                         const std::filesystem::path& case_dir = {});
 
 /// The checks of every body of constant/bodies against the grid, without keeping any
 /// particle (scree --check runs them, and every run before it allocates anything):
-///   - each region fits the case (rectangle in 2D, box in 3D, a polygon of 3 or more
-///     vertices in 2D) and holds at least one particle position;
+///   - each region fits the case (rectangle or polygon in 2D, box, cylinder, sphere,
+///     extrudedPolygon or stl in 3D; a polygon of 3 or more vertices; an STL file that
+///     reads and is closed; a clip box that meets the region) and holds at least one
+///     particle position;
 ///   - no particle lies outside the domain of system/gridDict;
 ///   - no body has particles inside another body's region (both ways): two bodies in
 ///     one place double the mass there. A body with `allowOverlap yes` may overlap.
 /// Each problem is appended to `errors` at the region's file:line; an overlap names the
 /// other body's region and its file:line.
 template <int D>
-SCREE_API void check_bodies(const Dictionary& bodies, const GridGeometry<D>& grid, std::vector<InputError>& errors);
+SCREE_API void check_bodies(const Dictionary& bodies, const GridGeometry<D>& grid, std::vector<InputError>& errors,
+                            const std::filesystem::path& case_dir = {});
 
 }  // namespace scree

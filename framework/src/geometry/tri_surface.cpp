@@ -1,0 +1,390 @@
+// Closed triangulated surfaces from STL files (see geometry/tri_surface.hpp).
+#include "scree/geometry/tri_surface.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <system_error>
+#include <unordered_map>
+
+namespace fs = std::filesystem;
+
+namespace scree::geometry {
+namespace {
+
+Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point3 cross(const Point3& a, const Point3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+std::string point_text(const Point3& p) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%g %g %g)", p[0], p[1], p[2]);
+  return buf;
+}
+
+SourceLocation at_line(const std::string& display, int line) {
+  return SourceLocation{std::make_shared<std::string>(display), line, line > 0 ? 1 : 0};
+}
+
+std::string named_at(const SourceLocation& key) {
+  return " (the surface of the stl region whose file is named at " + key.str() + ")";
+}
+
+/// The ASCII STL grammar, line by line:
+///   solid [name] / facet normal nx ny nz / outer loop / vertex x y z (3 times) / endloop /
+///   endfacet / ... / endsolid [name]; several solids may follow one another.
+std::vector<TriSurface::Triangle> parse_ascii(const std::string& text, const std::string& display,
+                                              const SourceLocation& key) {
+  std::vector<TriSurface::Triangle> tris;
+  std::istringstream in(text);
+  std::string line;
+  int n = 0;
+  enum class State { outside, solid, facet, loop, endloop, endfacet } state = State::outside;
+  TriSurface::Triangle t;
+  int vertices = 0;
+  auto fail = [&](const std::string& expected, const std::string& found) {
+    std::string f = found;
+    const auto b = f.find_first_not_of(" \t\r");
+    f = b == std::string::npos ? "" : f.substr(b);
+    while (!f.empty() && (f.back() == '\r' || f.back() == ' ')) f.pop_back();
+    return InputError(at_line(display, n), "malformed ASCII STL: expected " + expected + ", found " +
+                                               (f.empty() ? std::string("the end of the file") : "'" + f + "'") +
+                                               named_at(key));
+  };
+  auto numbers = [&](std::istringstream& ls, double* out, int count) {
+    for (int i = 0; i < count; ++i) {
+      std::string w;
+      if (!(ls >> w)) return false;
+      char* end = nullptr;
+      out[i] = std::strtod(w.c_str(), &end);
+      if (end == w.c_str() || *end != '\0' || !std::isfinite(out[i])) return false;
+    }
+    std::string extra;
+    return !(ls >> extra);
+  };
+  while (std::getline(in, line)) {
+    ++n;
+    std::istringstream ls(line);
+    std::string w;
+    if (!(ls >> w)) continue;  // a blank line
+    switch (state) {
+      case State::outside:
+        if (w != "solid") throw fail("'solid name' (the start of a solid)", line);
+        state = State::solid;
+        break;
+      case State::solid: {
+        if (w == "endsolid") {
+          state = State::outside;
+          break;
+        }
+        std::string normal;
+        double nv[3];
+        if (w != "facet" || !(ls >> normal) || normal != "normal" || !numbers(ls, nv, 3))
+          throw fail("'facet normal nx ny nz' or 'endsolid'", line);
+        t = TriSurface::Triangle{};
+        t.line = n;
+        state = State::facet;
+        break;
+      }
+      case State::facet: {
+        std::string loop;
+        if (w != "outer" || !(ls >> loop) || loop != "loop" || (ls >> w)) throw fail("'outer loop'", line);
+        vertices = 0;
+        state = State::loop;
+        break;
+      }
+      case State::loop:
+        if (w != "vertex" || !numbers(ls, t.v[vertices].data(), 3))
+          throw fail("'vertex x y z' (vertex " + std::to_string(vertices + 1) + " of the facet at line " +
+                         std::to_string(t.line) + ")",
+                     line);
+        if (++vertices == 3) state = State::endloop;
+        break;
+      case State::endloop:
+        if (w != "endloop" || (ls >> w)) throw fail("'endloop' (a facet has 3 vertices)", line);
+        state = State::endfacet;
+        break;
+      case State::endfacet:
+        if (w != "endfacet" || (ls >> w)) throw fail("'endfacet'", line);
+        tris.push_back(t);
+        state = State::solid;
+        break;
+    }
+  }
+  if (state != State::outside)
+    throw fail(state == State::solid ? "'endsolid'" : "the rest of the facet begun at line " + std::to_string(t.line),
+               "");
+  return tris;
+}
+
+/// Binary STL: an 80-byte header, a little-endian uint32 triangle count n, then n records
+/// of 50 bytes (normal, 3 vertices: 12 float32; a uint16 attribute).
+std::vector<TriSurface::Triangle> parse_binary(const std::string& bytes, const std::string& display,
+                                               const SourceLocation& key) {
+  std::uint32_t n = 0;
+  std::memcpy(&n, bytes.data() + 80, 4);
+  std::vector<TriSurface::Triangle> tris(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const char* rec = bytes.data() + 84 + 50 * static_cast<std::size_t>(i);
+    float f[12];
+    std::memcpy(f, rec, sizeof f);
+    tris[i].line = static_cast<int>(i + 1);
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) {
+        tris[i].v[k][d] = f[3 + 3 * k + d];
+        if (!std::isfinite(tris[i].v[k][d]))
+          throw InputError(at_line(display, 0), "malformed binary STL: triangle " + std::to_string(i + 1) +
+                                                    " has a coordinate that is not a finite number" + named_at(key));
+      }
+  }
+  return tris;
+}
+
+std::string where_triangle(const TriSurface::Triangle& t, bool binary, const std::string& display) {
+  return binary ? "triangle " + std::to_string(t.line) + " of " + display
+                : "the facet at " + display + ":" + std::to_string(t.line);
+}
+
+}  // namespace
+
+std::shared_ptr<const TriSurface> TriSurface::load(const fs::path& path, const std::string& display,
+                                                   const SourceLocation& key) {
+  std::error_code ec;
+  const std::string expect = "; expected a closed triangulated surface in ASCII or binary STL";
+  if (!fs::exists(path, ec))
+    throw InputError(key, "file: " + display + " does not exist (looked for " + path.string() + ")" + expect);
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(key, "file: " + display + " is not a regular file (" + path.string() + ")" + expect);
+  const auto size = fs::file_size(path, ec);
+  const auto mtime = fs::last_write_time(path, ec);
+
+  // Each file once per process (a run reads a body's region when it checks the case, for
+  // the memory estimate and when it makes the particles).
+  struct Cached {
+    std::uintmax_t size;
+    fs::file_time_type mtime;
+    std::shared_ptr<const TriSurface> surface;
+  };
+  static std::mutex mutex;
+  static std::map<std::string, Cached> cache;
+  const std::string id = fs::weakly_canonical(path, ec).string();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    auto it = cache.find(id);
+    if (it != cache.end() && it->second.size == size && it->second.mtime == mtime) return it->second.surface;
+  }
+
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError(key, "file: " + display + " cannot be read (" + path.string() + ": " +
+                              std::strerror(errno) + ")" + expect);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad())
+    throw InputError(key, "file: reading " + display + " failed (" + path.string() + ")" + expect);
+
+  std::shared_ptr<const TriSurface> s;
+  std::uint32_t n = 0;
+  if (bytes.size() >= 84) std::memcpy(&n, bytes.data() + 80, 4);
+  const auto first = bytes.find_first_not_of(" \t\r\n");
+  if (bytes.size() >= 84 && bytes.size() == 84 + 50 * static_cast<std::uintmax_t>(n)) {
+    s = from_triangles(parse_binary(bytes, display, key), display, key, true);
+  } else if (first != std::string::npos && bytes.compare(first, 5, "solid") == 0) {
+    s = from_triangles(parse_ascii(bytes, display, key), display, key, false);
+  } else {
+    throw InputError(key, "file: " + display + " is neither an ASCII STL (text beginning with 'solid') nor a " +
+                              "binary STL (an 80-byte header, a triangle count n and 50 bytes per triangle: " +
+                              "84 + 50 n bytes; this file has " + std::to_string(bytes.size()) + " bytes)" + expect);
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  cache[id] = Cached{size, mtime, s};
+  return s;
+}
+
+std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangle> tris, const std::string& display,
+                                                             const SourceLocation& key, bool binary) {
+  if (tris.empty())
+    throw InputError(key, "file: " + display + " holds no triangle; expected a closed triangulated surface");
+
+  // Zero-area triangles: a sliver's edges are shared by three triangles, and it has no inside.
+  int degenerate = 0;
+  const Triangle* first_degenerate = nullptr;
+  for (const Triangle& t : tris) {
+    const Point3 e1 = sub(t.v[1], t.v[0]), e2 = sub(t.v[2], t.v[0]), e3 = sub(t.v[2], t.v[1]);
+    const double longest = std::max({dot(e1, e1), dot(e2, e2), dot(e3, e3)});
+    const Point3 c = cross(e1, e2);
+    if (dot(c, c) <= 1e-24 * longest * longest) {
+      if (!degenerate++) first_degenerate = &t;
+    }
+  }
+  if (degenerate)
+    throw InputError(key, "file: " + display + " has " + std::to_string(degenerate) +
+                              " zero-area triangle(s) (the first: " + where_triangle(*first_degenerate, binary, display) +
+                              "); expected a closed surface of triangles with non-zero area (remove or merge them)");
+
+  // Closed: every edge (between vertices welded where their coordinates are equal) shared by
+  // exactly two triangles.
+  std::map<Point3, int> ids;
+  auto id = [&](const Point3& p) { return ids.emplace(p, static_cast<int>(ids.size())).first->second; };
+  struct EdgeUse {
+    int count = 0;
+    int forward = 0;  ///< uses from the lower vertex id to the higher
+    const Triangle* first = nullptr;
+    Point3 a, b;
+  };
+  std::unordered_map<std::uint64_t, EdgeUse> edges;
+  for (const Triangle& t : tris) {
+    const int v[3] = {id(t.v[0]), id(t.v[1]), id(t.v[2])};
+    for (int k = 0; k < 3; ++k) {
+      const int a = v[k], b = v[(k + 1) % 3];
+      const std::uint64_t e = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+      EdgeUse& u = edges[e];
+      u.forward += a < b;
+      if (!u.count++) {
+        u.first = &t;
+        u.a = t.v[k];
+        u.b = t.v[(k + 1) % 3];
+      }
+    }
+  }
+  long long open = 0;
+  bool oriented = true;  // every edge run once each way: the normals all point out (or all in)
+  const EdgeUse* example = nullptr;
+  for (const auto& [e, u] : edges) {
+    oriented = oriented && u.forward == 1;
+    if (u.count != 2) {
+      ++open;
+      if (!example || u.first->line < example->first->line) example = &u;
+    }
+  }
+  if (open)
+    throw InputError(key, "file: the surface of " + display + " is not closed: " + std::to_string(open) + " of its " +
+                              std::to_string(edges.size()) +
+                              " edges are not shared by exactly two triangles (e.g. the edge " + point_text(example->a) +
+                              " - " + point_text(example->b) + " of " + where_triangle(*example->first, binary, display) +
+                              ", used by " + std::to_string(example->count) +
+                              "); expected a closed surface, whose inside is defined (close the holes, or join "
+                              "vertices that should coincide exactly)");
+
+  auto s = std::make_shared<TriSurface>();
+  s->tris_ = std::move(tris);
+  Box3& b = s->bounds_;
+  b.lo = {1e300, 1e300, 1e300};
+  b.hi = {-1e300, -1e300, -1e300};
+  double six_v = 0;
+  for (const Triangle& t : s->tris_) {
+    for (const Point3& p : t.v)
+      for (int d = 0; d < 3; ++d) {
+        b.lo[d] = std::min(b.lo[d], p[d]);
+        b.hi[d] = std::max(b.hi[d], p[d]);
+      }
+    six_v += dot(t.v[0], cross(t.v[1], t.v[2]));
+  }
+  s->volume_ = std::fabs(six_v) / 6;
+
+  // Bucket grids of the projections across x, y and z.
+  for (int k = 0; k < 3; ++k) {
+    RayGrid& g = s->rays_[k];
+    g.axis = k;
+    const int u = (k + 1) % 3, v = (k + 2) % 3;
+    const int n = static_cast<int>(std::clamp(std::ceil(std::sqrt(s->tris_.size() / 2.0)), 1.0, 256.0));
+    g.nu = g.nv = n;
+    g.u0 = b.lo[u];
+    g.v0 = b.lo[v];
+    g.du = b.hi[u] > b.lo[u] ? (b.hi[u] - b.lo[u]) / n : 1;
+    g.dv = b.hi[v] > b.lo[v] ? (b.hi[v] - b.lo[v]) / n : 1;
+    g.buckets.assign(static_cast<std::size_t>(n) * n, {});
+    auto cell = [](double x, double x0, double dx, int nx) {
+      return std::clamp(static_cast<int>(std::floor((x - x0) / dx)), 0, nx - 1);
+    };
+    for (std::size_t i = 0; i < s->tris_.size(); ++i) {
+      const Triangle& t = s->tris_[i];
+      const double area2 = (t.v[1][u] - t.v[0][u]) * (t.v[2][v] - t.v[0][v]) -
+                           (t.v[1][v] - t.v[0][v]) * (t.v[2][u] - t.v[0][u]);
+      if (area2 == 0) continue;  // edge-on to the ray: never crossed
+      double ulo = 1e300, uhi = -1e300, vlo = 1e300, vhi = -1e300;
+      for (const Point3& p : t.v) {
+        ulo = std::min(ulo, p[u]);
+        uhi = std::max(uhi, p[u]);
+        vlo = std::min(vlo, p[v]);
+        vhi = std::max(vhi, p[v]);
+      }
+      for (int j = cell(vlo, g.v0, g.dv, n); j <= cell(vhi, g.v0, g.dv, n); ++j)
+        for (int i2 = cell(ulo, g.u0, g.du, n); i2 <= cell(uhi, g.u0, g.du, n); ++i2)
+          g.buckets[static_cast<std::size_t>(j) * n + i2].push_back(static_cast<int>(i));
+    }
+  }
+  // Triangles not oriented alike (STL writers do not all keep the rule): the divergence
+  // theorem's sum means nothing; the volume is the bounds' times the share of 48^3
+  // midpoints inside (for the memory estimate only: the particles do not use it).
+  if (!oriented) {
+    constexpr int n = 48;
+    long long in = 0;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const int ijk[3] = {i, j, k};
+          Point3 x;
+          for (int d = 0; d < 3; ++d) x[d] = b.lo[d] + (ijk[d] + 0.5) * (b.hi[d] - b.lo[d]) / n;
+          in += s->contains(x);
+        }
+    s->volume_ = b.volume() * static_cast<double>(in) / (static_cast<double>(n) * n * n);
+  }
+  return s;
+}
+
+int TriSurface::RayGrid::crossings(const std::vector<Triangle>& tris, const Point3& x) const {
+  const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  const double pu = x[u], pv = x[v];
+  const int iu = static_cast<int>(std::floor((pu - u0) / du)), iv = static_cast<int>(std::floor((pv - v0) / dv));
+  // Outside the projected bounds (the top bound belongs to the last bucket).
+  if (pu < u0 || pv < v0 || iu > nu || iv > nv) return 0;
+  const auto& bucket = buckets[static_cast<std::size_t>(std::min(iv, nv - 1)) * nu + std::min(iu, nu - 1)];
+  // A point on an edge belongs to the triangle whose (counter-clockwise) edge points "up",
+  // or exactly left: of two triangles sharing an edge, traversed both ways, exactly one.
+  auto owns = [](double eu, double ev) { return ev > 0 || (ev == 0 && eu < 0); };
+  int count = 0;
+  for (int i : bucket) {
+    const Triangle& t = tris[static_cast<std::size_t>(i)];
+    const Point3* a = &t.v[0];
+    const Point3* b = &t.v[1];
+    const Point3* c = &t.v[2];
+    double area2 = ((*b)[u] - (*a)[u]) * ((*c)[v] - (*a)[v]) - ((*b)[v] - (*a)[v]) * ((*c)[u] - (*a)[u]);
+    if (area2 < 0) {
+      std::swap(b, c);
+      area2 = -area2;
+    }
+    // Edge functions: twice the area of (start, end, p); all >= 0 inside.
+    double w[3];
+    const Point3* p[3] = {a, b, c};
+    bool inside = true;
+    for (int k = 0; k < 3 && inside; ++k) {
+      const Point3& s = *p[k];
+      const Point3& e = *p[(k + 1) % 3];
+      const double eu = e[u] - s[u], ev = e[v] - s[v];
+      const double f = eu * (pv - s[v]) - ev * (pu - s[u]);
+      w[(k + 2) % 3] = f;  // the barycentric weight of the vertex opposite the edge
+      inside = f > 0 || (f == 0 && owns(eu, ev));
+    }
+    if (!inside) continue;
+    const double height = (w[0] * (*a)[axis] + w[1] * (*b)[axis] + w[2] * (*c)[axis]) / area2;
+    if (height > x[axis]) ++count;
+  }
+  return count;
+}
+
+bool TriSurface::contains(const Point3& x) const {
+  if (!bounds_.contains(x)) return false;
+  int votes = 0;
+  for (const RayGrid& g : rays_) votes += g.crossings(tris_, x) % 2;
+  return votes >= 2;
+}
+
+}  // namespace scree::geometry

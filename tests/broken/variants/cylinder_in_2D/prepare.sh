@@ -1,0 +1,1 @@
+sed -i 's/type    rectangle;/type    cylinder; p1 (0.1 0 0); p2 (0.1 0.2 0); radius 0.1;/; /lower \|upper /d' constant/bodies
