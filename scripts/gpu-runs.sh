@@ -18,6 +18,10 @@
 # the machine's CPU cores. Each run gets its own copy of cases/ (cases include their
 # neighbours' files: a material, the stages). At most 7 runs: 8 files come back from a call.
 #
+# Run other CUDA programs (ctest -L gpu, scree-bench) before `start` or after the runs end:
+# `ctest -L gpu` started beside the runs (outside the MPS daemon's pipe directory) made no
+# progress past its first test in 595 s.
+#
 # Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda). Carry between machines: here,
 #   mkdir -p gpu-carry/<label> && tar -xzf <files_at>/<label>.tar.gz -C gpu-carry/<label>
 # (gpu-carry/ is ignored by git: name it in `carry`); a run whose gpu-carry/<label>/ holds
@@ -84,7 +88,10 @@ start() {
       (launch "$label" "$spec" "$((2 + core * 2))-$((3 + core * 2))") > $S/logs/session-$label.log 2>&1 < /dev/null &
       core=$((core + 1))
     elif [ "$mps" = 1 ]; then
-      (launch "$label" "$spec" 0-1) > $S/logs/session-$label.log 2>&1 < /dev/null &
+      # two cores of its own: a GPU run's host loop launches its kernels and must not wait
+      # for a core (seven runs pinned to the same two cores ran at ~50 steps/s each)
+      (launch "$label" "$spec" "$((2 + core * 2))-$((3 + core * 2))") > $S/logs/session-$label.log 2>&1 < /dev/null &
+      core=$((core + 1))
     else
       gpu+=("$label=$spec")
     fi
