@@ -465,8 +465,8 @@ int main(int argc, char** argv) {
       "threads", po::value<int>()->default_value(omp_get_max_threads()), "CPU threads")(
       "source-dir", po::value<std::string>()->default_value(SCREE_SOURCE_DIR), "the Scree source tree (for cases/)")(
       "write-block", po::value<std::string>(),
-      "write the scaling case's block of --max-particles particles (the first of --materials, --shapes and "
-      "--schemes) under this directory, print its path and exit (scripts/gpu-ncu-block.sh)")(
+      "write the scaling case's block of --max-particles particles (the first of --materials, --shapes, "
+      "--schemes and --dimensions) under this directory, print its path and exit (scripts/gpu-ncu-block.sh)")(
       "csv", po::value<std::string>()->default_value("scree-bench.csv"), "CSV output")(
       "json", po::value<std::string>()->default_value("scree-bench.json"), "JSON output");
   po::variables_map vm;
@@ -507,7 +507,8 @@ int main(int argc, char** argv) {
     const fs::path dir = write_block_case(vm["write-block"].as<std::string>(), max_n,
                                           split(vm["materials"].as<std::string>()).at(0),
                                           split(vm["shapes"].as<std::string>()).at(0),
-                                          split(vm["schemes"].as<std::string>()).at(0), src);
+                                          split(vm["schemes"].as<std::string>()).at(0), src,
+                                          split(vm["dimensions"].as<std::string>()).at(0) == "3" ? 3 : 2);
     std::cout << dir.string() << "\n";
     return 0;
   }
