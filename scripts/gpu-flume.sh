@@ -68,23 +68,11 @@ prepare() {
 
 # launch LABEL SPEC CORES: run it (restarting from flume-carry/LABEL when that holds checkpoints)
 launch() {
-  local label=$1 spec=$2 cores=$3 d dev=cuda args t0 rc
+  local label=$1 spec=$2 cores=$3 d rc wall dev=cuda
   d=$(prepare "$label" "$spec") || return 1
   [[ ",$spec," == *",cpu,"* ]] && dev=cpu
-  args=(--case "$d" --device $dev)
-  [ $dev = cpu ] && args+=(--threads 2)
-  if [ -d "$here/flume-carry/$label/checkpoints" ]; then
-    cp -r "$here/flume-carry/$label/." "$d/"
-    args+=(--restart)
-  fi
-  echo "$d" > $S/logs/$label.dir
-  local ts=(taskset -c "$cores")
-  taskset -c "$cores" true 2> /dev/null || ts=()  # fewer cores than that here
-  t0=$(date +%s.%N)
-  "${ts[@]}" $S/build/bin/scree "${args[@]}" > $S/logs/$label.log 2>&1
-  rc=$?
-  local wall
-  wall=$(awk "BEGIN{printf \"%.1f\", $(date +%s.%N) - $t0}")
+  gpu_scree "$label" "$d" "$spec" "$cores" "$here/flume-carry"
+  rc=$GPU_RC wall=$GPU_WALL
   if [ $rc = 5 ] && [[ ",$spec," != *",tstep=steady,"* ]] && ls "$d"/checkpoints/*.ckpt > /dev/null 2>&1; then
     # stopped by the health checks: once more from the newest checkpoint, the step from the
     # steady temperature (kinetic_theory.hpp, step_temperature)
@@ -92,103 +80,46 @@ launch() {
     local d2
     d2=$(prepare "$label-steady" "$spec,tstep=steady") || return 1
     cp -r "$d/checkpoints" "$d/postProcessing" "$d/VTK" "$d2/"
-    echo "$d2" > $S/logs/$label-steady.dir
-    t0=$(date +%s.%N)
-    "${ts[@]}" $S/build/bin/scree --case "$d2" --device $dev $([ $dev = cpu ] && echo --threads 2) --restart \
-      > $S/logs/$label-steady.log 2>&1
-    rc=$?
-    wall="$wall + $(awk "BEGIN{printf \"%.1f\", $(date +%s.%N) - $t0}")"
+    gpu_scree "$label-steady" "$d2" "$spec" "$cores" /nonexistent --restart
+    rc=$GPU_RC wall="$wall + $GPU_WALL"
   fi
-  echo "$label exit $rc wall $wall s $dev ${args[*]:2}" >> $S/walltimes.txt
+  echo "$label exit $rc wall $wall s $dev ${GPU_ARGS[*]:2}" >> $S/walltimes.txt
 }
 
 start() {
   [ $# -eq 0 ] && set -- pt=flume
-  rm -rf $S && mkdir -p $S/logs $S/runs
-  source .gpu-bundle/env.sh
-  cp -r "${SCREE_BUILD_DIR:-build-cuda}" $S/build && cp -r .gpu-bundle/lib $S/lib
-  nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv > $S/device.txt
-  export LD_LIBRARY_PATH=$S/lib:${LD_LIBRARY_PATH:-}
-  local mps=1
-  mps_start >> $S/device.txt || mps=0
-  local r core=0 gpu=()
-  for r in "$@"; do
-    local label=${r%%=*} spec=${r#*=}
-    if [[ ",$spec," == *",cpu,"* ]]; then
-      (launch "$label" "$spec" "$((2 + core * 2))-$((3 + core * 2))") > $S/logs/session-$label.log 2>&1 < /dev/null &
-      core=$((core + 1))
-    elif [ "$mps" = 1 ]; then
-      # two cores of its own: a GPU run's host loop launches its kernels and must not wait
-      # for a core (seven runs pinned to the same two cores ran at ~50 steps/s each)
-      (launch "$label" "$spec" "$((2 + core * 2))-$((3 + core * 2))") > $S/logs/session-$label.log 2>&1 < /dev/null &
-      core=$((core + 1))
-    else
-      gpu+=("$label=$spec")
-    fi
-  done
-  if [ ${#gpu[@]} -gt 0 ]; then
-    (for r in "${gpu[@]}"; do launch "${r%%=*}" "${r#*=}" 0-1; done) > $S/logs/session-gpu.log 2>&1 < /dev/null &
-  fi
-  echo $# > $S/runs.count  # `wait` ends when walltimes.txt has a line for each
-  disown -a
-  echo "started: $*"
-  cat $S/device.txt
+  gpu_prepare_machine
+  gpu_launch_all "$@"
 }
 
-status() { gpu_status 16; }
+# collect_one LABEL DIR: $out/LABEL.tar.gz
+collect_one() {
+  local label=$1 d=$2 f t newest keep=()
+  [ -d "$d/postProcessing" ] || return 0
+  # the frames at the paper's times for the figures' runs (pt*, frictional*), the last frame of every run
+  [[ $label == pt* || $label == frictional* ]] &&
+  for t in 0 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05; do  # t = 0, the release, then 0.1 0.4 0.8 ... 3 s
+    f=$(grep -oE "timestep=\"$t[0-9]*\"[^>]*file=\"[^\"]+\"" "$d/VTK/particles.pvd" 2>/dev/null | head -1 |
+      sed -E 's/.*file="([^"]+)".*/\1/')
+    [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
+  done
+  # the newest checkpoint of an unfinished run (to continue it), and the last frame (a
+  # failed run's state, for the diagnosis)
+  newest=$(gpu_newest_checkpoint "$label" "$d")
+  f=$(gpu_last_frame "$d") && keep+=("$f")
+  cp $S/logs/$label.log "$d/run.log"
+  # the stages' times (the release) for the figures: the main case's file, whose variants
+  # only include it
+  mkdir -p "$d/collected/system" && cp "$S/runs/$label/flume/system/stages" "$d/collected/system/stages"
+  (cd "$d" && tar -czf - run.log postProcessing VTK/particles.pvd $(printf '%s\n' "${keep[@]}" | sort -u) $newest \
+    -C collected system/stages) > "$out/$label.tar.gz"
+}
 
 collect() {
-  mkdir -p "$out"
-  status > $S/status.txt
-  # at most 8 files come back from a call: the notes in one, a tarball per run
-  (cd $S && tar -czf "$out/meta.tar.gz" status.txt device.txt walltimes.txt $(cd $S && ls logs/retries.txt logs/mps.err 2> /dev/null))
-  cat $S/status.txt
-  local f label d keep t newest
-  for f in $S/logs/*.dir; do
-    [ -f "$f" ] || continue
-    label=$(basename "$f" .dir)
-    d=$(cat "$f")
-    [ -d "$d/postProcessing" ] || continue
-    keep=()
-    # the frames at the paper's times for the figures' runs (pt*, frictional*), the last frame of every run
-    [[ $label == pt* || $label == frictional* ]] &&
-    for t in 0 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05; do  # t = 0, the release, then 0.1 0.4 0.8 ... 3 s
-      f=$(grep -oE "timestep=\"$t[0-9]*\"[^>]*file=\"[^\"]+\"" "$d/VTK/particles.pvd" 2>/dev/null | head -1 |
-        sed -E 's/.*file="([^"]+)".*/\1/')
-      [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
-    done
-    # the newest checkpoint of an unfinished run (to continue it), and the last frame (a
-    # failed run's state, for the diagnosis)
-    newest=
-    grep -q "scree: done" $S/logs/$label.log 2> /dev/null ||
-      newest=$(cd "$d" && ls checkpoints/*.ckpt 2>/dev/null | sort -t/ -k2 -g | tail -1)
-    f=$(grep -oE 'file="[^"]+"' "$d/VTK/particles.pvd" 2>/dev/null | tail -1 | sed -E 's/file="([^"]+)"/\1/')
-    [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
-    cp $S/logs/$label.log "$d/run.log"
-    # the stages' times (the release) for the figures: the main case's file, whose variants
-    # only include it
-    mkdir -p "$d/collected/system" && cp "$S/runs/$label/flume/system/stages" "$d/collected/system/stages"
-    (cd "$d" && tar -czf - run.log postProcessing VTK/particles.pvd $(printf '%s\n' "${keep[@]}" | sort -u) $newest \
-      -C collected system/stages) > "$out/$label.tar.gz"
-  done
-  ls -la "$out"
+  gpu_collect_meta
+  gpu_collect_each collect_one
 }
 
 if [ "${BASH_SOURCE[0]}" = "$0" ]; then
-  cmd=${1:-status}
-  shift || true
-  case $cmd in
-    start) setsid bash "$0" _start "$@" ;;
-    _start) start "$@" ;;
-    status) status ;;
-    wait)
-      end=$(($(date +%s) + ${1:-500}))
-      while [ "$(date +%s)" -lt $end ] &&
-        [ "$(cat $S/walltimes.txt 2>/dev/null | wc -l)" -lt "$(cat $S/runs.count 2>/dev/null || echo 0)" ]; do
-        sleep 15
-      done
-      status ;;
-    collect) collect ;;
-    *) echo "usage: $0 start LABEL=CASE[,endTime=T][,deltaT=DT][,cellSize=H][,tstep=W][,cpu]...|status|wait SECONDS|collect" >&2; exit 2 ;;
-  esac
+  gpu_main "start LABEL=CASE[,endTime=T][,deltaT=DT][,cellSize=H][,tstep=W][,cpu]...|status|wait SECONDS|collect" "$@"
 fi
