@@ -5,13 +5,16 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
@@ -86,6 +89,61 @@ inline RunOptions options(int threads = 2) {
   static std::ostringstream sink;
   o.log = &sink;
   return o;
+}
+
+/// The field `name` of body `b`; throws if the body has none.
+inline const FieldData& field(const BodySnapshot& b, const char* name) {
+  const FieldData* f = b.find(name);
+  if (!f) throw std::runtime_error(std::string("no field ") + name);
+  return *f;
+}
+
+/// A body's mass-weighted mean velocity and its centre of mass (z = 0 in 2D).
+struct BodyMotion {
+  std::array<double, 3> v, x;
+};
+
+/// Runs the case written in `tc` on `threads` threads and returns its first body's motion at
+/// each of `times` (increasing): the blocks sliding and thrown in the boundary tests.
+inline std::vector<BodyMotion> body_motion(const TempCase& tc, const std::vector<double>& times, int threads = 1) {
+  Case c = Case::read(tc.dir(), runtime());
+  Simulation sim(c, runtime(), options(threads));
+  std::vector<BodyMotion> out;
+  for (double t : times) {
+    sim.advance_to(t);
+    const Snapshot s = sim.snapshot();
+    const BodySnapshot& b = s.bodies.at(0);
+    const auto& v = field(b, "velocity").values;
+    const auto& m = field(b, "mass").values;
+    BodyMotion mo{{0, 0, 0}, {0, 0, 0}};
+    double mass = 0;
+    for (Index i = 0; i < b.n; ++i) {
+      for (int d = 0; d < 3; ++d) {
+        mo.v[d] += m[i] * v[3 * i + d];
+        mo.x[d] += m[i] * b.position[3 * i + d];
+      }
+      mass += m[i];
+    }
+    for (int d = 0; d < 3; ++d) {
+      mo.v[d] /= mass;
+      mo.x[d] /= mass;
+    }
+    out.push_back(mo);
+  }
+  return out;
+}
+
+/// The least-squares slope of v(t): an acceleration fitted to velocities.
+inline double least_squares_slope(const std::vector<double>& t, const std::vector<double>& v) {
+  double st = 0, sv = 0, stt = 0, stv = 0;
+  const double n = static_cast<double>(t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    st += t[i];
+    sv += v[i];
+    stt += t[i] * t[i];
+    stv += t[i] * v[i];
+  }
+  return (n * stv - st * sv) / (n * stt - st * st);
 }
 
 }  // namespace scree::test

@@ -21,12 +21,6 @@
 namespace scree::test {
 namespace {
 
-const FieldData& field(const BodySnapshot& b, const char* name) {
-  const FieldData* f = b.find(name);
-  if (!f) throw std::runtime_error(std::string("no field ") + name);
-  return *f;
-}
-
 struct RunSetup {
   std::string control, grid, schemes, materials, bodies, boundaries, gravity = "value (0 -9.81);";
 };

@@ -90,36 +90,9 @@ std::vector<double> slide(const std::string& wall, const std::string& scheme, co
                                   point(0.3, 0) + " " + point(0.3, 0.05) + " " + point(0.1, 0.05) +
                                   "); } particlesPerCell 2; }");
   tc.write("constant/boundaryConditions", "plane { " + wall + " }");
-  Case c = Case::read(tc.dir(), runtime());
-  Simulation sim(c, runtime(), options(1));
   std::vector<double> out;
-  for (double t : times) {
-    sim.advance_to(t);
-    const Snapshot s = sim.snapshot();
-    const BodySnapshot& b = s.bodies.at(0);
-    const auto& v = b.find("velocity")->values;
-    const auto& m = b.find("mass")->values;
-    double p = 0, mass = 0;
-    for (Index i = 0; i < b.n; ++i) {
-      p += m[i] * (v[3 * i] * kT[0] + v[3 * i + 1] * kT[1]);
-      mass += m[i];
-    }
-    out.push_back(p / mass);
-  }
+  for (const BodyMotion& mo : body_motion(tc, times)) out.push_back(mo.v[0] * kT[0] + mo.v[1] * kT[1]);
   return out;
-}
-
-/// Least-squares slope of v(t).
-double fit_acceleration(const std::vector<double>& t, const std::vector<double>& v) {
-  double st = 0, sv = 0, stt = 0, stv = 0;
-  const double n = static_cast<double>(t.size());
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    st += t[i];
-    sv += v[i];
-    stt += t[i] * t[i];
-    stv += t[i] * v[i];
-  }
-  return (n * stv - st * sv) / (n * stt - st * st);
 }
 
 std::vector<double> fit_times() {
@@ -131,7 +104,7 @@ std::vector<double> fit_times() {
 void expect_slides(const std::string& wall, double mu, const std::string& scheme,
                    const std::string& shape = "linear") {
   const std::vector<double> t = fit_times();
-  const double a = fit_acceleration(t, slide(wall, scheme, t, shape));
+  const double a = least_squares_slope(t, slide(wall, scheme, t, shape));
   const double exact = kG * (std::sin(kTheta) - mu * std::cos(kTheta));
   std::printf("%s, %s, %s: a = %.5f m/s^2, rigid block %.5f m/s^2 (%+.3f%%)\n", wall.c_str(), scheme.c_str(),
               shape.c_str(), a, exact, 100 * (a / exact - 1));

@@ -75,14 +75,21 @@ struct Velocity {
   double x_along, x_across, x_off;  ///< the centre of mass's position along t, b and n
 };
 
-/// The block's mass-weighted mean velocity at each of `times`; `wall` the plane's entries.
-std::vector<Velocity> slide(const std::string& wall, const std::vector<double>& times) {
-  TempCase tc("inclined_plane_3d");
+/// The entries both blocks' cases share: the grid of 0.025 m cells over (0 0 0)-(0.6 height
+/// 0.6), the step of 1e-4 s, USF with linear shape functions, gravity along -y and the block's
+/// material (E = 5e5 Pa).
+void write_lattice(const TempCase& tc, double height) {
   tc.write("system/controlDict", "endTime 1; deltaT 1e-4; writeInterval 1;");
-  tc.write("system/gridDict", "dimension 3; lower (0 0 0); upper (0.6 0.6 0.6); cellSize 0.025;");
+  tc.write("system/gridDict", "dimension 3; lower (0 0 0); upper " + vec({0.6, height, 0.6}) + "; cellSize 0.025;");
   tc.write("system/mpmSchemes", "updateScheme USF; shapeFunction linear; transfer FLIP;");
   tc.write("constant/g", "value (0 -9.81 0);");
   tc.write("constant/materialProperties", "soil { type linearElastic; E 5e5; nu 0.3; rho 1000; }");
+}
+
+/// The block's mass-weighted mean velocity at each of `times`; `wall` the plane's entries.
+std::vector<Velocity> slide(const std::string& wall, const std::vector<double>& times) {
+  TempCase tc("inclined_plane_3d");
+  write_lattice(tc, 0.6);
   // The block: from 0.02 to 0.22 m down the slope of kP0, 0 to 0.05 m above the plane, -0.075
   // to 0.075 m across.
   std::filesystem::create_directories(tc.dir() / "constant/triSurface");
@@ -94,42 +101,17 @@ std::vector<Velocity> slide(const std::string& wall, const std::vector<double>& 
   tc.write("constant/bodies",
            "block { material soil; region { type stl; file \"constant/triSurface/block.stl\"; } particlesPerCell 2; }");
   tc.write("constant/boundaryConditions", "plane { " + wall + " }");
-  Case c = Case::read(tc.dir(), runtime());
-  Simulation sim(c, runtime(), options(1));
   std::vector<Velocity> out;
-  for (double t : times) {
-    sim.advance_to(t);
-    const Snapshot s = sim.snapshot();
-    const BodySnapshot& b = s.bodies.at(0);
-    const auto& v = b.find("velocity")->values;
-    const auto& m = b.find("mass")->values;
-    double p[3] = {0, 0, 0}, q[3] = {0, 0, 0}, mass = 0;
-    for (Index i = 0; i < b.n; ++i) {
-      const P3 vi = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-      const P3 xi = {b.position[3 * i], b.position[3 * i + 1], b.position[3 * i + 2]};
-      p[0] += m[i] * dot(vi, kT);
-      p[1] += m[i] * dot(vi, kB);
-      p[2] += m[i] * dot(vi, kN);
-      q[0] += m[i] * dot(xi, kT);
-      q[1] += m[i] * dot(xi, kB);
-      q[2] += m[i] * dot(xi, kN);
-      mass += m[i];
-    }
-    out.push_back({p[0] / mass, p[1] / mass, p[2] / mass, q[0] / mass, q[1] / mass, q[2] / mass});
-  }
+  for (const BodyMotion& mo : body_motion(tc, times))
+    out.push_back({dot(mo.v, kT), dot(mo.v, kB), dot(mo.v, kN), dot(mo.x, kT), dot(mo.x, kB), dot(mo.x, kN)});
   return out;
 }
 
+/// The least-squares acceleration along t.
 double fit_acceleration(const std::vector<double>& t, const std::vector<Velocity>& v) {
-  double st = 0, sv = 0, stt = 0, stv = 0;
-  const double n = static_cast<double>(t.size());
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    st += t[i];
-    sv += v[i].along;
-    stt += t[i] * t[i];
-    stv += t[i] * v[i].along;
-  }
-  return (n * stv - st * sv) / (n * stt - st * st);
+  std::vector<double> along;
+  for (const Velocity& vi : v) along.push_back(vi.along);
+  return least_squares_slope(t, along);
 }
 
 void expect_slides(const std::string& wall, double mu) {
@@ -202,62 +184,34 @@ TEST(InclinedPlanePlugin3D, FrictionAboveTanThetaOrNoSlipHoldsTheBlock) {
 
 const P3 kDir = {0.6, 0, 0.8};
 
-struct Motion {
-  P3 v, x;  ///< the block's mean velocity and its centre of mass
-};
-
 /// The block's mass-weighted mean velocity and centre of mass at each of `times`.
-std::vector<Motion> throw_block(const std::string& floor, const std::vector<double>& times) {
+std::vector<BodyMotion> throw_block(const std::string& floor, const std::vector<double>& times) {
   TempCase tc("floor_3d");
-  tc.write("system/controlDict", "endTime 1; deltaT 1e-4; writeInterval 1;");
-  tc.write("system/gridDict", "dimension 3; lower (0 0 0); upper (0.6 0.2 0.6); cellSize 0.025;");
-  tc.write("system/mpmSchemes", "updateScheme USF; shapeFunction linear; transfer FLIP;");
-  tc.write("constant/g", "value (0 -9.81 0);");
-  tc.write("constant/materialProperties", "soil { type linearElastic; E 5e5; nu 0.3; rho 1000; }");
+  write_lattice(tc, 0.2);
   tc.write("constant/bodies", "block { material soil; region { type box; lower (0.05 0 0.05); upper (0.25 0.05 0.25); } "
                               "velocity " + vec(kDir) + "; particlesPerCell 2; }");
   tc.write("constant/boundaryConditions", "floor { " + floor + " }");
-  Case c = Case::read(tc.dir(), runtime());
-  Simulation sim(c, runtime(), options(1));
-  std::vector<Motion> out;
-  for (double t : times) {
-    sim.advance_to(t);
-    const Snapshot s = sim.snapshot();
-    const BodySnapshot& b = s.bodies.at(0);
-    const auto& v = b.find("velocity")->values;
-    const auto& m = b.find("mass")->values;
-    P3 p{0, 0, 0}, q{0, 0, 0};
-    double mass = 0;
-    for (Index i = 0; i < b.n; ++i) {
-      for (int d = 0; d < 3; ++d) {
-        p[d] += m[i] * v[3 * i + d];
-        q[d] += m[i] * b.position[3 * i + d];
-      }
-      mass += m[i];
-    }
-    out.push_back({{p[0] / mass, p[1] / mass, p[2] / mass}, {q[0] / mass, q[1] / mass, q[2] / mass}});
-  }
-  return out;
+  return body_motion(tc, times);
 }
 
 /// The deceleration along kDir fitted over 0.02-0.1 s, and the largest sideways velocity.
 void expect_decelerates(const std::string& floor, double expected) {
   std::vector<double> t;
   for (int k = 0; k <= 16; ++k) t.push_back(0.02 + 0.005 * k);
-  const std::vector<Motion> m = throw_block(floor, t);
-  std::vector<Velocity> along;
+  const std::vector<BodyMotion> m = throw_block(floor, t);
+  std::vector<double> along;
   double sideways = 0;
-  for (const Motion& mo : m) {
+  for (const BodyMotion& mo : m) {
     const P3& x = mo.v;
-    along.push_back({dot(x, kDir), 0, 0, 0, 0, 0});
+    along.push_back(dot(x, kDir));
     sideways = std::max(sideways, std::fabs(x[0] * kDir[2] - x[2] * kDir[0]));
   }
-  const double a = -fit_acceleration(t, along);
+  const double a = -least_squares_slope(t, along);
   std::printf("%s: deceleration %.5f m/s^2 (expected %.5f); velocity along v0 at 0.1 s %.4f m/s, sideways at "
               "most %.2e m/s\n",
-              floor.c_str(), a, expected, along.back().along, sideways);
+              floor.c_str(), a, expected, along.back(), sideways);
   if (expected == 0)
-    EXPECT_NEAR(along.back().along, 1.0, 0.01) << floor;
+    EXPECT_NEAR(along.back(), 1.0, 0.01) << floor;
   else
     EXPECT_NEAR(a, expected, 0.01 * expected) << floor;
   EXPECT_LT(sideways, 0.01) << floor;
@@ -273,7 +227,7 @@ TEST(Floor3D, AFixedBoxOfNodesStopsTheBlock) {
   // The base sticks; the block sways on it (a shear mode of ~ 70 Hz, amplitude ~ v0 / omega
   // = 2 mm at its top) but its centre of mass does not travel: below 1 cm from 0.02 to 0.2 s,
   // where on the slip face it travels 0.18 m.
-  const std::vector<Motion> m = throw_block("type fixed; box { min (-0.1 -0.1 -0.1); max (0.7 0 0.7); }", {0.02, 0.2});
+  const std::vector<BodyMotion> m = throw_block("type fixed; box { min (-0.1 -0.1 -0.1); max (0.7 0 0.7); }", {0.02, 0.2});
   const P3 d = {m[1].x[0] - m[0].x[0], m[1].x[1] - m[0].x[1], m[1].x[2] - m[0].x[2]};
   std::printf("fixed box: the centre of mass moved (%.2e %.2e %.2e) m from 0.02 to 0.2 s\n", d[0], d[1], d[2]);
   EXPECT_LT(std::sqrt(dot(d, d)), 0.01);

@@ -17,12 +17,6 @@ std::string control(double end, double dt) {
          ";\nwriteInterval " + std::to_string(end) + ";\n";
 }
 
-const FieldData& field(const BodySnapshot& b, const char* name) {
-  const FieldData* f = b.find(name);
-  if (!f) throw std::runtime_error(std::string("no field ") + name);
-  return *f;
-}
-
 // ---------------------------------------------------------------------------------
 // 1D axially vibrating bar, fixed at x = 0, free at x = L, started in its first mode
 // v(x, 0) = v0 sin(pi x / 2L). Exact: u(x,t) = (v0/w) sin(w t) sin(pi x / 2L),

@@ -30,12 +30,6 @@
 namespace scree::test {
 namespace {
 
-const FieldData& field(const BodySnapshot& b, const char* name) {
-  const FieldData* f = b.find(name);
-  if (!f) throw std::runtime_error(std::string("no field ") + name);
-  return *f;
-}
-
 Snapshot collapse(const std::string& material, int dim, int steps) {
   std::ifstream f(std::string(SCREE_SOURCE_DIR) + "/cases/columnCollapse/constant/materialProperties");
   std::stringstream mats;
