@@ -49,26 +49,39 @@ void write_case(const fs::path& dir) {
              "}\n");
 }
 
+/// The scree executable's exit status and what it printed.
+struct ScreeRun {
+  int rc;
+  std::string out;
+};
+
+/// Runs the scree executable on the case `dir` with `args` (each with its leading space), its
+/// output (stdout and stderr) to `log`.
+ScreeRun run_scree(const fs::path& dir, const std::string& args, const fs::path& log) {
+  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.string() + "'" + args +
+                          " > '" + log.string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream lf(log);
+  std::stringstream out;
+  out << lf.rdbuf();
+  return {rc, out.str()};
+}
+
 }  // namespace
 
 TEST(FreeFall3D, EnergiesRunOutHeightFieldAndVtk) {
   TempDir dir;
   write_case(dir.path());
   const fs::path log = dir.path() / "log.scree";
-  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.path().string() +
-                          "' --device cpu --threads 1 > '" + log.string() + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  std::ifstream lf(log);
-  std::stringstream out;
-  out << lf.rdbuf();
-  ASSERT_EQ(rc, 0) << out.str();
+  const ScreeRun run = run_scree(dir.path(), " --device cpu --threads 1", log);
+  ASSERT_EQ(run.rc, 0) << run.out;
   const fs::path pp = dir.path() / "postProcessing";
 
   // energies: J in 3D; KE = M g^2 t^2 / 2; PE(0) = M g z_c with z_c = 0.5.
   const Csv e = read_csv(pp / "energy" / "energies.csv");
   const std::vector<std::string> header = {"time [s]", "kinetic [J]", "potential [J]", "total [J]"};
   EXPECT_EQ(e.header, header);
-  ASSERT_EQ(e.rows.size(), 6u) << out.str();  // steps 0, 100, ..., 500
+  ASSERT_EQ(e.rows.size(), 6u) << run.out;  // steps 0, 100, ..., 500
   EXPECT_NEAR(e.num(0, "potential [J]"), kMass * kG * 0.5, 1e-9);
   const double total0 = e.num(0, "total [J]");
   for (std::size_t r = 0; r < e.rows.size(); ++r) {
@@ -144,17 +157,12 @@ TEST(FreeFall3D, UserErrorStopsBeforeAnythingIsWritten) {
              "}\n");
   const fs::path log = dir.path() / ".." / (dir.path().filename().string() + ".log");
   for (const char* mode : {" --check", " --device cpu --threads 1"}) {
-    const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.path().string() + "'" +
-                            mode + " > '" + log.string() + "' 2>&1";
-    const int rc = std::system(cmd.c_str());
-    std::ifstream lf(log);
-    std::stringstream out;
-    out << lf.rdbuf();
+    const ScreeRun run = run_scree(dir.path(), mode, log);
     fs::remove(log);
-    EXPECT_NE(rc, 0) << mode << ": " << out.str();
-    EXPECT_NE(out.str().find("system/controlDict:8:"), std::string::npos) << mode << ": " << out.str();
-    EXPECT_NE(out.str().find("radial.directions: element 2 must be a direction of 3 numbers"), std::string::npos)
-        << mode << ": " << out.str();
+    EXPECT_NE(run.rc, 0) << mode << ": " << run.out;
+    EXPECT_NE(run.out.find("system/controlDict:8:"), std::string::npos) << mode << ": " << run.out;
+    EXPECT_NE(run.out.find("radial.directions: element 2 must be a direction of 3 numbers"), std::string::npos)
+        << mode << ": " << run.out;
     EXPECT_FALSE(fs::exists(dir.path() / "VTK")) << mode;
     EXPECT_FALSE(fs::exists(dir.path() / "postProcessing")) << mode;
   }
@@ -168,16 +176,11 @@ TEST(FreeFall3D, UserErrorStopsBeforeAnythingIsWritten) {
              "  energy { type energies; }\n"
              "  front { type runOut; radial { centre (0.2 0.2 0); directions ((1 0 0) (0 0 1)); } }\n"
              "}\n");
-  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.path().string() +
-                          "' --device cpu --threads 1 > '" + log.string() + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  std::ifstream lf(log);
-  std::stringstream out;
-  out << lf.rdbuf();
+  const ScreeRun run = run_scree(dir.path(), " --device cpu --threads 1", log);
   fs::remove(log);
-  EXPECT_NE(rc, 0) << out.str();
-  EXPECT_NE(out.str().find("system/controlDict:8:"), std::string::npos) << out.str();
-  EXPECT_NE(out.str().find("element 2 (0 0 1) is zero or parallel to the axis"), std::string::npos) << out.str();
+  EXPECT_NE(run.rc, 0) << run.out;
+  EXPECT_NE(run.out.find("system/controlDict:8:"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("element 2 (0 0 1) is zero or parallel to the axis"), std::string::npos) << run.out;
   EXPECT_FALSE(fs::exists(dir.path() / "VTK"));
   EXPECT_FALSE(fs::exists(dir.path() / "postProcessing"));
 }
