@@ -82,6 +82,16 @@ def radial_profile(surf, width):
     return 0.5 * (edges[1:] + edges[:-1]), prof
 
 
+def finish(fig, ax, xlabel, ylabel, title, path):
+    """Labels, legend and the saved figure."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+
+
 def fit_exponent(a, y):
     """Least-squares slope of log y against log a."""
     return float(np.polyfit(np.log(a), np.log(y), 1)[0]) if len(a) >= 2 else math.nan
@@ -128,12 +138,8 @@ def main():
         summary["runs"]["%g" % a] = rec
         print("a = %-4g run-out (q99) %.4f m, edge %s m, sectors %s, height %s m" % (
             a, rec["runout_q99_m"], rec["runout_edge_m"], rec["sector_fronts_m"], rec.get("height_on_axis_m")))
-    ax_h.set_xlabel("r / r0")
-    ax_h.set_ylabel("h / r0")
-    ax_h.set_title("Deposits (dotted: the initial columns)")
-    ax_h.legend(fontsize=8)
-    fig_h.tight_layout()
-    fig_h.savefig(os.path.join(args.out, "deposits.png"), dpi=150)
+    finish(fig_h, ax_h, "r / r0", "h / r0", "Deposits (dotted: the initial columns)",
+           os.path.join(args.out, "deposits.png"))
 
     # ---- the scaling laws ----
     a = np.array([x for x, _ in runs])
@@ -178,12 +184,8 @@ def main():
         for k in ro:
             if k.startswith("runout_"):
                 ax.plot(ro["time"], (ro[k] - r0) / r0, ":", color=ax.lines[-1].get_color(), lw=0.8)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("(r - r0) / r0")
-    ax.set_title("Run-out (solid: all directions; dotted: the x and z sectors)")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "runout_history.png"), dpi=150)
+    finish(fig, ax, "t [s]", "(r - r0) / r0", "Run-out (solid: all directions; dotted: the x and z sectors)",
+           os.path.join(args.out, "runout_history.png"))
 
     # ---- plan view of the tallest column's deposit ----
     x_max, run_max = runs[-1]
