@@ -37,10 +37,10 @@ gpu_prepare_machine() {
 }
 
 # gpu_launch_all RUN...: each LABEL=SPEC through the script's own `launch LABEL SPEC CORES`,
-# in the background. Every run gets two cores of its own (a GPU run's host loop launches its
-# kernels and must not wait for a core: seven runs pinned to the same two cores ran at ~50
-# steps/s each); without MPS the GPU runs go one after another. `wait` ends when
-# $S/walltimes.txt has a line for each run.
+# in the background. Every run gets two cores of its own: a GPU run's host loop launches its
+# kernels and should not wait for a core (seven runs pinned to the same two cores, and sharing
+# the GPU, ran at ~50 steps/s each). Without MPS the GPU runs go one after another. `wait`
+# ends when $S/walltimes.txt has a line for each run.
 gpu_launch_all() {
   local r core=0 gpu=()
   for r in "$@"; do
