@@ -7,8 +7,6 @@
 namespace scree::geometry {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 }  // namespace
 
 Box3 Box3::intersect(const Box3& o) const {
@@ -26,15 +24,15 @@ double Box3::volume() const {
 }
 
 bool Cylinder::contains(const Point3& x) const {
-  const Point3 a = sub(p2, p1), r = sub(x, p1);
+  const Point3 a = p2 - p1, r = x - p1;
   const double aa = dot(a, a), t = dot(r, a) / aa;
   if (t < 0 || t > 1) return false;
-  const Point3 radial = {r[0] - t * a[0], r[1] - t * a[1], r[2] - t * a[2]};
+  const Point3 radial = r - t * a;
   return dot(radial, radial) <= radius * radius;
 }
 
 Box3 Cylinder::bounds() const {
-  const Point3 a = sub(p2, p1);
+  const Point3 a = p2 - p1;
   const double aa = dot(a, a);
   Box3 b;
   for (int d = 0; d < 3; ++d) {
@@ -45,10 +43,10 @@ Box3 Cylinder::bounds() const {
   return b;
 }
 
-double Cylinder::volume() const { return kPi * radius * radius * std::sqrt(dot(sub(p2, p1), sub(p2, p1))); }
+double Cylinder::volume() const { return kPi * radius * radius * norm(p2 - p1); }
 
 bool Sphere::contains(const Point3& x) const {
-  const Point3 r = sub(x, centre);
+  const Point3 r = x - centre;
   return dot(r, r) <= radius * radius;
 }
 

@@ -18,11 +18,12 @@ namespace fs = std::filesystem;
 namespace scree::geometry {
 namespace {
 
-Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Point3 cross(const Point3& a, const Point3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/// Points ordered by their coordinates (the welding map of the closedness check).
+struct PointLess {
+  bool operator()(const Point3& a, const Point3& b) const {
+    return std::lexicographical_compare(a.v, a.v + 3, b.v, b.v + 3);
+  }
+};
 
 std::string point_text(const Point3& p) {
   char buf[96];
@@ -102,7 +103,7 @@ std::vector<TriSurface::Triangle> parse_ascii(const std::string& text, const std
         break;
       }
       case State::loop:
-        if (w != "vertex" || !numbers(ls, t.v[vertices].data(), 3))
+        if (w != "vertex" || !numbers(ls, t.v[vertices].v, 3))
           throw fail("'vertex x y z' (vertex " + std::to_string(vertices + 1) + " of the facet at line " +
                          std::to_string(t.line) + ")",
                      line);
@@ -217,7 +218,7 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
   int degenerate = 0;
   const Triangle* first_degenerate = nullptr;
   for (const Triangle& t : tris) {
-    const Point3 e1 = sub(t.v[1], t.v[0]), e2 = sub(t.v[2], t.v[0]), e3 = sub(t.v[2], t.v[1]);
+    const Point3 e1 = t.v[1] - t.v[0], e2 = t.v[2] - t.v[0], e3 = t.v[2] - t.v[1];
     const double longest = std::max({dot(e1, e1), dot(e2, e2), dot(e3, e3)});
     const Point3 c = cross(e1, e2);
     if (dot(c, c) <= 1e-24 * longest * longest) {
@@ -231,7 +232,7 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
 
   // Closed: every edge (between vertices welded where their coordinates are equal) shared by
   // exactly two triangles.
-  std::map<Point3, int> ids;
+  std::map<Point3, int, PointLess> ids;
   auto id = [&](const Point3& p) { return ids.emplace(p, static_cast<int>(ids.size())).first->second; };
   struct EdgeUse {
     int count = 0;

@@ -53,21 +53,22 @@ struct Shape {
         if (x[d] < lo[d] || x[d] > hi[d]) return false;
       return true;
     }
-    geometry::Point3 p{0, 0, 0};
-    for (int d = 0; d < D; ++d) p[d] = x[d];
-    switch (kind) {
-      case Kind::cylinder: return cylinder.contains(p);
-      case Kind::sphere: return sphere.contains(p);
-      case Kind::extruded: return extruded.contains(p);
-      case Kind::stl: return surface->contains(p);
-      default: return false;
+    if constexpr (D == 3) {  // the 3D shapes (a 2D region is a rectangle or a polygon)
+      switch (kind) {
+        case Kind::cylinder: return cylinder.contains(x);
+        case Kind::sphere: return sphere.contains(x);
+        case Kind::extruded: return extruded.contains(x);
+        case Kind::stl: return surface->contains(x);
+        default: return false;
+      }
     }
+    return false;
   }
 
   /// The region's exact volume (area in 2D), clip aside; < 0 for none known.
   double measure() const {
     switch (kind) {
-      case Kind::polygon: return geometry::polygon_area(std::vector<std::array<double, 2>>(poly.begin(), poly.end()));
+      case Kind::polygon: return geometry::polygon_area(poly);
       case Kind::cylinder: return cylinder.volume();
       case Kind::sphere: return sphere.volume();
       case Kind::extruded: return extruded.volume();
@@ -93,7 +94,7 @@ std::vector<std::array<Real, 2>> read_points(const Entry& pts, const std::string
 
 geometry::Point3 point3(const Dictionary& d, const char* key) {
   const auto v = d.at(key).as_scalar_list();
-  return {v.at(0), v.at(1), v.at(2)};
+  return {{v.at(0), v.at(1), v.at(2)}};
 }
 
 /// Throws InputError for a region that does not fit the case: a 2D type (rectangle,

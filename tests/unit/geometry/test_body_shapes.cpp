@@ -247,13 +247,19 @@ TEST(BodyMass, MemoryEstimateCountsThePointsOfEachShape) {
   }
 }
 
+/// A surface triangle from the STL writer's vertices (stl_surfaces.hpp).
+geometry::TriSurface::Triangle triangle(const P3& a, const P3& b, const P3& c) {
+  auto p = [](const P3& q) { return geometry::Point3{{q[0], q[1], q[2]}}; };
+  return {{p(a), p(b), p(c)}, 0};
+}
+
 TEST(StlInside, PointsOnTheMainDiagonalOfACube) {
   // x = y = z: each of the three rays runs through the diagonal edges of the two faces it
   // crosses, and through the cube's corners at the ends. Inside strictly between them.
   auto s = geometry::TriSurface::from_triangles(
       [] {
         std::vector<geometry::TriSurface::Triangle> t;
-        for (const auto& tri : box({0, 0, 0}, {1, 1, 1})) t.push_back({{tri[0], tri[1], tri[2]}, 0});
+        for (const auto& tri : box({0, 0, 0}, {1, 1, 1})) t.push_back(triangle(tri[0], tri[1], tri[2]));
         return t;
       }(),
       "cube", SourceLocation{});
@@ -273,9 +279,9 @@ TEST(StlInside, TrianglesOrientedEitherWayEncloseTheSameVolume) {
   int k = 0;
   for (const auto& tri : box({0, 0, 0}, {1, 1, 1})) {
     if (k++ % 4 < 2)
-      t.push_back({{tri[0], tri[1], tri[2]}, 0});
+      t.push_back(triangle(tri[0], tri[1], tri[2]));
     else
-      t.push_back({{tri[0], tri[2], tri[1]}, 0});
+      t.push_back(triangle(tri[0], tri[2], tri[1]));
   }
   auto s = geometry::TriSurface::from_triangles(t, "cube", SourceLocation{});
   EXPECT_TRUE(s->contains({0.3, 0.6, 0.2}));

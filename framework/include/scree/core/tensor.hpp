@@ -59,6 +59,9 @@ SCREE_INLINE Real dot(const Vec<D>& a, const Vec<D>& b) {
 }
 template <int D>
 SCREE_INLINE Real norm(const Vec<D>& a) { return sqrt(dot(a, a)); }
+SCREE_INLINE Vec<3> cross(const Vec<3>& a, const Vec<3>& b) {
+  return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
+}
 
 template <int D>
 struct Mat {

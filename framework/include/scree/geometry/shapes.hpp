@@ -18,15 +18,16 @@
 #include <array>
 #include <vector>
 
-#include "scree/core/config.hpp"
+#include "scree/core/tensor.hpp"
 
 namespace scree::geometry {
 
-using Point3 = std::array<double, 3>;
+/// A point of space: the particles' own vector type (core/tensor.hpp: dot, cross, +, -).
+using Point3 = Vec<3>;
 
 /// An axis-aligned box lo..hi (empty when some hi < lo).
 struct SCREE_API Box3 {
-  Point3 lo{0, 0, 0}, hi{0, 0, 0};
+  Point3 lo = Point3::zero(), hi = Point3::zero();
   bool empty() const { return hi[0] < lo[0] || hi[1] < lo[1] || hi[2] < lo[2]; }
   bool contains(const Point3& x) const {
     for (int d = 0; d < 3; ++d)
@@ -38,7 +39,7 @@ struct SCREE_API Box3 {
 };
 
 struct SCREE_API Cylinder {
-  Point3 p1{}, p2{};
+  Point3 p1 = Point3::zero(), p2 = Point3::zero();
   double radius = 0;
   bool contains(const Point3& x) const;
   /// The tight box: along axis d each end disc reaches r sqrt(1 - a_d^2 / |a|^2) from its centre.
@@ -47,7 +48,7 @@ struct SCREE_API Cylinder {
 };
 
 struct SCREE_API Sphere {
-  Point3 centre{};
+  Point3 centre = Point3::zero();
   double radius = 0;
   bool contains(const Point3& x) const;
   Box3 bounds() const;
