@@ -45,7 +45,6 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
     for (const auto& c : kBudgetColumns) header.push_back(c + unit);
     header.push_back("residualFraction [-]");
   }
-  check_writable_dir(ctx.post_processing_dir(), who_);  // the file: at the first execution
   const auto file = ctx.post_processing_dir() / "energies.csv";
   if (budget_ && ctx.start_time > 0) {
     // A restart: the first row's values come from the rows the file keeps (CsvFile::open).
@@ -66,9 +65,7 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
       }
     }
   }
-  file_ = file;
-  header_ = std::move(header);
-  start_time_ = ctx.start_time;
+  csv_.open_at_first_row(file, std::move(header), ctx.start_time, who_);
 }
 
 Energies::Result Energies::evaluate(const Snapshot& s) const {
@@ -113,10 +110,6 @@ void Energies::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
   const Result r = evaluate(s);
-  if (!csv_.is_open()) {
-    ensure_writable_dir(file_.parent_path(), who_);
-    csv_.open(file_, header_, start_time_);
-  }
   std::vector<double> row{s.time, r.kinetic, r.potential, r.total()};
   if (budget_) {
     if (!s.energy.kept)

@@ -86,9 +86,6 @@ class Energies final : public FunctionObject {
   Vec3 origin_, gravity_{0, 0, 0};
   bool budget_ = false;
   CsvFile csv_;
-  std::filesystem::path file_;
-  std::vector<std::string> header_;
-  double start_time_ = 0;
   std::int64_t last_step_ = -1;
   /// The first row's values (budget): from the first execution, or on a restart from the
   /// rows kept in the CSV file.

@@ -140,7 +140,19 @@ void CsvFile::row(const std::vector<double>& values) {
   row_text(cells);
 }
 
+void CsvFile::open_at_first_row(const fs::path& path, std::vector<std::string> header, double start_time,
+                                const std::string& who) {
+  check_writable_dir(path.parent_path(), who);
+  path_ = path;
+  pending_ = std::make_unique<Pending>(Pending{std::move(header), start_time, who});
+}
+
 void CsvFile::row_text(const std::vector<std::string>& cells) {
+  if (!out_.is_open() && pending_) {
+    const auto p = std::move(pending_);
+    ensure_writable_dir(path_.parent_path(), p->who);
+    open(path_, p->header, p->start_time);
+  }
   if (!out_.is_open()) throw std::logic_error("CsvFile::row on a file that is not open");
   if (cells.size() != columns_)
     throw std::logic_error(path_.string() + ": a row of " + std::to_string(cells.size()) + " cells for " +

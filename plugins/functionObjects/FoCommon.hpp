@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,12 @@ class CsvFile {
   /// start_time, and append after them. Throws std::runtime_error when the file cannot
   /// be written.
   void open(const std::filesystem::path& path, const std::vector<std::string>& header, double start_time);
+  /// The same, at the first row: nothing is made before it (a plugin constructed after
+  /// this one may still stop the run on a user error, which must leave the case as it
+  /// was). Checks now that the directory can be made and written (check_writable_dir,
+  /// naming `who`); makes it at the first row (ensure_writable_dir).
+  void open_at_first_row(const std::filesystem::path& path, std::vector<std::string> header, double start_time,
+                         const std::string& who);
   bool is_open() const { return out_.is_open(); }
   /// Write and flush one row of numbers.
   void row(const std::vector<double>& values);
@@ -58,6 +65,12 @@ class CsvFile {
   std::filesystem::path path_;
   std::size_t columns_ = 0;
   std::ofstream out_;
+  struct Pending {  // open_at_first_row's file, until its first row
+    std::vector<std::string> header;
+    double start_time = 0;
+    std::string who;
+  };
+  std::unique_ptr<Pending> pending_;
 };
 
 /// Create `dir` (and parents) and check that it is writable; throws std::runtime_error

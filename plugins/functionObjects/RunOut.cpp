@@ -233,10 +233,7 @@ RunOut::RunOut(const ParamReader& r, const SolverContext& ctx)
     const std::string label = axis_label(sector_dirs_[i]);
     header.push_back("runout_" + (label.empty() ? "dir" + std::to_string(i) : label) + " [m]");
   }
-  check_writable_dir(ctx.post_processing_dir(), who_);  // the file: at the first execution
-  file_ = ctx.post_processing_dir() / "runOut.csv";
-  header_ = std::move(header);
-  start_time_ = ctx.start_time;
+  csv_.open_at_first_row(ctx.post_processing_dir() / "runOut.csv", std::move(header), ctx.start_time, who_);
 }
 
 RunOut::Result RunOut::evaluate(const Snapshot& s) const {
@@ -313,10 +310,6 @@ void RunOut::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
   const Result r = evaluate(s);
-  if (!csv_.is_open()) {
-    ensure_writable_dir(file_.parent_path(), who_);
-    csv_.open(file_, header_, start_time_);
-  }
   std::vector<double> row = {s.time, r.runout, r.height, r.kinetic_energy, r.max_speed, r.mean_velocity[0],
                              r.mean_velocity[1]};
   if (dimension_ == 3) row.push_back(r.mean_velocity[2]);

@@ -75,9 +75,6 @@ class RunOut final : public FunctionObject {
   double sector_cos_ = 1;
   double window_lo_ = 0, window_hi_ = 0;
   CsvFile csv_;
-  std::filesystem::path file_;
-  std::vector<std::string> header_;
-  double start_time_ = 0;
   std::int64_t last_step_ = -1;
 };
 

@@ -40,7 +40,6 @@ WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
                                            "balanceError" + unit,
                                            "relativeError [-]"};
   const auto file = ctx.post_processing_dir() / "waterBalance.csv";
-  check_writable_dir(ctx.post_processing_dir(), who_);  // the file: at the first execution
   if (ctx.start_time > 0) {
     // A restart: the reference is the first row the kept file holds (before start_time).
     std::ifstream in(file);
@@ -59,9 +58,7 @@ WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
       }
     }
   }
-  file_ = file;
-  header_ = header;
-  start_time_ = ctx.start_time;
+  csv_.open_at_first_row(file, header, ctx.start_time, who_);
 }
 
 WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
@@ -144,10 +141,6 @@ void WaterBalance::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   const Totals t = evaluate(s);
   last_step_ = s.step;
-  if (!csv_.is_open()) {
-    ensure_writable_dir(file_.parent_path(), who_);
-    csv_.open(file_, header_, start_time_);
-  }
   if (!have_reference_) {
     reference_ = t;
     have_reference_ = true;

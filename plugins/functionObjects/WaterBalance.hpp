@@ -49,9 +49,6 @@ class WaterBalance final : public FunctionObject {
   std::string who_;
   std::vector<std::string> bodies_;
   CsvFile csv_;
-  std::filesystem::path file_;
-  std::vector<std::string> header_;
-  double start_time_ = 0;
   bool have_reference_ = false;
   Totals reference_;
   std::int64_t last_step_ = -1;
