@@ -17,7 +17,7 @@
 //   speedEvery    fixed step: the signal speed (the stopCo health check's only use of it)
 //                 measured every this many steps; the adaptive step measures it every step
 //   sortInterval  is a case setting (system/mpmSchemes); the reference kernels never sort
-//   healthChecks  the grid update's non-finite probe and the fixed step's stopCo speed
+//   healthChecks  the (single-phase) grid update's non-finite probe and a fixed step's stopCo speed
 //                 samples (on; off only to measure what they cost: scree-bench --kernels
 //                 no-health. A run without them does not stop on a blow-up)
 //
