@@ -76,6 +76,19 @@ gpu_last_frame() {
   [ -n "$f" ] && [ -f "$1/VTK/$f" ] && echo "VTK/$f"
 }
 
+# gpu_frames_near DIR T...: the VTK frames of a run (relative to DIR) nearest to each time T,
+# within 1e-6 s (the writer's times are sums of steps: 3.04999999999996 for 3.05)
+gpu_frames_near() {
+  local d=$1
+  shift
+  [ -f "$d/VTK/particles.pvd" ] || return 0
+  grep -oE 'timestep="[^"]+"[^>]*file="[^"]+"' "$d/VTK/particles.pvd" |
+    sed -E 's/timestep="([^"]+)".*file="([^"]+)"/\1 \2/' |
+    awk -v want="$*" 'BEGIN { n = split(want, w, " ") }
+      { for (i = 1; i <= n; i++) { e = $1 - w[i]; if (e < 0) e = -e; if (e < 1e-6) print "VTK/" $2 } }' |
+    sort -u | while read -r f; do [ -f "$d/$f" ] && echo "$f"; done
+}
+
 # gpu_main USAGE CMD [ARGS]: the scripts' commands (start, status, wait SECONDS, collect);
 # the script defines start (after gpu_prepare_machine) and collect
 gpu_main() {

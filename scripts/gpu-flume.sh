@@ -97,12 +97,9 @@ collect_one() {
   local label=$1 d=$2 f t newest keep=()
   [ -d "$d/postProcessing" ] || return 0
   # the frames at the paper's times for the figures' runs (pt*, frictional*), the last frame of every run
+  # (t = 0, the release, then 0.1 0.4 0.8 ... 3 s after it)
   [[ $label == pt* || $label == frictional* ]] &&
-  for t in 0 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05; do  # t = 0, the release, then 0.1 0.4 0.8 ... 3 s
-    f=$(grep -oE "timestep=\"$t[0-9]*\"[^>]*file=\"[^\"]+\"" "$d/VTK/particles.pvd" 2>/dev/null | head -1 |
-      sed -E 's/.*file="([^"]+)".*/\1/')
-    [ -n "$f" ] && [ -f "$d/VTK/$f" ] && keep+=("VTK/$f")
-  done
+    keep+=($(gpu_frames_near "$d" 0 0.05 0.15 0.45 0.85 1.05 1.55 2.05 2.55 3.05))
   # the newest checkpoint of an unfinished run (to continue it), and the last frame (a
   # failed run's state, for the diagnosis)
   newest=$(gpu_newest_checkpoint "$label" "$d")

@@ -57,6 +57,7 @@ for r in "${runs[@]}"; do
   cp -r "$root" "$out/runs/$label/case"
   rm -rf "$out/runs/$label/case"/{VTK,postProcessing,checkpoints} "$out/runs/$label/case$rel"/{VTK,postProcessing,checkpoints}
   d=$out/runs/$label/case$rel
+  echo "$d" > "$out/runs/$label/case.dir"
   args=(--case "$d" --device "$device")
   [ -n "$threads" ] && args+=(--threads "$threads")
   log=$out/runs/$label/run.log
@@ -65,29 +66,7 @@ for r in "${runs[@]}"; do
   rc=$?
   wall=$(awk "BEGIN{printf \"%.1f\", $(date +%s.%N) - $t0}")
   # progress lines: "t = ... s  step N  R steps/s ..." (carriage returns on a terminal)
-  tr '\r' '\n' < "$log" | /usr/bin/env python3 -c '
-import re, sys
-lines = sys.stdin.read().splitlines()
-# progress lines: steps and the elapsed wall time (m:ss or h:mm:ss) when each was printed
-prog = []
-for l in lines:
-    m = re.search(r"step\s+(\d+).*elapsed ([\d:]+)", l)
-    if m:
-        sec = 0
-        for part in m.group(2).split(":"):
-            sec = 60 * sec + int(part)
-        prog.append((int(m.group(1)), sec))
-head = re.search(r"(\d+) particles", "\n".join(lines))
-done = re.search(r"done: (\d+) steps, ([\d.e+-]+) s simulated", "\n".join(lines))
-n = int(done.group(1)) if done else (prog[-1][0] if prog else 0)
-def ms(a, b):  # ms per step between two progress lines
-    return 1e3 * (b[1] - a[1]) / (b[0] - a[0]) if b[0] > a[0] else float("nan")
-pts = [(0, 0)] + prog
-first = ms(pts[0], pts[1]) if len(pts) > 1 else float("nan")   # the first interval (~10 s)
-last = ms(pts[-2], pts[-1]) if len(pts) > 2 else float("nan")  # the last one
-print(head.group(1) if head else "", n, done.group(2) if done else "", "%.4g" % first, "%.4g" % last,
-      "%.3g" % (last / first) if first == first and first > 0 else "nan")
-' > "$out/runs/$label/facts.txt"
+  /usr/bin/env python3 "$here/scripts/whole-run-profile.py" "$log" "$out/runs/$label/profile.csv" > "$out/runs/$label/facts.txt"
   read -r parts steps sim first last ratio < "$out/runs/$label/facts.txt"
   echo "$label,$d,$device,$parts,$steps,$sim,$wall,$first,$last,$ratio,$target,$moon,$rc" >> "$csv"
   echo "$label: exit $rc, $steps steps, $wall s wall"

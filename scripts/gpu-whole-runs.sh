@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# scripts/whole-runs.sh on a lent GPU machine, in the background, so that its runs (one after
+# another, each alone on the GPU: these are the wall times a user waits for) outlast one device
+# call.
+#
+#   scripts/gpu-whole-runs.sh start RUN...    launch whole-runs.sh RUN... (returns at once)
+#   scripts/gpu-whole-runs.sh wait SECONDS    until the runs are done or SECONDS have passed;
+#                                             prints the newest progress line
+#   scripts/gpu-whole-runs.sh collect         $OUT/whole-runs.tar.gz (the table, CSV, JSON,
+#                                             logs, profiles, device) and $OUT/<label>.tar.gz
+#                                             per run: postProcessing/, VTK/particles.pvd,
+#                                             system/stages, and the frames at the times
+#                                             FRAMES names (the flume's figures' by default:
+#                                             0 0.05 0.15 0.45 0.85 3.05 s; a call brings back
+#                                             files of at most 16 MiB, and every frame of a
+#                                             whole run was 230-280 MB)
+#
+# RUN as whole-runs.sh takes it: column, flume, or CASE:LABEL. Run other CUDA programs (ctest
+# -L gpu, scree-bench) before `start` or after the runs: they would share the GPU with them.
+# A lent machine goes back about 30 s after a call returns, and with it a background run: make
+# the calls back to back (start + wait 500, wait 570, ..., collect). Needs .gpu-bundle
+# (../shared/gpu/bundle.sh build-cuda).
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/gpu-common.sh"
+S=/tmp/scree-whole-runs
+frames=${FRAMES-0 0.05 0.15 0.45 0.85 3.05}
+out=${OUT:-$PWD/gpu-whole-runs-out}
+here=$(cd "$(dirname "$0")/.." && pwd)
+
+case ${1:-} in
+  start)
+    shift
+    rm -rf $S && mkdir -p $S
+    source "$here/.gpu-bundle/env.sh"
+    nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv > $S/device.txt 2>&1
+    setsid bash "$here/scripts/whole-runs.sh" --device cuda --out $S "$@" > $S/whole-runs.log 2>&1 < /dev/null &
+    disown -a
+    echo "started: $*"; cat $S/device.txt ;;
+  wait)
+    end=$(($(date +%s) + ${2:-500}))
+    while [ "$(date +%s)" -lt $end ] && [ ! -f $S/whole-runs.json ]; do sleep 5; done
+    cat $S/whole-runs.log
+    for f in $S/runs/*/run.log; do
+      [ -f "$f" ] && echo "$(basename "$(dirname "$f")"): $(tail -c 300 "$f" | tr '\r' '\n' | grep -v '^$' | tail -1)"
+    done ;;
+  collect)
+    mkdir -p "$out"
+    (cd $S && tar -czf "$out/whole-runs.tar.gz" $(ls device.txt whole-runs.log whole-runs.csv whole-runs.json runs/*/run.log \
+      runs/*/profile.csv 2> /dev/null))
+    for r in $S/runs/*/; do
+      label=$(basename "$r")
+      d=$(cat "$r"case.dir 2> /dev/null) && [ -d "$d" ] || continue
+      stages=$(cd "$r"case && ls system/stages 2> /dev/null)
+      (cd "$d" && tar -czf "$out/$label.tar.gz" $(ls -d postProcessing VTK/particles.pvd 2> /dev/null) \
+        $(gpu_frames_near "$d" $frames) ${stages:+-C "$r"case $stages})
+    done
+    ls -la "$out" ;;
+  *) sed -n '2,20p' "$0"; exit 2 ;;
+esac

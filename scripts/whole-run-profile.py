@@ -1,0 +1,41 @@
+#!/usr/bin/env python3
+"""Where a whole run of scree spent its wall time, from its log alone.
+
+    whole-run-profile.py LOG PROFILE_CSV
+
+Reads the progress lines of a scree log ("t = T s  step N  R steps/s ..."; carriage returns
+of a terminal are read as line ends) and writes PROFILE_CSV, a row per progress interval
+(about 10 s of wall time): simulated time, steps, wall time, mean dt and ms per step. Prints
+one line for scripts/whole-runs.sh: particles, steps, simulated time, ms per step over the
+first and the last interval, and their ratio.
+"""
+
+import re
+import sys
+
+lines = open(sys.argv[1], errors="replace").read().replace("\r", "\n").splitlines()
+# progress lines "t = T s  step N  R steps/s ...": R is N over the wall time since the start, to
+# four digits, so N / R gives the wall time of each line more finely than its "elapsed m:ss"
+prog = []
+for l in lines:
+    m = re.search(r"t =\s*([\d.e+-]+) s\s+step\s+(\d+)\s+([\d.e+-]+) steps/s", l)
+    if m and int(m.group(2)) > 0 and float(m.group(3)) > 0:
+        prog.append((float(m.group(1)), int(m.group(2)), int(m.group(2)) / float(m.group(3))))
+head = re.search(r"(\d+) particles", "\n".join(lines))
+done = re.search(r"done: (\d+) steps, ([\d.e+-]+) s simulated", "\n".join(lines))
+n = int(done.group(1)) if done else (prog[-1][1] if prog else 0)
+# the profile: one row per progress interval (about 10 s of wall time), where the run spends it
+with open(sys.argv[2], "w") as f:
+    f.write("t_start_s,t_end_s,steps,wall_s,mean_dt_s,ms_per_step\n")
+    for a, b in zip([(None, 0, 0.0)] + prog, prog):
+        ds, dw = b[1] - a[1], b[2] - a[2]
+        if ds > 0:
+            f.write("%s,%.6g,%d,%.4g,%s,%.5g\n" % ("" if a[0] is None else "%.6g" % a[0], b[0], ds, dw,
+                    "" if a[0] is None else "%.4g" % ((b[0] - a[0]) / ds), 1e3 * dw / ds))
+def ms(a, b):  # ms per step between two progress lines
+    return 1e3 * (b[2] - a[2]) / (b[1] - a[1]) if b[1] > a[1] else float("nan")
+pts = [(0.0, 0, 0.0)] + prog
+first = ms(pts[0], pts[1]) if len(pts) > 1 else float("nan")   # the first interval (~10 s)
+last = ms(pts[-2], pts[-1]) if len(pts) > 2 else float("nan")  # the last one
+print(head.group(1) if head else "", n, done.group(2) if done else "", "%.4g" % first, "%.4g" % last,
+      "%.3g" % (last / first) if first == first and first > 0 else "nan")
