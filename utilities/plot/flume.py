@@ -22,7 +22,8 @@ the gate's release (_releaseTime in system/stages). Writes PNGs and summary.json
                               of particles A, B and C over time
   fig22_23_frictional.png     (with --frictional) plastic strain and |v| at 0.8 and 3 s for
                               both models
-  front_history.png           the fronts over time along the flume's path, both origins
+  front_history.png           the fronts over time along the flume's path, both origins (with
+                              --frictional, that model's mass front beside them)
   summary.json                the numbers
 
 The distance along the flume: the slope runs from x = X_TOP (the box's back wall) down to
@@ -152,6 +153,15 @@ def main():
             ok = t >= 0
             for x0, ls, where in ((X_GATE, "-", "gate"), (X_TOP, "--", "back wall")):
                 ax.plot(t[ok], along(ro["runout"][ok], x0), ls, label="%s, from the %s" % (labels[name], where))
+        # the purely frictional model's mass front beside it (Figs. 22-23: "runs farther")
+        fr = os.path.join(a.frictional, "postProcessing", "massFront", "runOut.csv") if a.frictional else ""
+        if fr and os.path.exists(fr):
+            ro_f = read_csv(fr)
+            t = ro_f["time"] - release_time(a.frictional)
+            ok = t >= 0
+            ax.plot(t[ok], along(ro_f["runout"][ok], X_TOP), ":", color="k",
+                    label="frictional model: mass front, from the back wall")
+            fronts["frictional massFront"] = ro_f  # in summary.json's fronts too (same release time)
         for ts, d in PAPER_FRONT.items():
             ax.plot(ts, d, "ks", label="paper, Fig. 19" if ts == 0.4 else None)
         ax.set_xlabel("t after release [s]")

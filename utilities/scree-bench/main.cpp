@@ -143,6 +143,9 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   if (variant == "unsplit") k.split = scree::StressSplit::off;
   if (variant.rfind("speed-every-", 0) == 0) k.speed_every = std::stoi(variant.substr(12));
   if (variant == "no-health") k.health_checks = false;
+  // The energy ledger on, as a case with `energies { budget yes; }` runs it (its own kernel,
+  // the whole pass, no split: ParticlePass's Ledger): what the budget costs a step
+  if (variant == "ledger") o.energy_ledger = true;
   if (variant == "elastic-uncapped") {
     k.split = scree::StressSplit::on;
     k.elastic_blocks_per_sm = 0;
@@ -442,7 +445,8 @@ int main(int argc, char** argv) {
       "cap on the 2D stress kernel), split / unsplit (the stress pass always / never split in an elastic-only kernel and one for the rest; "
       "fast chooses by timing both), elastic-uncapped (CUDA: always split, no register cap on the elastic-only kernel), speed-every-N (a fixed step's "
       "signal speed, for the stopCo check, every N steps: KernelPolicy::speed_every), no-health (the kernels' health checks off, "
-      "to measure their cost: KernelPolicy::health_checks)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
+      "to measure their cost: KernelPolicy::health_checks), ledger (the energy ledger kept, as a case with energies' "
+      "`budget yes` runs: RunOptions::energy_ledger)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
       "cpu-steps", po::value<long long>()->default_value(50), "timed steps on the CPU")(
       "max-particles", po::value<long long>()->default_value(10000000), "largest scaling size")(
       "materials", po::value<std::string>()->default_value("linearElastic,phaseTransition"),
@@ -491,6 +495,18 @@ int main(int argc, char** argv) {
   const auto want = split(vm["cases"].as<std::string>());
   auto wants = [&](const char* c) { return std::find(want.begin(), want.end(), c) != want.end(); };
   const auto variants = split(vm["kernels"].as<std::string>());
+  for (const std::string& v : variants) {  // a misspelt variant would run as `fast` under its own name
+    static const std::vector<std::string> known = {"fast",      "reference", "uncapped", "split",           "unsplit",
+                                                   "no-health", "ledger",    "elastic-uncapped"};
+    const bool every = v.rfind("speed-every-", 0) == 0 && v.size() > 12 &&
+                       v.find_first_not_of("0123456789", 12) == std::string::npos;
+    if (!every && std::find(known.begin(), known.end(), v) == known.end()) {
+      std::cerr << "scree-bench: --kernels: unknown variant '" << v
+                << "'; valid: fast, reference, uncapped, split, unsplit, no-health, ledger, elastic-uncapped, "
+                   "speed-every-N\n";
+      return 2;
+    }
+  }
   const std::string devs = vm["device"].as<std::string>();
   std::vector<scree::Device> devices;
   if (devs == "cpu" || devs == "both") devices.push_back(scree::Device::cpu);
