@@ -6,8 +6,8 @@
 Reads the progress lines of a scree log ("t = T s  step N  R steps/s ..."; carriage returns
 of a terminal are read as line ends) and writes PROFILE_CSV, a row per progress interval
 (about 10 s of wall time): simulated time, steps, wall time, mean dt and ms per step. Prints
-one line for scripts/whole-runs.sh: particles, steps, simulated time, ms per step over the
-first and the last interval, and their ratio.
+one line for scripts/whole-runs.sh: particles, steps, simulated time, and ms per step over
+the whole run, over its dearest interval and over its last one.
 """
 
 import re
@@ -32,10 +32,7 @@ with open(sys.argv[2], "w") as f:
         if ds > 0:
             f.write("%s,%.6g,%d,%.4g,%s,%.5g\n" % ("" if a[0] is None else "%.6g" % a[0], b[0], ds, dw,
                     "" if a[0] is None else "%.4g" % ((b[0] - a[0]) / ds), 1e3 * dw / ds))
-def ms(a, b):  # ms per step between two progress lines
-    return 1e3 * (b[2] - a[2]) / (b[1] - a[1]) if b[1] > a[1] else float("nan")
-pts = [(0.0, 0, 0.0)] + prog
-first = ms(pts[0], pts[1]) if len(pts) > 1 else float("nan")   # the first interval (~10 s)
-last = ms(pts[-2], pts[-1]) if len(pts) > 2 else float("nan")  # the last one
-print(head.group(1) if head else "", n, done.group(2) if done else "", "%.4g" % first, "%.4g" % last,
-      "%.3g" % (last / first) if first == first and first > 0 else "nan")
+rates = [1e3 * (b[2] - a[2]) / (b[1] - a[1]) for a, b in zip([(0.0, 0, 0.0)] + prog, prog) if b[1] > a[1]]
+mean = 1e3 * prog[-1][2] / prog[-1][1] if prog else float("nan")
+print(head.group(1) if head else "", n, done.group(2) if done else "", "%.4g" % mean,
+      "%.4g" % (max(rates) if rates else float("nan")), "%.4g" % (rates[-1] if rates else float("nan")))
