@@ -12,7 +12,8 @@ wave_speed (materials/phaseTransition/PhaseTransition.hpp):
     + sound speed of the granular gas (kt::sound_speed)
     + viscous speed 2 (4/3 eta + gamma) / (rho h)        (kt::viscous_speed)
 
-rho = mass/volume of the particle, solid fraction V = rho / rho_p, e = 1/V - 1; eta is
+rho = mass/volume of the particle, solid fraction V = rho / rho_p, e = 1/V - 1 (a point below
+the material's minSolidFraction is dispersed: no wave, only |v| counts); eta is
 the snapshot's shearViscosity, gamma = eta gamma*/eta* (the kinetic-theory coefficients of
 materials/common/include/scree/materials/kinetic_theory.hpp at V, clamped as there), T the snapshot's
 granularTemperature, p the snapshot's pressure less the collisional one. Parameters are
@@ -123,6 +124,10 @@ def speeds(d, p, kt, h):
     nu = p["poissonRatio"]
     c_el = np.sqrt(K * (1 + 4 / 3 * 3 * (1 - 2 * nu) / (2 * (1 + nu))) / rho)
     v = np.linalg.norm(d["velocity"], axis=1)
+    # dispersed points (below minSolidFraction: materials/common/include/scree/materials/
+    # dispersed.hpp) carry no stress and no wave: only their own speed counts
+    gas = Vraw < p.get("minSolidFraction", 1e-3)
+    c_el, c_sound, c_visc = (np.where(gas, 0.0, c) for c in (c_el, c_sound, c_visc))
     return {"elastic": c_el, "sound": c_sound, "viscous": c_visc, "v": v}, Vraw
 
 
@@ -154,7 +159,10 @@ def main():
                "dt_estimate_s": float(dt[i]),
                "limiting_particle": {"x_m": float(x[i, 0]), "y_m": float(x[i, 1]), "solid_fraction": float(V[i]),
                                      "viscous_m_per_s": float(c["viscous"][i]),
-                                     "elastic_m_per_s": float(c["elastic"][i])},
+                                     "sound_m_per_s": float(c["sound"][i]),
+                                     "elastic_m_per_s": float(c["elastic"][i]),
+                                     "velocity_m_per_s": float(c["v"][i])},
+               "particles_setting_within_10_percent": int(np.sum(dt < 1.1 * dt[i])),
                "particles_with_dt_below_1e-6": int(np.sum(dt < 1e-6)),
                "particles_with_dt_below_2e-6": int(np.sum(dt < 2e-6)),
                "dt_of_the_others_s": float(dt[~loose].min()) if (~loose).any() else None,
