@@ -7,13 +7,15 @@
 #   scripts/gpu-whole-runs.sh wait SECONDS    until the runs are done or SECONDS have passed;
 #                                             prints the newest progress line
 #   scripts/gpu-whole-runs.sh collect         $OUT/whole-runs.tar.gz (the table, CSV, JSON,
-#                                             logs, profiles, device) and $OUT/<label>.tar.gz
-#                                             per run: postProcessing/, VTK/particles.pvd,
-#                                             system/stages, and the frames at the times
-#                                             FRAMES names (the flume's figures' by default:
-#                                             0 0.05 0.15 0.45 0.85 3.05 s; a call brings back
-#                                             files of at most 16 MiB, and every frame of a
-#                                             whole run was 230-280 MB)
+#                                             logs, profiles, device, scree-bench's figures)
+#                                             and per run $OUT/<label>.tar.gz (postProcessing/,
+#                                             VTK/particles.pvd, system/stages) and
+#                                             $OUT/<label>-frames-K.tar.gz, the frames at the
+#                                             times FRAMES names (the flume's figures' by
+#                                             default: 0 0.05 0.15 0.45 0.85 3.05 s) in parts
+#                                             under 16 MiB (all frames of a whole run were
+#                                             230-280 MB; a call brings back 8 files;
+#                                             FRAME_PART_BYTES sets the part size)
 #
 # RUN as whole-runs.sh takes it: column, flume, or CASE:LABEL. Run other CUDA programs (ctest
 # -L gpu, scree-bench) before `start` or after the runs: they would share the GPU with them.
@@ -46,13 +48,24 @@ case ${1:-} in
   collect)
     mkdir -p "$out"
     (cd $S && tar -czf "$out/whole-runs.tar.gz" $(ls device.txt whole-runs.log whole-runs.csv whole-runs.json runs/*/run.log \
-      runs/*/profile.csv 2> /dev/null))
+      runs/*/profile.csv bench.csv bench.json bench.log 2> /dev/null))
     for r in $S/runs/*/; do
       label=$(basename "$r")
       d=$(cat "$r"case.dir 2> /dev/null) && [ -d "$d" ] || continue
       stages=$(cd "$r"case && ls system/stages 2> /dev/null)
       (cd "$d" && tar -czf "$out/$label.tar.gz" $(ls -d postProcessing VTK/particles.pvd 2> /dev/null) \
-        $(gpu_frames_near "$d" $frames) ${stages:+-C "$r"case $stages})
+        ${stages:+-C "$r"case $stages})
+      # the frames in parts of at most 15 MiB: a call brings back no file over 16 MiB (three
+      # 5 mm flume frames made 18.6 MB), and at most 8 files
+      part=0 size=0 group=()
+      for f in $(gpu_frames_near "$d" $frames) ""; do
+        s=$([ -n "$f" ] && stat -c %s "$d/$f" || echo 0)
+        if [ ${#group[@]} -gt 0 ] && { [ -z "$f" ] || [ $((size + s)) -gt ${FRAME_PART_BYTES:-15728640} ]; }; then
+          (cd "$d" && tar -czf "$out/$label-frames-$part.tar.gz" "${group[@]}")
+          part=$((part + 1)) size=0 group=()
+        fi
+        [ -n "$f" ] && group+=("$f") && size=$((size + s))
+      done
     done
     ls -la "$out" ;;
   *) sed -n '2,20p' "$0"; exit 2 ;;
