@@ -140,6 +140,12 @@ def main():
     summary = {"case": os.path.abspath(a.case), "release_time_s": tr}
 
     # ---- fronts over time ----
+    # the purely frictional model's mass front, drawn beside this run's (Figs. 22-23: "runs
+    # farther") and read once for the summary
+    ro_f, trf = None, release_time(a.frictional) if a.frictional else 0.0
+    fr = os.path.join(a.frictional, "postProcessing", "massFront", "runOut.csv") if a.frictional else ""
+    if fr and os.path.exists(fr):
+        ro_f = read_csv(fr)
     fronts = {}
     for name in ("deposit", "massFront"):
         p = os.path.join(pp, name, "runOut.csv")
@@ -153,15 +159,12 @@ def main():
             ok = t >= 0
             for x0, ls, where in ((X_GATE, "-", "gate"), (X_TOP, "--", "back wall")):
                 ax.plot(t[ok], along(ro["runout"][ok], x0), ls, label="%s, from the %s" % (labels[name], where))
-        # the purely frictional model's mass front beside it (Figs. 22-23: "runs farther")
-        fr = os.path.join(a.frictional, "postProcessing", "massFront", "runOut.csv") if a.frictional else ""
-        if fr and os.path.exists(fr):
-            ro_f = read_csv(fr)
-            t = ro_f["time"] - release_time(a.frictional)
+        if ro_f is not None:
+            t = ro_f["time"] - trf
             ok = t >= 0
             ax.plot(t[ok], along(ro_f["runout"][ok], X_TOP), ":", color="k",
                     label="frictional model: mass front, from the back wall")
-            fronts["frictional massFront"] = ro_f  # in summary.json's fronts too (same release time)
+            fronts["frictional massFront"] = ro_f  # in summary.json's fronts too
         for ts, d in PAPER_FRONT.items():
             ax.plot(ts, d, "ks", label="paper, Fig. 19" if ts == 0.4 else None)
         ax.set_xlabel("t after release [s]")
@@ -170,9 +173,10 @@ def main():
         summary["fronts"] = {}
         for name, ro in fronts.items():
             rows = {}
+            t0 = trf if name == "frictional massFront" else tr
             for ts in (0.4, 0.8, 1.0, 2.0, 3.0):
-                j = int(np.argmin(np.abs(ro["time"] - (tr + ts))))
-                if abs(ro["time"][j] - (tr + ts)) > 0.011:
+                j = int(np.argmin(np.abs(ro["time"] - (t0 + ts))))
+                if abs(ro["time"][j] - (t0 + ts)) > 0.011:
                     continue
                 x = float(ro["runout"][j])
                 rows["%gs" % ts] = {"x_m": x, "from_gate_m": float(along(x, X_GATE)),
@@ -282,7 +286,6 @@ def main():
     # ---- Figs. 22-23: the frictional model ----
     if a.frictional:
         sf = Series(a.frictional)
-        trf = release_time(a.frictional)
         fig, axs = plt.subplots(4, 2, figsize=(12, 9))
         for j, ts in enumerate((0.8, 3.0)):
             for k, (s, t0, label) in enumerate(((series, tr, "phase transition"), (sf, trf, "frictional"))):
@@ -300,9 +303,8 @@ def main():
         fig.tight_layout()
         fig.savefig(os.path.join(a.out, "fig22_23_frictional.png"), dpi=130)
         plt.close(fig)
-        p = os.path.join(a.frictional, "postProcessing", "massFront", "runOut.csv")
-        if os.path.exists(p):
-            ro = read_csv(p)
+        if ro_f is not None:
+            ro = ro_f
             j = int(np.argmin(np.abs(ro["time"] - (trf + 3.0))))
             if abs(ro["time"][j] - (trf + 3.0)) < 0.01:
                 summary["frictional_mass_front_at_3s_from_gate_m"] = float(along(ro["runout"][j], X_GATE))
