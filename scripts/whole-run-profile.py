@@ -24,15 +24,19 @@ for l in lines:
 head = re.search(r"(\d+) particles", "\n".join(lines))
 done = re.search(r"done: (\d+) steps, ([\d.e+-]+) s simulated", "\n".join(lines))
 n = int(done.group(1)) if done else (prog[-1][1] if prog else 0)
-# the profile: one row per progress interval (about 10 s of wall time), where the run spends it
+# one interval per pair of progress lines (the first from the start): about 10 s of wall time each
+intervals = []
+for a, b in zip([(None, 0, 0.0)] + prog, prog):
+    if b[1] > a[1]:
+        intervals.append({"t0": a[0], "t1": b[0], "steps": b[1] - a[1], "wall": b[2] - a[2],
+                          "ms": 1e3 * (b[2] - a[2]) / (b[1] - a[1])})
 with open(sys.argv[2], "w") as f:
     f.write("t_start_s,t_end_s,steps,wall_s,mean_dt_s,ms_per_step\n")
-    for a, b in zip([(None, 0, 0.0)] + prog, prog):
-        ds, dw = b[1] - a[1], b[2] - a[2]
-        if ds > 0:
-            f.write("%s,%.6g,%d,%.4g,%s,%.5g\n" % ("" if a[0] is None else "%.6g" % a[0], b[0], ds, dw,
-                    "" if a[0] is None else "%.4g" % ((b[0] - a[0]) / ds), 1e3 * dw / ds))
-rates = [1e3 * (b[2] - a[2]) / (b[1] - a[1]) for a, b in zip([(0.0, 0, 0.0)] + prog, prog) if b[1] > a[1]]
-mean = 1e3 * prog[-1][2] / prog[-1][1] if prog else float("nan")
+    for i in intervals:
+        first = i["t0"] is None  # the run's start time is not in its log
+        f.write("%s,%.6g,%d,%.4g,%s,%.5g\n" % ("" if first else "%.6g" % i["t0"], i["t1"], i["steps"], i["wall"],
+                "" if first else "%.4g" % ((i["t1"] - i["t0"]) / i["steps"]), i["ms"]))
+nan = float("nan")
+mean = 1e3 * prog[-1][2] / prog[-1][1] if prog else nan
 print(head.group(1) if head else "", n, done.group(2) if done else "", "%.4g" % mean,
-      "%.4g" % (max(rates) if rates else float("nan")), "%.4g" % (rates[-1] if rates else float("nan")))
+      "%.4g" % max((i["ms"] for i in intervals), default=nan), "%.4g" % (intervals[-1]["ms"] if intervals else nan))
