@@ -501,9 +501,9 @@ int main(int argc, char** argv) {
     const bool every = v.rfind("speed-every-", 0) == 0 && v.size() > 12 &&
                        v.find_first_not_of("0123456789", 12) == std::string::npos;
     if (!every && std::find(known.begin(), known.end(), v) == known.end()) {
-      std::cerr << "scree-bench: --kernels: unknown variant '" << v
-                << "'; valid: fast, reference, uncapped, split, unsplit, no-health, ledger, elastic-uncapped, "
-                   "speed-every-N\n";
+      std::cerr << "scree-bench: --kernels: unknown variant '" << v << "'; valid:";
+      for (const std::string& k : known) std::cerr << " " << k << ",";
+      std::cerr << " speed-every-N\n";
       return 2;
     }
   }
