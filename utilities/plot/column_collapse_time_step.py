@@ -74,7 +74,9 @@ class KineticTheory:
         g0max = p.get("maxRadialDistribution", 1000.0)
         v = self.Vsd - 2 / g0max
         self.Vcap = v if v > self.Vm else 0.5 * (self.Vm + self.Vsd)
-        self.Vmin = 1e-3
+        # minSolidFraction, default 1e-3 (materials/common/include/scree/materials/dispersed.hpp):
+        # the solid fraction the coefficients are clamped at, below which a point is dispersed
+        self.Vmin = p.get("minSolidFraction", 1e-3)
 
     def g0(self, V):  # eqs. (25)-(26)
         cs = (2 - V) / (2 * (1 - V) ** 3)
@@ -126,7 +128,7 @@ def speeds(d, p, kt, h):
     v = np.linalg.norm(d["velocity"], axis=1)
     # dispersed points (below minSolidFraction: materials/common/include/scree/materials/
     # dispersed.hpp) carry no stress and no wave: only their own speed counts
-    gas = Vraw < p.get("minSolidFraction", 1e-3)
+    gas = Vraw < kt.Vmin
     c_el, c_sound, c_visc = (np.where(gas, 0.0, c) for c in (c_el, c_sound, c_visc))
     return {"elastic": c_el, "sound": c_sound, "viscous": c_visc, "v": v}, Vraw
 
