@@ -139,6 +139,7 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.split_elastic = split_;
   pp.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
   pp.energy = energy_ledger_;
+  pp.ledger_light_transfer = policy_.ledger_light_transfer;
   // The walls' share on the points where the gather still sees the step's force (USF, USL;
   // MUSL re-maps momentum into the force array first): PassParams::wall_ledger.
   pp.wall_ledger = energy_ledger_ && settings_.schemes.update_scheme != UpdateScheme::MUSL && !porous_;

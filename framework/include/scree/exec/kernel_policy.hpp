@@ -20,6 +20,9 @@
 //   healthChecks  the (single-phase) grid update's non-finite probe and a fixed step's stopCo speed
 //                 samples (on; off only to measure what they cost: scree-bench --kernels
 //                 no-health. A run without them does not stop on a blow-up)
+//   ledgerTransfer  the energy ledger (energies' `budget yes`): its transfer pass in a kernel of
+//                 its own, compiled without the stress update (on), or in the ledger's whole-pass
+//                 kernel (off; scree-bench --kernels ledger-whole: what the light one saves)
 //
 // A register cap is a compile-time launch bound, so only the values a kernel was compiled
 // for exist: check() rejects any other (an unsupported cap used to run uncapped, silently).
@@ -57,6 +60,10 @@ struct KernelPolicy {
   /// The health checks the kernels carry (see the top of this file): the grid update's
   /// probe of the nodal velocity and force, and the stopCo speed samples of a fixed step.
   bool health_checks = true;
+  /// The energy ledger's transfer pass (PIC blend and walls booked, no stress update) in its
+  /// own light kernel instead of the ledger's whole-pass kernel (255 registers, a 400 B stack
+  /// frame and spills: performance log, entries 36-37). The same sums in the same order.
+  bool ledger_light_transfer = true;
 
   /// The straightforward kernels (see the top of this file).
   static KernelPolicy reference_kernels() {

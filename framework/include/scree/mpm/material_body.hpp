@@ -265,7 +265,16 @@ class MaterialBody final : public Body<D> {
 
   template <class Shape>
   void launch(const PassParams<D>& pp, const Shape& shape) {
-    if (pp.energy) {  // the energy ledger: its own kernel, the whole pass (ParticlePass's Ledger)
+    if (pp.energy) {  // the energy ledger: its own kernels (ParticlePass's Ledger), no split
+      if (!pp.reference && pp.ledger_light_transfer && (pp.flags & ~kTransferPhases) == 0) {
+        // The transfer pass books the PIC blend's and the walls' shares only: compiled
+        // without the stress update, as the fast transfer kernel is (the whole pass took 255
+        // registers and a 400 B stack frame for it, against 96 and none: performance log,
+        // entries 36-37)
+        ParticlePass<D, Shape, M, kTransferPhases, false, true> k{pp, store_.arrays(), shape, params_};
+        parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
+        return;
+      }
       ParticlePass<D, Shape, M, kAllPhases, false, true> k{pp, store_.arrays(), shape, params_};
       parallel_for_warps(exec_, store_.size(), k, pp.reference ? kCudaBlockSize : kStressBlock);
       return;

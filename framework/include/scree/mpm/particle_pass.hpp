@@ -112,6 +112,9 @@ struct PassParams {
   /// the two parities alternate. False (the default; the solver decides, RunOptions::
   /// split_elastic): one kernel with the whole update.
   bool split_elastic = false;
+  /// With `energy`: the transfer pass in the ledger's light kernel (KernelPolicy::
+  /// ledger_light_transfer), not its whole-pass one.
+  bool ledger_light_transfer = true;
   /// CUDA, 2D: the elastic-only kernel's register cap (10 blocks of 64 per SM: 96
   /// registers, 20 warps per SM; the solver's default) or 0 (the compiler's choice).
   int elastic_blocks_per_sm = 0;
