@@ -3,11 +3,17 @@
 # another, each alone on the GPU: these are the wall times a user waits for) outlast one device
 # call.
 #
-#   scripts/gpu-whole-runs.sh start RUN...    launch whole-runs.sh RUN... (returns at once)
-#   scripts/gpu-whole-runs.sh wait SECONDS    until the runs are done or SECONDS have passed;
-#                                             prints the newest progress line
-#   scripts/gpu-whole-runs.sh collect         $OUT/whole-runs.tar.gz (the table, CSV, JSON,
-#                                             logs, profiles, device, scree-bench's figures)
+#   scripts/gpu-whole-runs.sh start [--gpu K] ARG...
+#                                             launch whole-runs.sh ARG... (returns at once);
+#                                             --gpu K: on GPU K alone (CUDA_VISIBLE_DEVICES),
+#                                             so that a machine of several GPUs runs one
+#                                             series per GPU side by side, each run alone on
+#                                             its GPU (one start per K)
+#   scripts/gpu-whole-runs.sh wait SECONDS    until every series is done or SECONDS have
+#                                             passed; prints the newest progress lines
+#   scripts/gpu-whole-runs.sh collect         $OUT/whole-runs.tar.gz (the table of all
+#                                             series, CSV, JSON, logs, profiles, device,
+#                                             scree-bench's figures)
 #                                             and per run $OUT/<label>.tar.gz (postProcessing/,
 #                                             VTK/particles.pvd, system/stages) and
 #                                             $OUT/<label>-frames-K.tar.gz, the frames at the
@@ -24,7 +30,7 @@
 # (../shared/gpu/bundle.sh build-cuda).
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/gpu-common.sh"
-S=/tmp/scree-whole-runs
+W=/tmp/scree-whole-runs  # one folder per series: W/all, or W/gpuK with --gpu K
 frames=${FRAMES-0 0.05 0.15 0.45 0.85 3.05}
 out=${OUT:-$PWD/gpu-whole-runs-out}
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -32,24 +38,46 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 case ${1:-} in
   start)
     shift
+    slot=all
+    if [ "${1:-}" = --gpu ]; then
+      slot=gpu$2
+      export CUDA_VISIBLE_DEVICES=$2
+      shift 2
+    fi
+    S=$W/$slot
     rm -rf $S && mkdir -p $S
     source "$here/.gpu-bundle/env.sh"
-    nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv > $S/device.txt 2>&1
+    nvidia-smi --query-gpu=index,name,memory.total,driver_version --format=csv > $S/device.txt 2>&1
     setsid bash "$here/scripts/whole-runs.sh" --device cuda --out $S "$@" > $S/whole-runs.log 2>&1 < /dev/null &
     disown -a
-    echo "started: $*"; cat $S/device.txt ;;
+    echo "started on $slot: $*"; cat $S/device.txt ;;
   wait)
     end=$(($(date +%s) + ${2:-500}))
-    while [ "$(date +%s)" -lt $end ] && [ ! -f $S/whole-runs.json ]; do sleep 5; done
-    cat $S/whole-runs.log
-    for f in $S/runs/*/run.log; do
-      [ -f "$f" ] && echo "$(basename "$(dirname "$f")"): $(tail -c 300 "$f" | tr '\r' '\n' | grep -v '^$' | tail -1)"
+    while [ "$(date +%s)" -lt $end ]; do
+      done=1
+      for S in $W/*/; do [ -f $S/whole-runs.json ] || done=0; done
+      [ $done = 1 ] && break
+      sleep 5
+    done
+    for S in $W/*/; do
+      echo "== $(basename $S)"
+      cat $S/whole-runs.log
+      for f in $S/runs/*/run.log; do
+        [ -f "$f" ] && echo "$(basename "$(dirname "$f")"): $(tail -c 300 "$f" | tr '\r' '\n' | grep -v '^$' | tail -1)"
+      done
     done ;;
   collect)
     mkdir -p "$out"
-    (cd $S && tar -czf "$out/whole-runs.tar.gz" $(ls device.txt whole-runs.log whole-runs.csv whole-runs.json runs/*/run.log \
-      runs/*/profile.csv bench.csv bench.json bench.log 2> /dev/null))
-    for r in $S/runs/*/; do
+    slots=$(cd $W && ls -d */ | tr -d /)
+    # one table over every series: the resting step and the blocks from the one with --bench
+    first=$(for s in $slots; do [ -f $W/$s/bench.csv ] && echo $s; done)
+    others=$(for s in $slots; do [ -f $W/$s/bench.csv ] || echo $s; done)
+    (cd $W && /usr/bin/env python3 "$here/scripts/whole-runs-table.py" --json whole-runs.json $first $others > table.md)
+    cat $W/table.md
+    (cd $W && tar -czf "$out/whole-runs.tar.gz" table.md whole-runs.json $(for s in $slots; do ls $s/device.txt $s/whole-runs.log \
+      $s/whole-runs.csv $s/whole-runs.json $s/runs/*/run.log $s/runs/*/profile.csv $s/bench.csv $s/bench.json \
+      $s/bench.log 2> /dev/null; done))
+    for r in $W/*/runs/*/; do
       label=$(basename "$r")
       d=$(cat "$r"case.dir 2> /dev/null) && [ -d "$d" ] || continue
       stages=$(cd "$r"case && ls system/stages 2> /dev/null)
@@ -68,5 +96,5 @@ case ${1:-} in
       done
     done
     ls -la "$out" ;;
-  *) sed -n '2,20p' "$0"; exit 2 ;;
+  *) sed -n '2,25p' "$0"; exit 2 ;;
 esac

@@ -2,7 +2,8 @@
 # Whole runs of the paper's cases, timed end to end, against the targets of the
 # performance work (docs/performance.md): what a user waits for, not a step.
 #
-#   scripts/whole-runs.sh [--device cuda|cpu] [--threads N] [--build DIR] [--out DIR] [--bench] [RUN...]
+#   scripts/whole-runs.sh [--device cuda|cpu] [--threads N] [--build DIR] [--out DIR] [--bench]
+#                         [--bench-kernels LIST] [RUN...]
 #
 # RUN is column (cases/columnCollapse, 1 mm, 1.1 s), flume (cases/flume, 5 mm, 3.05 s), or
 # CASE[:LABEL] for any other case directory (a variant: cases/flume/variants/S-1:S-1). Default:
@@ -18,14 +19,15 @@
 #
 # --bench (GPU) first runs scree-bench on the idle GPU, before the runs: the paper cases' resting
 # windows (the resting step: a run's first progress interval already holds flow) and the 1e7
-# blocks (OUT/bench.csv). Each run's profile (ms per step and mean dt per interval) is
+# blocks (OUT/bench.csv; --bench-kernels: scree-bench's variants, fast first; the table reads
+# fast). Each run's profile (ms per step and mean dt per interval) is
 # OUT/runs/<label>/profile.csv (scripts/whole-run-profile.py).
 #
 # On a lent GPU machine: carry the bundle (../shared/gpu/bundle.sh build-cuda) and run
 #   source .gpu-bundle/env.sh && scripts/whole-runs.sh --device cuda --out $OUT
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-device=cuda threads= build=${SCREE_BUILD_DIR:-$here/build-cuda} out=$PWD/whole-runs bench=0
+device=cuda threads= build=${SCREE_BUILD_DIR:-$here/build-cuda} out=$PWD/whole-runs bench=0 bench_kernels=fast
 runs=()
 while [ $# -gt 0 ]; do
   case $1 in
@@ -34,6 +36,7 @@ while [ $# -gt 0 ]; do
     --build) build=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --bench) bench=1; shift ;;
+    --bench-kernels) bench_kernels=$2; shift 2 ;;
     -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) runs+=("$1"); shift ;;
   esac
@@ -49,7 +52,7 @@ if [ $bench = 1 ]; then
   # the resting windows and the blocks, on the idle GPU before the runs (scree-bench's own
   # windows: 8,000 resting steps of the column, 2,500 of the flume; blocks of 500 steps)
   "$build/bin/scree-bench" --device "$device" --cases column,flume,scaling --materials linearElastic,phaseTransition \
-    --shapes linear --schemes USL --steps 500 --column-late-at 0 --flume-late-at 0 --csv "$out/bench.csv" \
+    --shapes linear --schemes USL --steps 500 --kernels "$bench_kernels" --column-late-at 0 --flume-late-at 0 --csv "$out/bench.csv" \
     --json "$out/bench.json" > "$out/bench.log" 2>&1 || echo "whole-runs.sh: scree-bench failed (exit $?): $out/bench.log"
 fi
 
@@ -88,36 +91,4 @@ for r in "${runs[@]}"; do
   echo "$label: exit $rc, $steps steps, $wall s wall"
 done
 
-/usr/bin/env python3 - "$csv" "$out/whole-runs.json" "$out/bench.csv" <<'EOF'
-import csv, json, os, sys
-rows = list(csv.DictReader(open(sys.argv[1])))
-bench = list(csv.DictReader(open(sys.argv[3]))) if os.path.exists(sys.argv[3]) else []
-def bench_value(name, key):
-    v = [float(b[key]) for b in bench if b["case"] == name and b["kernels"] == "fast"]
-    return v[0] if v else None
-REST = {"column": "column 1 mm (paper) at rest", "flume": "flume 5 mm (paper) at rest"}
-for r in rows:
-    rest = bench_value(REST.get(r["run"], ""), "ms_per_step")
-    r["rest_ms_per_step"] = "%.4g" % rest if rest else ""
-    for k in ("dearest", "last"):
-        r[k + "_over_rest"] = "%.3g" % (float(r[k + "_ms_per_step"]) / rest) if rest else ""
-json.dump({"runs": rows, "bench": bench}, open(sys.argv[2], "w"), indent=1)
-print("\n| run | device | points | steps | wall now | target | moonshot | ms/step: mean / dearest interval / last"
-      " / at rest | dearest / rest now | last / rest now | target |")
-print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
-for r in rows:
-    t = ("< %s s" % r["target_wall_s"]) if r["target_wall_s"] else ""
-    m = ("%s s" % r["moonshot_wall_s"]) if r["moonshot_wall_s"] else ""
-    bad = "" if r["exit"] == "0" else " (exit %s)" % r["exit"]
-    print("| %s | %s | %s | %s | %s s%s | %s | %s | %s / %s / %s / %s | %s | %s | <= 2 |" % (
-        r["run"], r["device"], r["particles"], r["steps"], r["wall_s"], bad, t, m, r["mean_ms_per_step"],
-        r["dearest_ms_per_step"], r["last_ms_per_step"], r["rest_ms_per_step"] or "-",
-        r["dearest_over_rest"] or "-", r["last_over_rest"] or "-"))
-blocks = [(m, t, bench_value("block %s linear USL 10000000" % m, "particle_steps_per_s"))
-          for m, t in (("phaseTransition", 4e9), ("linearElastic", 6e9))]
-if any(v for _, _, v in blocks):
-    print("\n| 2D block, 1e7 points, linear, USL, 500 steps | particle-steps/s now | target |")
-    print("| --- | --- | --- |")
-    for m, t, v in blocks:
-        print("| %s | %s | >= %.0e |" % (m, "%.3g" % v if v else "-", t))
-EOF
+/usr/bin/env python3 "$here/scripts/whole-runs-table.py" "$out"

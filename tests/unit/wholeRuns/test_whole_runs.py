@@ -7,6 +7,9 @@ profile: scripts/whole-run-profile.py on a log written here, whose progress line
          and the last, to the four digits the log's steps/s carries.
 run:     scripts/whole-runs.sh --device cpu on cases/elasticColumn: exit 0, and the steps its
          controlDict implies (endTime 3 s at a fixed deltaT of 2e-4 s: 15,000).
+table:   scripts/whole-runs-table.py over two series written here (one GPU each, the bench in
+         the second): one table of both; the resting step and the ratios from the series with
+         the bench (0.8 / 0.05 = 16), a paper case's variant held against its case's target.
 """
 
 import argparse
@@ -76,14 +79,49 @@ def run(a):
     check(listing(case) == before, "the case's own directory untouched (the run is in a copy)")
 
 
+HEADER = ("run,case,device,particles,steps,simulated_s,wall_s,mean_ms_per_step,dearest_ms_per_step,"
+          "last_ms_per_step,target_wall_s,moonshot_wall_s,exit\n")
+
+
+def table(a):
+    shutil.rmtree(a.work, ignore_errors=True)
+    one, two = os.path.join(a.work, "gpu0"), os.path.join(a.work, "gpu1")
+    for d in (one, two):
+        os.makedirs(d)
+    open(os.path.join(one, "whole-runs.csv"), "w").write(
+        HEADER + "column-0.01,/c,cuda,80000,300000,1.1,90.0,0.3,0.8,0.2,,,0\n")
+    open(os.path.join(two, "whole-runs.csv"), "w").write(
+        HEADER + "flume,/f,cuda,19952,400000,3.05,400.0,1.0,3.0,1.5,120,30,0\n")
+    open(os.path.join(two, "bench.csv"), "w").write(
+        "case,kernels,ms_per_step,particle_steps_per_s\n"
+        "column 1 mm (paper) at rest,fast,0.05,\n"
+        "column 1 mm (paper) at rest,ledger,0.07,\n"
+        "flume 5 mm (paper) at rest,fast,0.3,\n"
+        "flume 5 mm (paper) at rest,ledger,0.4,\n"
+        "block phaseTransition linear USL 10000000,fast,,2.5e9\n")
+    js = os.path.join(a.work, "all.json")
+    r = subprocess.run([sys.executable, os.path.join(a.source, "scripts", "whole-runs-table.py"), "--json", js, two, one],
+                       capture_output=True, text=True)
+    print(r.stdout, r.stderr)
+    check(r.returncode == 0, "whole-runs-table.py exits 0")
+    check("| column-0.01 | cuda | 80000 | 300000 | 90.0 s | < 60 s | 15 s | 0.3 / 0.8 / 0.2 / 0.05 | 16 | 4 |"
+          in r.stdout, "the variant against the column's target and resting step (0.8 / 0.05 = 16)")
+    check("| flume | cuda | 19952 | 400000 | 400.0 s | < 120 s | 30 s | 1.0 / 3.0 / 1.5 / 0.3 | 10 | 5 |" in r.stdout,
+          "the flume from the other series (3.0 / 0.3 = 10)")
+    check("| phaseTransition | 2.5e+09 | >= 4e+09 |" in r.stdout, "the block's figure")
+    check("| column | 0.05 | 0.07 |" in r.stdout and "| flume | 0.3 | 0.4 |" in r.stdout,
+          "the other kernel variants' resting steps beside fast's")
+    check(len(__import__("json").load(open(js))["runs"]) == 2, "both series' rows in the JSON")
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("what", choices=["profile", "run"])
+    ap.add_argument("what", choices=["profile", "run", "table"])
     ap.add_argument("--source", required=True)
     ap.add_argument("--build")
     ap.add_argument("--work", required=True)
     a = ap.parse_args()
-    profile(a) if a.what == "profile" else run(a)
+    {"profile": profile, "run": run, "table": table}[a.what](a)
 
 
 if __name__ == "__main__":
