@@ -38,19 +38,24 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 case ${1:-} in
   start)
     shift
-    slot=all
+    slot=all pin=()
     if [ "${1:-}" = --gpu ]; then
+      # GPU K alone, and its share of the host's cores (the scree processes of the other
+      # series would otherwise share them: the OpenMP threads of four runs on one set of cores)
       slot=gpu$2
       export CUDA_VISIBLE_DEVICES=$2
+      ngpu=$(nvidia-smi -L 2> /dev/null | wc -l)
+      per=$(($(nproc) / (ngpu > 0 ? ngpu : 1)))
+      pin=(taskset -c $(($2 * per))-$(($2 * per + per - 1)))
       shift 2
     fi
     S=$W/$slot
     rm -rf $S && mkdir -p $S
     source "$here/.gpu-bundle/env.sh"
     nvidia-smi --query-gpu=index,name,memory.total,driver_version --format=csv > $S/device.txt 2>&1
-    setsid bash "$here/scripts/whole-runs.sh" --device cuda --out $S "$@" > $S/whole-runs.log 2>&1 < /dev/null &
+    setsid "${pin[@]}" bash "$here/scripts/whole-runs.sh" --device cuda --out $S "$@" > $S/whole-runs.log 2>&1 < /dev/null &
     disown -a
-    echo "started on $slot: $*"; cat $S/device.txt ;;
+    echo "started on $slot${pin:+ (${pin[*]})}: $*"; cat $S/device.txt ;;
   wait)
     end=$(($(date +%s) + ${2:-500}))
     while [ "$(date +%s)" -lt $end ]; do
