@@ -166,6 +166,8 @@ TEST(Flume, LedgerTransferKernelsAgree) {
     std::filesystem::copy(src / d, tc.dir() / d,
                           std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
   std::ofstream(tc.dir() / "system/gridDict", std::ios::app) << "\n#inputMode overwrite\ncellSize 0.02;\n";
+  // a PIC blend as the column's (picRate 10 1/s), so that the transfer pass books both its terms
+  std::ofstream(tc.dir() / "system/mpmSchemes", std::ios::app) << "\n#inputMode overwrite\npicRate 10;\n";
   std::ofstream(tc.dir() / "system/controlDict", std::ios::app)
       << "\n#inputMode overwrite\ndeltaT 2e-5;\nendTime 0.1;\nwriteInterval 0.1;\nwriters {}\nfunctions {}\n";
   Case cs = Case::read(tc.dir(), runtime());
