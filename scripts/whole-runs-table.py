@@ -76,7 +76,7 @@ if any(v for _, _, v in blocks):
 variants = sorted({b["kernels"] for b in bench} - {"fast"})
 if variants:  # the other kernel variants' resting steps, beside fast's
     print("\n| resting step [ms] | fast | %s |" % " | ".join(variants))
-    print("| --- | --- |%s" % " --- |" * len(variants))
+    print("| --- | --- |" + " --- |" * len(variants))
     for c, name in REST.items():
         vals = [bench_value(name, "ms_per_step", k) for k in ["fast"] + variants]
         print("| %s | %s |" % (c, " | ".join("%.4g" % v if v else "-" for v in vals)))

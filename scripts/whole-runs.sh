@@ -3,7 +3,7 @@
 # performance work (docs/performance.md): what a user waits for, not a step.
 #
 #   scripts/whole-runs.sh [--device cuda|cpu] [--threads N] [--build DIR] [--out DIR] [--bench]
-#                         [--bench-kernels LIST] [RUN...]
+#                         [--bench-kernels LIST] [--scree-args "ARGS"] [RUN...]
 #
 # RUN is column (cases/columnCollapse, 1 mm, 1.1 s), flume (cases/flume, 5 mm, 3.05 s), or
 # CASE[:LABEL] for any other case directory (a variant: cases/flume/variants/S-1:S-1). Default:
@@ -20,14 +20,15 @@
 # --bench (GPU) first runs scree-bench on the idle GPU, before the runs: the paper cases' resting
 # windows (the resting step: a run's first progress interval already holds flow) and the 1e7
 # blocks (OUT/bench.csv; --bench-kernels: scree-bench's variants, fast first; the table reads
-# fast). Each run's profile (ms per step and mean dt per interval) is
+# fast). --scree-args: more arguments for every run's scree (--ledger-kernels unsplit: the
+# kernel variants of KernelPolicy over whole runs). Each run's profile (ms per step and mean dt per interval) is
 # OUT/runs/<label>/profile.csv (scripts/whole-run-profile.py).
 #
 # On a lent GPU machine: carry the bundle (../shared/gpu/bundle.sh build-cuda) and run
 #   source .gpu-bundle/env.sh && scripts/whole-runs.sh --device cuda --out $OUT
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-device=cuda threads= build=${SCREE_BUILD_DIR:-$here/build-cuda} out=$PWD/whole-runs bench=0 bench_kernels=fast
+device=cuda threads= build=${SCREE_BUILD_DIR:-$here/build-cuda} out=$PWD/whole-runs bench=0 bench_kernels=fast scree_args=
 runs=()
 while [ $# -gt 0 ]; do
   case $1 in
@@ -37,6 +38,7 @@ while [ $# -gt 0 ]; do
     --out) out=$2; shift 2 ;;
     --bench) bench=1; shift ;;
     --bench-kernels) bench_kernels=$2; shift 2 ;;
+    --scree-args) scree_args=$2; shift 2 ;;
     -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) runs+=("$1"); shift ;;
   esac
@@ -79,6 +81,8 @@ for r in "${runs[@]}"; do
   echo "$d" > "$out/runs/$label/case.dir"
   args=(--case "$d" --device "$device")
   [ -n "$threads" ] && args+=(--threads "$threads")
+  # shellcheck disable=SC2206  # words, as on a command line
+  [ -n "$scree_args" ] && args+=($scree_args)
   log=$out/runs/$label/run.log
   t0=$(date +%s.%N)
   "$scree" "${args[@]}" > "$log" 2>&1

@@ -146,9 +146,14 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   // The energy ledger on, as a case with `energies { budget yes; }` runs it (its own kernel,
   // the whole pass, no split: ParticlePass's Ledger): what the budget costs a step
   if (variant == "ledger") o.energy_ledger = true;
-  if (variant == "ledger-whole") {  // the ledger as before its light transfer kernel
+  if (variant == "ledger-whole") {  // the ledger as before its light transfer kernel and its split
     o.energy_ledger = true;
     k.ledger_light_transfer = false;
+    k.ledger_split = false;
+  }
+  if (variant == "ledger-unsplit") {  // the ledger's stress pass never split
+    o.energy_ledger = true;
+    k.ledger_split = false;
   }
   if (variant == "elastic-uncapped") {
     k.split = scree::StressSplit::on;
@@ -450,8 +455,9 @@ int main(int argc, char** argv) {
       "fast chooses by timing both), elastic-uncapped (CUDA: always split, no register cap on the elastic-only kernel), speed-every-N (a fixed step's "
       "signal speed, for the stopCo check, every N steps: KernelPolicy::speed_every), no-health (the kernels' health checks off, "
       "to measure their cost: KernelPolicy::health_checks), ledger (the energy ledger kept, as a case with energies' "
-      "`budget yes` runs: RunOptions::energy_ledger), ledger-whole (the ledger with its transfer pass in the "
-      "whole-pass kernel: KernelPolicy::ledger_light_transfer off)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
+      "`budget yes` runs: RunOptions::energy_ledger), ledger-whole (the ledger in its whole-pass kernel, "
+      "transfer and stress passes: KernelPolicy::ledger_light_transfer and ledger_split off), ledger-unsplit (the "
+      "ledger's stress pass never split: KernelPolicy::ledger_split off)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
       "cpu-steps", po::value<long long>()->default_value(50), "timed steps on the CPU")(
       "max-particles", po::value<long long>()->default_value(10000000), "largest scaling size")(
       "materials", po::value<std::string>()->default_value("linearElastic,phaseTransition"),
@@ -502,7 +508,8 @@ int main(int argc, char** argv) {
   const auto variants = split(vm["kernels"].as<std::string>());
   for (const std::string& v : variants) {  // a misspelt variant would run as `fast` under its own name
     static const std::vector<std::string> known = {"fast",      "reference", "uncapped", "split",           "unsplit",
-                                                   "no-health", "ledger",    "ledger-whole", "elastic-uncapped"};
+                                                   "no-health", "ledger",    "ledger-whole", "ledger-unsplit",
+                                                   "elastic-uncapped"};
     const bool every = v.rfind("speed-every-", 0) == 0 && v.size() > 12 &&
                        v.find_first_not_of("0123456789", 12) == std::string::npos;
     if (!every && std::find(known.begin(), known.end(), v) == known.end()) {

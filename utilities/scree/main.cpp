@@ -114,6 +114,10 @@ int main(int argc, char** argv) {
       ("stress-split", po::value<std::string>()->default_value("auto"),
        "fast kernels: the stress pass split into an elastic-only kernel and one for the other points: auto (CUDA: "
        "timed both ways now and then, the faster kept; CPU: off), on or off")
+      ("ledger-kernels", po::value<std::string>()->default_value("split"),
+       "the energy ledger's kernels (energies' `budget yes`): split (its transfer pass in a light kernel, its "
+       "stress pass split as --stress-split says), unsplit (the stress pass never split) or whole (both passes in "
+       "the ledger's whole-pass kernel, as before 2026-11-27): to time them against each other")
       ("profile", "time every kernel phase (synchronising after each) and print a table at the end");
   po::variables_map vm;
   try {
@@ -175,6 +179,13 @@ int main(int argc, char** argv) {
       std::cerr << "scree: --stress-split: expected auto, on or off, not '" << split << "'\n";
       return 2;
     }
+    const std::string ledger = vm["ledger-kernels"].as<std::string>();
+    if (ledger != "split" && ledger != "unsplit" && ledger != "whole") {
+      std::cerr << "scree: --ledger-kernels: expected split, unsplit or whole, not '" << ledger << "'\n";
+      return 2;
+    }
+    opt.kernels.ledger_split = ledger == "split";
+    opt.kernels.ledger_light_transfer = ledger != "whole";
   }
 
   const fs::path dir = vm["case"].as<std::string>();

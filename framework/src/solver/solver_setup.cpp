@@ -59,7 +59,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   setup_boundaries();
   energy_ledger_ = opt_.energy_ledger;
   if (opt_.output) setup_output();
-  if (energy_ledger_ && split_) {  // the ledger's kernel is the whole pass (MaterialBody::launch): no split to tune
+  if (energy_ledger_ && split_ && !policy_.ledger_split) {  // the ledger's whole-pass kernel: no split to tune
     split_ = false;
     tuner_.reset();
   }

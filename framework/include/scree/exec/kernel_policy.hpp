@@ -23,6 +23,9 @@
 //   ledgerTransfer  the energy ledger (energies' `budget yes`): its transfer pass in a kernel of
 //                 its own, compiled without the stress update (on), or in the ledger's whole-pass
 //                 kernel (off; scree-bench --kernels ledger-whole: what the light one saves)
+//   ledgerSplit   the energy ledger's stress pass split as the fast one's (elastic-first, the
+//                 split chosen by timing) or always whole (off; scree-bench --kernels
+//                 ledger-unsplit)
 //
 // A register cap is a compile-time launch bound, so only the values a kernel was compiled
 // for exist: check() rejects any other (an unsupported cap used to run uncapped, silently).
@@ -64,6 +67,10 @@ struct KernelPolicy {
   /// own light kernel instead of the ledger's whole-pass kernel (255 registers, a 400 B stack
   /// frame and spills: performance log, entries 36-37). The same sums in the same order.
   bool ledger_light_transfer = true;
+  /// The energy ledger's stress pass split as the fast one's (`split`): an elastic-only kernel
+  /// that books the elastic points' work, then the whole update over the points it deferred
+  /// (performance log, entry 37: the unsplit ledger doubled the column's resting step).
+  bool ledger_split = true;
 
   /// The straightforward kernels (see the top of this file).
   static KernelPolicy reference_kernels() {

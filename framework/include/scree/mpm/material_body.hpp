@@ -275,6 +275,13 @@ class MaterialBody final : public Body<D> {
         parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
         return;
       }
+      if constexpr (material_has_elastic_path<M>())
+        if (!pp.reference && pp.split_elastic && (pp.flags & kStressPhases)) {
+          // the stress pass split as the fast one's (KernelPolicy::ledger_split): the elastic
+          // points' work booked by the elastic-only kernel, the deferred points' by the second
+          launch_elastic_first<true>(pp, shape);
+          return;
+        }
       ParticlePass<D, Shape, M, kAllPhases, false, true> k{pp, store_.arrays(), shape, params_};
       parallel_for_warps(exec_, store_.size(), k, pp.reference ? kCudaBlockSize : kStressBlock);
       return;
@@ -302,12 +309,13 @@ class MaterialBody final : public Body<D> {
   /// elastic-only kernel, then the whole pass over the points it deferred, read from the
   /// device-side list (no host round trip; CUDA-graph safe). The second kernel clears the
   /// other parity's counter, which the next step's first kernel fills.
-  template <class Shape>
+  /// Ledger: both kernels keep the energy ledger (PassParams::energy).
+  template <bool Ledger = false, class Shape>
   void launch_elastic_first(const PassParams<D>& pp, const Shape& shape) {
     PassParams<D> first = pp;
     first.deferred = deferred_.data();
     first.deferred_count = deferred_count_.data();
-    ParticlePass<D, Shape, M, kAllPhases, true> elastic{first, store_.arrays(), shape, params_};
+    ParticlePass<D, Shape, M, kAllPhases, true, Ledger> elastic{first, store_.arrays(), shape, params_};
     bool capped = false;
     if constexpr (D == 2)  // the capped kernel exists only in 2D (no unused 3D instance to compile)
       if (pp.elastic_blocks_per_sm == KernelPolicy::kElasticCap) {
@@ -315,7 +323,7 @@ class MaterialBody final : public Body<D> {
         capped = true;
       }
     if (!capped) parallel_for_warps(exec_, store_.size(), elastic, kStressBlock);
-    ParticlePass<D, Shape, M, kAllPhases> full{pp, store_.arrays(), shape, params_};
+    ParticlePass<D, Shape, M, kAllPhases, false, Ledger> full{pp, store_.arrays(), shape, params_};
     unsigned* count = deferred_count_.data();
     constexpr int kMinBlocks = D == 2 ? KernelPolicy::kStressCap : 1;  // the whole update's register cap
     parallel_for_listed_warps<kStressBlock, kMinBlocks>(exec_, deferred_.data(), count + pp.parity,

@@ -125,9 +125,9 @@ struct PassParams {
   int body = 0;
   /// Keep the energy ledger (StepControl::energy): the stress work, the collisional
   /// dissipation and what the PIC blend removes, summed per warp and added once per warp.
-  /// On, MaterialBody::launch runs every pass in the ledger's own kernel (ParticlePass's
-  /// Ledger: the whole pass, no elastic-first split, no register cap); off (the default)
-  /// the kernels carry none of it.
+  /// On, MaterialBody::launch runs every pass in the ledger's own kernels (ParticlePass's
+  /// Ledger: the transfer pass alone, the stress pass split elastic-first as the fast one's
+  /// where split_elastic says so, else whole); off (the default) the kernels carry none of it.
   bool energy = false;
   /// With `energy`: the walls' share measured on the points (USF, USL; the grid update then
   /// leaves it out): the work of the velocity change the walls made at the point's nodes,
