@@ -98,16 +98,24 @@ State measure(const Snapshot& s) {
   return r;
 }
 
-TEST(Flume, CoarseRunCreatesNoEnergyAndDissipates) {
-  TempCase tc("flume");
+/// cases/flume in tc at 20 mm cells, run to end_time [s] with steps of at most 2e-5 s, no
+/// writers or function objects; `schemes`: more of system/mpmSchemes.
+Case coarse_flume(const TempCase& tc, double end_time, const std::string& schemes = "") {
   const auto src = std::filesystem::path(SCREE_SOURCE_DIR) / "cases/flume";
   for (const char* d : {"system", "constant"})
     std::filesystem::copy(src / d, tc.dir() / d,
                           std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
   std::ofstream(tc.dir() / "system/gridDict", std::ios::app) << "\n#inputMode overwrite\ncellSize 0.02;\n";
+  if (!schemes.empty()) std::ofstream(tc.dir() / "system/mpmSchemes", std::ios::app) << "\n#inputMode overwrite\n" << schemes;
   std::ofstream(tc.dir() / "system/controlDict", std::ios::app)
-      << "\n#inputMode overwrite\ndeltaT 2e-5;\nendTime 0.45;\nwriteInterval 0.45;\nwriters {}\nfunctions {}\n";
-  Case cs = Case::read(tc.dir(), runtime());
+      << "\n#inputMode overwrite\ndeltaT 2e-5;\nendTime " << end_time << ";\nwriteInterval " << end_time
+      << ";\nwriters {}\nfunctions {}\n";
+  return Case::read(tc.dir(), runtime());
+}
+
+TEST(Flume, CoarseRunCreatesNoEnergyAndDissipates) {
+  TempCase tc("flume");
+  Case cs = coarse_flume(tc, 0.45);
   RunOptions opt = options(2);
   opt.energy_ledger = true;  // the energy budget (Energies.hpp): its terms in every snapshot
   Simulation sim(cs, runtime(), opt);
@@ -181,16 +189,8 @@ LedgerRun ledger_run(const Case& cs, const KernelPolicy& k) {
 
 TEST(Flume, LedgerKernelsAgree) {
   TempCase tc("flume-ledger");
-  const auto src = std::filesystem::path(SCREE_SOURCE_DIR) / "cases/flume";
-  for (const char* d : {"system", "constant"})
-    std::filesystem::copy(src / d, tc.dir() / d,
-                          std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
-  std::ofstream(tc.dir() / "system/gridDict", std::ios::app) << "\n#inputMode overwrite\ncellSize 0.02;\n";
   // a PIC blend as the column's (picRate 10 1/s), so that the transfer pass books both its terms
-  std::ofstream(tc.dir() / "system/mpmSchemes", std::ios::app) << "\n#inputMode overwrite\npicRate 10;\n";
-  std::ofstream(tc.dir() / "system/controlDict", std::ios::app)
-      << "\n#inputMode overwrite\ndeltaT 2e-5;\nendTime 0.1;\nwriteInterval 0.1;\nwriters {}\nfunctions {}\n";
-  Case cs = Case::read(tc.dir(), runtime());
+  Case cs = coarse_flume(tc, 0.1, "picRate 10;\n");
   KernelPolicy light, whole, split;
   whole.ledger_light_transfer = false;
   split.split = StressSplit::on;  // the CPU's default is unsplit
