@@ -265,7 +265,7 @@ class MaterialBody final : public Body<D> {
 
   template <class Shape>
   void launch(const PassParams<D>& pp, const Shape& shape) {
-    if (pp.energy) {  // the energy ledger: its own kernels (ParticlePass's Ledger), no split
+    if (pp.energy) {  // the energy ledger: its own kernels (ParticlePass's Ledger)
       if (!pp.reference && pp.ledger_light_transfer && (pp.flags & ~kTransferPhases) == 0) {
         // The transfer pass books the PIC blend's and the walls' shares only: compiled
         // without the stress update, as the fast transfer kernel is (the whole pass took 255
