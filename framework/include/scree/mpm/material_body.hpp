@@ -265,44 +265,34 @@ class MaterialBody final : public Body<D> {
 
   template <class Shape>
   void launch(const PassParams<D>& pp, const Shape& shape) {
-    if (pp.energy) {  // the energy ledger: its own kernels (ParticlePass's Ledger)
-      if (!pp.reference && pp.ledger_light_transfer && (pp.flags & ~kTransferPhases) == 0) {
-        // The transfer pass books the PIC blend's and the walls' shares only: compiled
-        // without the stress update, as the fast transfer kernel is (the whole pass took 255
-        // registers and a 400 B stack frame for it, against 96 and none: performance log,
-        // entries 36-37)
-        ParticlePass<D, Shape, M, kTransferPhases, false, true> k{pp, store_.arrays(), shape, params_};
-        parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
-        return;
-      }
-      if constexpr (material_has_elastic_path<M>())
-        if (!pp.reference && pp.split_elastic && (pp.flags & kStressPhases)) {
-          // the stress pass split as the fast one's (KernelPolicy::ledger_split): the elastic
-          // points' work booked by the elastic-only kernel, the deferred points' by the second
-          launch_elastic_first<true>(pp, shape);
-          return;
-        }
-      ParticlePass<D, Shape, M, kAllPhases, false, true> k{pp, store_.arrays(), shape, params_};
-      parallel_for_warps(exec_, store_.size(), k, pp.reference ? kCudaBlockSize : kStressBlock);
+    // The energy ledger (PassParams::energy) runs kernels of its own (ParticlePass's Ledger),
+    // dispatched as the fast ones are
+    if (pp.energy) launch_pass<true>(pp, shape);
+    else launch_pass<false>(pp, shape);
+  }
+
+  template <bool Ledger, class Shape>
+  void launch_pass(const PassParams<D>& pp, const Shape& shape) {
+    // The transfer pass alone: compiled without the stress update (for the ledger, which books
+    // the PIC blend's and the walls' shares there, its whole pass took 255 registers and a 400 B
+    // stack frame against 96 and none: performance log, entries 36-37; ledger_light_transfer)
+    if (!pp.reference && (!Ledger || pp.ledger_light_transfer) && (pp.flags & ~kTransferPhases) == 0) {
+      ParticlePass<D, Shape, M, kTransferPhases, false, Ledger> k{pp, store_.arrays(), shape, params_};
+      parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
       return;
     }
-    if (!pp.reference && (pp.flags & ~kTransferPhases) == 0) {
-      ParticlePass<D, Shape, M, kTransferPhases> k{pp, store_.arrays(), shape, params_};
-      parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
-    } else {
-      if constexpr (material_has_elastic_path<M>())
-        if (!pp.reference && pp.split_elastic && (pp.flags & kStressPhases)) {
-          launch_elastic_first(pp, shape);
-          return;
-        }
-      ParticlePass<D, Shape, M, kAllPhases> k{pp, store_.arrays(), shape, params_};
-      if constexpr (D == 2)
-        if (!pp.reference && pp.stress_blocks_per_sm == KernelPolicy::kStressCap) {
-          parallel_for_warps_bounded<kStressBlock, KernelPolicy::kStressCap>(exec_, store_.size(), k);
-          return;
-        }
-      parallel_for_warps(exec_, store_.size(), k, pp.reference ? kCudaBlockSize : kStressBlock);
-    }
+    if constexpr (material_has_elastic_path<M>())
+      if (!pp.reference && pp.split_elastic && (pp.flags & kStressPhases)) {
+        launch_elastic_first<Ledger>(pp, shape);
+        return;
+      }
+    ParticlePass<D, Shape, M, kAllPhases, false, Ledger> k{pp, store_.arrays(), shape, params_};
+    if constexpr (D == 2 && !Ledger)  // the ledger's whole pass runs uncapped
+      if (!pp.reference && pp.stress_blocks_per_sm == KernelPolicy::kStressCap) {
+        parallel_for_warps_bounded<kStressBlock, KernelPolicy::kStressCap>(exec_, store_.size(), k);
+        return;
+      }
+    parallel_for_warps(exec_, store_.size(), k, pp.reference ? kCudaBlockSize : kStressBlock);
   }
 
   /// The elastic-first split (PassParams::split_elastic): every point through the
@@ -310,7 +300,7 @@ class MaterialBody final : public Body<D> {
   /// device-side list (no host round trip; CUDA-graph safe). The second kernel clears the
   /// other parity's counter, which the next step's first kernel fills.
   /// Ledger: both kernels keep the energy ledger (PassParams::energy).
-  template <bool Ledger = false, class Shape>
+  template <bool Ledger, class Shape>
   void launch_elastic_first(const PassParams<D>& pp, const Shape& shape) {
     PassParams<D> first = pp;
     first.deferred = deferred_.data();
