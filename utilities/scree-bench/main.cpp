@@ -143,18 +143,11 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   if (variant == "unsplit") k.split = scree::StressSplit::off;
   if (variant.rfind("speed-every-", 0) == 0) k.speed_every = std::stoi(variant.substr(12));
   if (variant == "no-health") k.health_checks = false;
-  // The energy ledger on, as a case with `energies { budget yes; }` runs it (its own kernel,
-  // the whole pass, no split: ParticlePass's Ledger): what the budget costs a step
+  // The energy ledger on, as a case with `energies { budget yes; }` runs it (ParticlePass's
+  // Ledger kernels): what the budget costs a step; ledger-NAME: its kernels by name
+  // (KernelPolicy::set_ledger_kernels: unsplit, whole), to time the older ones against
   if (variant == "ledger") o.energy_ledger = true;
-  if (variant == "ledger-whole") {  // the ledger as before its light transfer kernel and its split
-    o.energy_ledger = true;
-    k.ledger_light_transfer = false;
-    k.ledger_split = false;
-  }
-  if (variant == "ledger-unsplit") {  // the ledger's stress pass never split
-    o.energy_ledger = true;
-    k.ledger_split = false;
-  }
+  if (variant.rfind("ledger-", 0) == 0) o.energy_ledger = k.set_ledger_kernels(variant.substr(7));
   if (variant == "elastic-uncapped") {
     k.split = scree::StressSplit::on;
     k.elastic_blocks_per_sm = 0;
@@ -507,9 +500,12 @@ int main(int argc, char** argv) {
   auto wants = [&](const char* c) { return std::find(want.begin(), want.end(), c) != want.end(); };
   const auto variants = split(vm["kernels"].as<std::string>());
   for (const std::string& v : variants) {  // a misspelt variant would run as `fast` under its own name
-    static const std::vector<std::string> known = {"fast",      "reference", "uncapped", "split",           "unsplit",
-                                                   "no-health", "ledger",    "ledger-whole", "ledger-unsplit",
-                                                   "elastic-uncapped"};
+    static const std::vector<std::string> known = [] {
+      std::vector<std::string> k = {"fast",      "reference", "uncapped", "split",           "unsplit",
+                                    "no-health", "ledger",    "elastic-uncapped"};
+      for (const char* w : scree::KernelPolicy::kLedgerKernels) k.push_back(std::string("ledger-") + w);
+      return k;
+    }();
     const bool every = v.rfind("speed-every-", 0) == 0 && v.size() > 12 &&
                        v.find_first_not_of("0123456789", 12) == std::string::npos;
     if (!every && std::find(known.begin(), known.end(), v) == known.end()) {

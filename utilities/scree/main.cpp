@@ -180,12 +180,14 @@ int main(int argc, char** argv) {
       return 2;
     }
     const std::string ledger = vm["ledger-kernels"].as<std::string>();
-    if (ledger != "split" && ledger != "unsplit" && ledger != "whole") {
-      std::cerr << "scree: --ledger-kernels: expected split, unsplit or whole, not '" << ledger << "'\n";
+    if (!opt.kernels.set_ledger_kernels(ledger)) {
+      const auto& words = scree::KernelPolicy::kLedgerKernels;  // "split, unsplit or whole"
+      std::cerr << "scree: --ledger-kernels: expected";
+      for (auto w = words.begin(); w != words.end(); ++w)
+        std::cerr << (w == words.begin() ? " " : w + 1 == words.end() ? " or " : ", ") << *w;
+      std::cerr << ", not '" << ledger << "'\n";
       return 2;
     }
-    opt.kernels.ledger_split = ledger == "split";
-    opt.kernels.ledger_light_transfer = ledger != "whole";
   }
 
   const fs::path dir = vm["case"].as<std::string>();

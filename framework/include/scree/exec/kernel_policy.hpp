@@ -71,6 +71,18 @@ struct KernelPolicy {
   /// that books the elastic points' work, then the whole update over the points it deferred
   /// (performance log, entry 37: the unsplit ledger doubled the column's resting step).
   bool ledger_split = true;
+  /// The energy ledger's kernels by name (scree --ledger-kernels, scree-bench ledger-NAME):
+  /// split (both switches above on, the default), unsplit (ledger_split off) or whole (both off:
+  /// the ledger's whole-pass kernel, as before 2026-11-27). False, nothing set, for another word.
+  static constexpr std::initializer_list<const char*> kLedgerKernels = {"split", "unsplit", "whole"};
+  bool set_ledger_kernels(const std::string& name) {
+    bool known = false;
+    for (const char* w : kLedgerKernels) known = known || name == w;
+    if (!known) return false;
+    ledger_split = name == "split";
+    ledger_light_transfer = name != "whole";
+    return true;
+  }
 
   /// The straightforward kernels (see the top of this file).
   static KernelPolicy reference_kernels() {
