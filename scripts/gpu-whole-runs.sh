@@ -101,5 +101,5 @@ case ${1:-} in
       done
     done
     ls -la "$out" ;;
-  *) sed -n '2,25p' "$0"; exit 2 ;;
+  *) sed -n '2,/^set -/p' "$0" | sed '$d'; exit 2 ;;
 esac

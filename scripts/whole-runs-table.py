@@ -47,8 +47,7 @@ def paper_case(label):
 
 for r in rows:
     c = paper_case(r["run"])
-    if c and not r["target_wall_s"]:
-        r["target_wall_s"], r["moonshot_wall_s"] = (str(x) for x in TARGETS[c])
+    r["target_wall_s"], r["moonshot_wall_s"] = (str(x) for x in TARGETS[c]) if c else ("", "")
     rest = bench_value(REST[c], "ms_per_step") if c else None
     r["rest_ms_per_step"] = "%.4g" % rest if rest else ""
     for k in ("dearest", "last"):

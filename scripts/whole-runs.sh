@@ -11,7 +11,8 @@
 # one after another, as shipped: its writers and function objects on, its own end time.
 # Prints the targets table last (now / target) and writes OUT/whole-runs.csv and .json:
 #
-#   wall time of the whole run    column < 60 s (moonshot 15), flume < 120 s (moonshot 30)
+#   wall time of the whole run    column < 60 s (moonshot 15), flume < 120 s (moonshot 30);
+#                                 a variant labelled column* or flume* too (whole-runs-table.py)
 #   late step / resting step      at most 2: ms per step over the run's dearest progress
 #                                 interval (about 10 s of wall time) and over its last one,
 #                                 against the case's resting step
@@ -39,7 +40,7 @@ while [ $# -gt 0 ]; do
     --bench) bench=1; shift ;;
     --bench-kernels) bench_kernels=$2; shift 2 ;;
     --scree-args) scree_args=$2; shift 2 ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,/^set -/p' "$0" | sed '$d'; exit 0 ;;
     *) runs+=("$1"); shift ;;
   esac
 done
@@ -48,7 +49,7 @@ scree=$build/bin/scree
 [ -x "$scree" ] || { echo "whole-runs.sh: no $scree (build first, or --build DIR)" >&2; exit 2; }
 mkdir -p "$out/runs"
 csv=$out/whole-runs.csv
-echo "run,case,device,particles,steps,simulated_s,wall_s,mean_ms_per_step,dearest_ms_per_step,last_ms_per_step,target_wall_s,moonshot_wall_s,exit" > "$csv"
+echo "run,case,device,particles,steps,simulated_s,wall_s,mean_ms_per_step,dearest_ms_per_step,last_ms_per_step,exit" > "$csv"
 rm -f "$out/bench.csv"
 if [ $bench = 1 ]; then
   # the resting windows and the blocks, on the idle GPU before the runs (scree-bench's own
@@ -59,10 +60,9 @@ if [ $bench = 1 ]; then
 fi
 
 for r in "${runs[@]}"; do
-  target= moon=
   case $r in
-    column) src=$here/cases/columnCollapse label=column target=60 moon=15 ;;
-    flume) src=$here/cases/flume label=flume target=120 moon=30 ;;
+    column) src=$here/cases/columnCollapse label=column ;;
+    flume) src=$here/cases/flume label=flume ;;
     *:*) src=${r%%:*} label=${r##*:} ;;
     *) src=$r label=$(basename "$r") ;;
   esac
@@ -91,7 +91,7 @@ for r in "${runs[@]}"; do
   # progress lines: "t = ... s  step N  R steps/s ..." (carriage returns on a terminal)
   /usr/bin/env python3 "$here/scripts/whole-run-profile.py" "$log" "$out/runs/$label/profile.csv" > "$out/runs/$label/facts.txt"
   read -r parts steps sim mean dear last < "$out/runs/$label/facts.txt"
-  echo "$label,$d,$device,$parts,$steps,$sim,$wall,$mean,$dear,$last,$target,$moon,$rc" >> "$csv"
+  echo "$label,$d,$device,$parts,$steps,$sim,$wall,$mean,$dear,$last,$rc" >> "$csv"
   echo "$label: exit $rc, $steps steps, $wall s wall"
 done
 
