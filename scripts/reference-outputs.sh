@@ -11,7 +11,8 @@
 # depended on the wall time of a chunk of steps (the steps that idle on an output time
 # counted), so the same binary did not reproduce itself after the first sort. The set: the elastic column (the
 # default case), the column collapse meshes C-1 and C-2 with the phase-transition model and
-# C-2 with the frictional model (cases/columnCollapse/variants), and every element test of
+# C-2 with the frictional model (cases/columnCollapse/variants), the flume at 20 mm cells,
+# the infiltration column (both shortened), and every element test of
 # cases/elementTests (frictional, collisional and combined models). About 3 minutes on one
 # core.
 set -euo pipefail
@@ -29,6 +30,8 @@ run_case() {  # name, case root (copied, so the repository stays clean), case in
   local dir="$work/$name/$rel"
   rm -rf "$dir/VTK" "$dir/postProcessing"
   if [ -n "${4:-}" ]; then echo "$4" >> "$dir/system/mpmSchemes"; fi
+  if [ -n "${5:-}" ]; then printf '\n#inputMode overwrite\n%s\n' "$5" >> "$dir/system/controlDict"; fi
+  if [ -n "${6:-}" ]; then printf '\n#inputMode overwrite\n%s\n' "$6" >> "$dir/system/gridDict"; fi
   "$bin/scree" --case "$dir" --device cpu --threads 1 > "$out/$name.log" 2>&1 ||
     { echo "reference-outputs: $name failed (see $out/$name.log)" >&2; exit 1; }
   mkdir -p "$out/$name"
@@ -41,6 +44,12 @@ run_case elasticColumn "$repo/cases/elasticColumn"
 for v in C-1 C-2 frictional-C-2; do
   run_case "columnCollapse-$v" "$repo/cases/columnCollapse" "variants/$v" "sortInterval 0;"
 done
+
+# The flume at 20 mm cells to 0.45 s (every function object of the shipped case: run-out,
+# probes, surface profile, energies with the budget) and the two-phase infiltration column
+# to 0.5 s of rain (the pore liquid's passes, rainfall, the drained base).
+run_case flume-coarse "$repo/cases/flume" . "sortInterval 0;" "endTime 0.45; writeInterval 0.05;" "cellSize 0.02;"
+run_case infiltration1D "$repo/cases/infiltration1D" . "sortInterval 0;" "endTime 0.5; writeInterval 0.1;"
 
 mkdir -p "$out/elementTests"
 for dir in "$repo"/cases/elementTests/fig*/; do
