@@ -90,7 +90,7 @@ def snapshot(root):
 
 def prepare_case(variant_dir, case, base=None):
     src = os.path.join(ROOT, base) if base else os.path.join(HERE, "base")
-    shutil.copytree(src, case, ignore=shutil.ignore_patterns("VTK", "postProcessing") if base else None)
+    shutil.copytree(src, case, ignore=shutil.ignore_patterns("VTK", "postProcessing", "checkpoints", ".scree*") if base else None)
     for dirpath, _, filenames in os.walk(variant_dir):
         for name in filenames:
             src = os.path.join(dirpath, name)
