@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/plugin/context.hpp"
 
 namespace scree::boundary {
@@ -100,7 +101,7 @@ class InclinedPlane final : public BoundaryCondition {
     tol_ = 1e-6 * ctx.cell_size;
 
     // The domain box's corners bound d over the grid (d is linear in x).
-    Real lo = 1e300, hi = -1e300;
+    Real lo = kUnbounded, hi = -kUnbounded;
     for (int c = 0; c < (1 << dim_); ++c) {
       Real x[3];
       for (int d = 0; d < dim_; ++d) x[d] = ((c >> d) & 1) ? ctx.domain_upper[d] : ctx.domain_lower[d];
@@ -116,7 +117,7 @@ class InclinedPlane final : public BoundaryCondition {
                            "; expected a plane that cuts the domain");
     // Nodes wholly inside the wall exist if the deepest corner of the lattice (ghost nodes
     // included) is one; otherwise no stick wall is added (it would select no node).
-    Real deepest = 1e300;
+    Real deepest = kUnbounded;
     for (int c = 0; c < (1 << dim_); ++c) {
       Real x[3];
       for (int d = 0; d < dim_; ++d)

@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "scree/boundary/node_law.hpp"
+#include "scree/core/constants.hpp"
 
 namespace scree::boundary {
 
@@ -44,7 +45,7 @@ class ShakingTable final : public NodeLawCondition<ShakingTableLaw> {
     s.scalar("frequency", "Hz", "shaking frequency f").positive();
     s.vector("direction", "-", "direction of shaking e (normalised)").size(-1);
     s.scalar("startTime", "s", "shaking starts at t0").default_value(0.0);
-    s.scalar("endTime", "s", "shaking stops at t1").default_value(1e300);
+    s.scalar("endTime", "s", "shaking stops at t1").default_value(kUnbounded);
     return s;
   }
   ShakingTable(const ParamReader& r, const SolverContext& ctx) : NodeLawCondition(r, ctx, law(r)) {}
@@ -58,8 +59,7 @@ class ShakingTable final : public NodeLawCondition<ShakingTableLaw> {
     len = std::sqrt(len);
     if (len == 0) throw InputError(r.entry("direction").where(), "direction: must not be zero");
     for (std::size_t d = 0; d < e.size() && d < 3; ++d) l.e[d] = e[d] / len;
-    const Real pi = 3.14159265358979323846;
-    l.omega = 2 * pi * r.scalar("frequency");
+    l.omega = 2 * kPi * r.scalar("frequency");
     l.speed = l.omega * r.scalar("amplitude");
     l.t0 = r.scalar("startTime");
     l.t1 = r.scalar("endTime");

@@ -406,7 +406,7 @@ Settings build(Parser& p, const std::string& name, std::vector<std::string>* war
   s.end_time = p.number("endTime", 0);
   s.dt_initial = p.number("dtInitial", 1e-3);
   s.dt_min = p.number("dtMin", 1e-9);
-  s.dt_max = p.number("dtMax", 1e300);
+  s.dt_max = p.number("dtMax", kUnbounded);
   if (s.dt_min > s.dt_initial) p.error(p.where(p.has("dtMin") ? "dtMin" : "dtInitial"), "dtMin", "exceeds dtInitial");
   if (s.dt_max < s.dt_min) p.error(p.where("dtMax"), "dtMax", "is below dtMin");
   s.picard_tolerance = p.number("picardTolerance", 1e-8);

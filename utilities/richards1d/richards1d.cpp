@@ -472,7 +472,7 @@ void Column::step(double t_limit) {
       const int lo = s_.bottom == BottomCondition::head ? 1 : 0, hi = top_is_head() ? N - 1 : N;
       double e = 0;
       for (int i = lo; i <= hi; ++i) e = std::max(e, 0.5 * dt * std::abs((h_[i] - h_old_[i]) / dt - rate_[i]));
-      const double factor = e > 0 ? 0.9 * std::sqrt(s_.time_tolerance / e) : 1e300;
+      const double factor = e > 0 ? 0.9 * std::sqrt(s_.time_tolerance / e) : kUnbounded;
       if (e > s_.time_tolerance && dt > s_.dt_min) {
         ++cnt_.error_rejected;
         dt_ = std::max(dt * std::max(0.2, factor), s_.dt_min);

@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+#include "scree/core/constants.hpp"
+
 namespace scree::richards1d {
 
 // ---------------------------------------------------------------------------------------
@@ -108,7 +110,7 @@ struct Settings {
   double end_time = 0;          // [s]
   double dt_initial = 1e-3;     // [s]
   double dt_min = 1e-9;         // [s] a step that fails below this stops the run
-  double dt_max = 1e300;        // [s]
+  double dt_max = kUnbounded;  // [s]
   double picard_tolerance = 1e-8;  // converged when max |delta h| < this [m]
   int picard_max_iterations = 30;
   int fast_iterations = 3;      // converged in <= this: dt *= dt_grow

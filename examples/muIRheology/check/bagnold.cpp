@@ -45,6 +45,7 @@
 #include <unistd.h>
 
 #include "../MuIRheology.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/material/material.hpp"
 #include "scree/solver/simulation.hpp"
 
@@ -255,7 +256,7 @@ int main(int argc, char** argv) {
     const double xa = x0 + (us + cg) * T + 2 * h, xb = x1 - cg * T - 2 * h;
     std::printf("inclined plane: theta = %.3f deg, tan = %.4f, I_theta = %.5f, h = %g m (%g cells), "
                 "u_s = %.5f m/s, T = %g s\n",
-                theta * 180 / M_PI, t, I_theta, h, h / dx, us, T);
+                theta * 180 / scree::kPi, t, I_theta, h, h / dx, us, T);
     std::printf("window x in [%.4f, %.4f] m (layer [%g, %g])\n", xa, xb, x0, x1);
     if (!(xb > xa + dx)) throw std::runtime_error("the layer is too short for endTime: no undisturbed window");
 

@@ -7,8 +7,8 @@
 // warp whose pass takes more than C clock cycles: the cycles, the lanes that had work, the
 // sum and the largest of their substeps and the lanes per path. Cycles that follow the largest
 // count mean one slow update; cycles that follow the sum mean the lanes' paths diverged and
-// ran one after another (docs/performance.md, entry 16). Printing happens after the pass is
-// timed, once per slow warp; the notes cost a store per update.
+// ran one after another. Printing happens after the pass is timed, once per slow warp; the
+// notes cost a store per update.
 #pragma once
 
 #include "scree/core/config.hpp"
