@@ -11,7 +11,7 @@ Reads VTK/particles.pvd (and its .vtp files), postProcessing/deposit/runOut.csv 
 postProcessing/probes/{A,B,C}.csv; times are shown from the gate's release
 (_releaseTime in system/stages). CASE needs snapshots at the release and 0.05, 0.25, 0.5
 and 1 s after it; CASE_F only its last snapshot (1 s after the release) and, for Fig. 16,
-one 0.5 s after it (scripts/gpu-column.sh keeps only those two for a frictional run).
+one 0.5 s after it (measure/gpu-column.sh keeps only those two for a frictional run).
 Writes PNGs and summary.json to OUTDIR:
 
   fig09_initial_stress.png      vertical stress at release against rho g (H - y) (Fig. 9b)

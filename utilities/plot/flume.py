@@ -7,7 +7,7 @@ solid-like to fluid-like states", Int. J. Numer. Anal. Methods Geomech. 49: 1642
     flume.py CASE [--frictional CASE_F] [-o OUTDIR]
 
 CASE is a run of cases/flume (phaseTransition), CASE_F one of cases/flume/variants/frictional.
-Reads VTK/particles.pvd and its .vtp files (those present: scripts/gpu-flume.sh keeps the
+Reads VTK/particles.pvd and its .vtp files (those present: measure/gpu-flume.sh keeps the
 release and 0.1, 0.4, 0.8, 1, 1.5, 2, 2.5 and 3 s after it), and postProcessing/: deposit
 and massFront (runOut.csv), probes/{A,B,C}.csv, energy/energies.csv. Times are shown from
 the gate's release (_releaseTime in system/stages). Writes PNGs and summary.json to OUTDIR:

@@ -6,7 +6,7 @@ own output.
 
 Each RUN is a finished run of cases/flume or one of its variants (S-1, S-2, S-4: 20, 10 and
 2.5 mm cells), holding postProcessing/ (massFront/runOut.csv, surface/<time>.csv) and, when
-scripts/gpu-flume.sh collected it, run.log (for the points, steps and wall time). Times are
+measure/gpu-flume.sh collected it, run.log (for the points, steps and wall time). Times are
 given after the gate's release (_releaseTime, 0.05 s). Writes to OUTDIR:
 
   table_c2.md        the table: cells, points, steps, wall time, the mass front (0.99 quantile)

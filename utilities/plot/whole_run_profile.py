@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Where whole runs spend their wall time: ms per step and the mean time step against simulated
-time, from the profiles scripts/whole-runs.sh writes (scripts/whole-run-profile.py: one row per
+time, from the profiles measure/whole-runs.sh writes (measure/whole-run-profile.py: one row per
 progress interval of about 10 s of wall time).
 
     whole_run_profile.py LABEL=PROFILE.csv [LABEL=PROFILE.csv ...] [--rest LABEL=MS ...] -o OUT.png

@@ -377,13 +377,12 @@ void cpu_comparison(scree::PluginRuntime& rt, const fs::path& root, const fs::pa
 }
 
 /// (e) updates: the slow SIMSAND stress updates recorded late in the 1 mm column collapse
-/// (docs/performance-data/simsand-late-updates-1mm-column.txt; performance log, entries
-/// 16-17), replayed through simsand::integrate on one CPU thread with the column case's own
-/// parameters. On the GPU the late step lasts as long as the slowest such update in one
+/// (simsand-late-updates-1mm-column.txt beside this file), replayed through simsand::integrate
+/// on one CPU thread with the column case's own parameters. On the GPU the late step lasts as long as the slowest such update in one
 /// lane, so their cost per update is the CPU's proxy for that step.
 void replay_updates(scree::PluginRuntime& rt, const fs::path& src, std::vector<Row>& rows) {
   namespace ss = scree::materials::simsand;
-  const fs::path data = src / "docs/performance-data/simsand-late-updates-1mm-column.txt";
+  const fs::path data = src / "utilities/scree-bench/simsand-late-updates-1mm-column.txt";
   std::ifstream in(data);
   if (!in) throw std::runtime_error(data.string() + ": cannot read the recorded updates");
   struct Update {
@@ -474,7 +473,7 @@ int main(int argc, char** argv) {
       "source-dir", po::value<std::string>()->default_value(SCREE_SOURCE_DIR), "the Scree source tree (for cases/)")(
       "write-block", po::value<std::string>(),
       "write the scaling case's block of --max-particles particles (the first of --materials, --shapes, "
-      "--schemes and --dimensions) under this directory, print its path and exit (scripts/gpu-ncu-block.sh)")(
+      "--schemes and --dimensions) under this directory, print its path and exit (measure/gpu-ncu-block.sh)")(
       "csv", po::value<std::string>()->default_value("scree-bench.csv"), "CSV output")(
       "json", po::value<std::string>()->default_value("scree-bench.json"), "JSON output");
   po::variables_map vm;

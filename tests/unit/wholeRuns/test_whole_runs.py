@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Tests of the whole-run timing scripts.
 
-profile: scripts/whole-run-profile.py on a log written here, whose progress lines come from a
+profile: measure/whole-run-profile.py on a log written here, whose progress lines come from a
          run whose wall time per step is known (a step of 0.5 ms for 1,000 steps, then 2 ms for
          500, at dt = 1e-5 s): the profile must give those figures back, the dearest interval
          and the last, to the four digits the log's steps/s carries.
-run:     scripts/whole-runs.sh --device cpu on cases/elasticColumn: exit 0, and the steps its
+run:     measure/whole-runs.sh --device cpu on cases/elasticColumn: exit 0, and the steps its
          controlDict implies (endTime 3 s at a fixed deltaT of 2e-4 s: 15,000).
-table:   scripts/whole-runs-table.py over two series written here (one GPU each, the bench in
+table:   measure/whole-runs-table.py over two series written here (one GPU each, the bench in
          the second): one table of both; the resting step and the ratios from the series with
          the bench (0.8 / 0.05 = 16), a paper case's variant held against its case's target.
 """
@@ -41,7 +41,7 @@ def profile(a):
     lines.append("scree: done: %d steps, %g s simulated in %g s wall" % (step, t, wall))
     open(log, "w").write("\n".join(lines) + "\n")
     out = os.path.join(a.work, "profile.csv")
-    r = subprocess.run([sys.executable, os.path.join(a.source, "scripts", "whole-run-profile.py"), log, out],
+    r = subprocess.run([sys.executable, os.path.join(a.source, "measure", "whole-run-profile.py"), log, out],
                        capture_output=True, text=True)
     check(r.returncode == 0, "whole-run-profile.py exits 0 (%s)" % r.stderr.strip())
     parts, steps, sim, mean, dear, last = r.stdout.split()
@@ -65,7 +65,7 @@ def run(a):
     shutil.rmtree(a.work, ignore_errors=True)
     case = os.path.join(a.source, "cases", "elasticColumn")
     before = listing(case)
-    r = subprocess.run(["bash", os.path.join(a.source, "scripts", "whole-runs.sh"), "--device", "cpu", "--threads", "1",
+    r = subprocess.run(["bash", os.path.join(a.source, "measure", "whole-runs.sh"), "--device", "cpu", "--threads", "1",
                         "--build", a.build, "--out", a.work, case + ":ec"],
                        capture_output=True, text=True)
     print(r.stdout[-2000:], r.stderr[-2000:])
@@ -100,7 +100,7 @@ def table(a):
         "flume 5 mm (paper) at rest,ledger,0.4,\n"
         "block phaseTransition linear USL 10000000,fast,,2.5e9\n")
     js = os.path.join(a.work, "all.json")
-    r = subprocess.run([sys.executable, os.path.join(a.source, "scripts", "whole-runs-table.py"), "--json", js, two, one],
+    r = subprocess.run([sys.executable, os.path.join(a.source, "measure", "whole-runs-table.py"), "--json", js, two, one],
                        capture_output=True, text=True)
     print(r.stdout, r.stderr)
     check(r.returncode == 0, "whole-runs-table.py exits 0")

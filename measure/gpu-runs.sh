@@ -4,10 +4,10 @@
 # next machine (scree --restart). gpu-flume.sh is the flume's own version of this (with the
 # paper's frames and the health-check retry); this one takes any case under cases/.
 #
-#   bash scripts/gpu-runs.sh start RUN...     launch (returns at once)
-#   bash scripts/gpu-runs.sh status           progress of every run
-#   bash scripts/gpu-runs.sh wait SECONDS     until every run is done or SECONDS have passed
-#   bash scripts/gpu-runs.sh collect          $OUT/<label>.tar.gz per run (postProcessing/, the
+#   bash measure/gpu-runs.sh start RUN...     launch (returns at once)
+#   bash measure/gpu-runs.sh status           progress of every run
+#   bash measure/gpu-runs.sh wait SECONDS     until every run is done or SECONDS have passed
+#   bash measure/gpu-runs.sh collect          $OUT/<label>.tar.gz per run (postProcessing/, the
 #                                             log, the .pvd; the last frame with `frame`; the
 #                                             newest checkpoint of an unfinished run) and
 #                                             $OUT/meta.tar.gz (device, wall times, status)

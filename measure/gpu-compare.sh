@@ -2,7 +2,7 @@
 # Time two builds of Scree side by side on one GPU, in one device call (GPU timings drift
 # between machines and sessions, so a before/after pair must share a machine):
 #
-#   scripts/gpu-compare.sh BASE_BIN NEW_BIN OUT_DIR [ROUNDS]
+#   measure/gpu-compare.sh BASE_BIN NEW_BIN OUT_DIR [ROUNDS]
 #
 # BASE_BIN and NEW_BIN are bin/ directories holding scree-bench (with their lib/ beside).
 # Each round runs the paper cases (the column collapse and the flume: at rest, right after

@@ -4,7 +4,7 @@
 # cell, at rest under gravity), on a lent GPU machine: where the bandwidth-bound regime loses
 # time.
 #
-#   scripts/gpu-ncu-block.sh <particles> <out-dir> [kernel-regex]
+#   measure/gpu-ncu-block.sh <particles> <out-dir> [kernel-regex]
 #
 # Writes the case that scree-bench's scaling series times at that size (scree-bench
 # --write-block), runs 30 steps without output and without graphs, and profiles one launch

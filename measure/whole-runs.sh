@@ -2,7 +2,7 @@
 # Whole runs of the paper's cases, timed end to end, against the targets of the
 # performance work (docs/performance.md): what a user waits for, not a step.
 #
-#   scripts/whole-runs.sh [--device cuda|cpu] [--threads N] [--build DIR] [--out DIR] [--bench]
+#   measure/whole-runs.sh [--device cuda|cpu] [--threads N] [--build DIR] [--out DIR] [--bench]
 #                         [--bench-kernels LIST] [--scree-args "ARGS"] [RUN...]
 #
 # RUN is column (cases/columnCollapse, 1 mm, 1.1 s), flume (cases/flume, 5 mm, 3.05 s), or
@@ -23,10 +23,10 @@
 # blocks (OUT/bench.csv; --bench-kernels: scree-bench's variants, fast first; the table reads
 # fast). --scree-args: more arguments for every run's scree (--ledger-kernels unsplit: the
 # kernel variants of KernelPolicy over whole runs). Each run's profile (ms per step and mean dt per interval) is
-# OUT/runs/<label>/profile.csv (scripts/whole-run-profile.py).
+# OUT/runs/<label>/profile.csv (measure/whole-run-profile.py).
 #
 # On a lent GPU machine: carry the bundle (../shared/gpu/bundle.sh build-cuda) and run
-#   source .gpu-bundle/env.sh && scripts/whole-runs.sh --device cuda --out $OUT
+#   source .gpu-bundle/env.sh && measure/whole-runs.sh --device cuda --out $OUT
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 device=cuda threads= build=${SCREE_BUILD_DIR:-$here/build-cuda} out=$PWD/whole-runs bench=0 bench_kernels=fast scree_args=
@@ -89,10 +89,10 @@ for r in "${runs[@]}"; do
   rc=$?
   wall=$(awk "BEGIN{printf \"%.1f\", $(date +%s.%N) - $t0}")
   # progress lines: "t = ... s  step N  R steps/s ..." (carriage returns on a terminal)
-  /usr/bin/env python3 "$here/scripts/whole-run-profile.py" "$log" "$out/runs/$label/profile.csv" > "$out/runs/$label/facts.txt"
+  /usr/bin/env python3 "$here/measure/whole-run-profile.py" "$log" "$out/runs/$label/profile.csv" > "$out/runs/$label/facts.txt"
   read -r parts steps sim mean dear last < "$out/runs/$label/facts.txt"
   echo "$label,$d,$device,$parts,$steps,$sim,$wall,$mean,$dear,$last,$rc" >> "$csv"
   echo "$label: exit $rc, $steps steps, $wall s wall"
 done
 
-/usr/bin/env python3 "$here/scripts/whole-runs-table.py" "$out"
+/usr/bin/env python3 "$here/measure/whole-runs-table.py" "$out"

@@ -3,10 +3,10 @@
 # background, so that the runs outlast one device call; a run continues from its newest
 # checkpoint on the next machine (scree --restart).
 #
-#   scripts/gpu-flume.sh start RUN...     launch (returns at once)
-#   scripts/gpu-flume.sh status           progress of every run
-#   scripts/gpu-flume.sh wait SECONDS     until every run is done or SECONDS have passed
-#   scripts/gpu-flume.sh collect          $OUT/<label>.tar.gz per run (postProcessing/, the
+#   measure/gpu-flume.sh start RUN...     launch (returns at once)
+#   measure/gpu-flume.sh status           progress of every run
+#   measure/gpu-flume.sh wait SECONDS     until every run is done or SECONDS have passed
+#   measure/gpu-flume.sh collect          $OUT/<label>.tar.gz per run (postProcessing/, the
 #                                         frames at the paper's times, the last frame, the
 #                                         newest checkpoint, the log), status and wall times
 #

@@ -1,4 +1,4 @@
-# Shared by scripts/gpu-column.sh and scripts/gpu-flume.sh (sourced by both).
+# Shared by measure/gpu-column.sh and measure/gpu-flume.sh (sourced by both).
 #
 # gpu_status WIDTH: the time, the newest progress line of each log in $S/logs (names padded to
 # WIDTH), then $S/walltimes.txt (one line per finished run).

@@ -1,5 +1,5 @@
 // The three 2D phaseTransition stress kernels (linear shape functions), alone in one unit:
-// what scripts/ptx-line-counts.sh compiles for ptxas statistics and PTX line counts, in a
+// what measure/ptx-line-counts.sh compiles for ptxas statistics and PTX line counts, in a
 // minute instead of the whole plugin's five (docs/gpu.md, "Speed").
 #include "../../materials/phaseTransition/PhaseTransition.hpp"
 #include "scree/exec/parallel.hpp"

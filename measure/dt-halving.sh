@@ -2,7 +2,7 @@
 # Run a case at its time step and at half of it, and compare the deposits: the check that
 # the numerical knobs (the PIC blend, damping) act per unit time, not per step.
 #
-#   scripts/dt-halving.sh CASE WORK DT MAXCO [MPMSCHEMES_ENTRIES]
+#   measure/dt-halving.sh CASE WORK DT MAXCO [MPMSCHEMES_ENTRIES]
 #
 #   CASE   a case directory under cases/ (a variant too: cases/columnCollapse/variants/C-2)
 #   WORK   where the two runs go: WORK/dt and WORK/dt-half, each a copy of the case's top
@@ -19,7 +19,7 @@
 # case has one, the massFront (a mass quantile: single grains thrown ahead do not move it).
 #
 # Example (CPU, 5 mm column, about 4 and 8 minutes on one core each):
-#   scripts/dt-halving.sh cases/columnCollapse/variants/C-2 /tmp/halving 1e-5 0.5
+#   measure/dt-halving.sh cases/columnCollapse/variants/C-2 /tmp/halving 1e-5 0.5
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 [ $# -ge 4 ] || { sed -n 2,22p "$0" >&2; exit 2; }

@@ -6,7 +6,7 @@
 Reads the progress lines of a scree log ("t = T s  step N  R steps/s ..."; carriage returns
 of a terminal are read as line ends) and writes PROFILE_CSV, a row per progress interval
 (about 10 s of wall time): simulated time, steps, wall time, mean dt and ms per step. Prints
-one line for scripts/whole-runs.sh: particles, steps, simulated time, and ms per step over
+one line for measure/whole-runs.sh: particles, steps, simulated time, and ms per step over
 the whole run, over its dearest interval and over its last one.
 """
 

@@ -3,10 +3,10 @@
 # runs, the Appendix C mesh study on the GPU and on the CPU cores, and the benchmark, run in
 # the background so that they can outlast one device call.
 #
-#   scripts/gpu-column.sh start [GPU_RUNS] [-- CPU_RUNS]   set up and launch (returns at once)
-#   scripts/gpu-column.sh status                           progress of every run
-#   scripts/gpu-column.sh wait SECONDS                     status every 60 s until all done
-#   scripts/gpu-column.sh collect                          pack the results into $OUT
+#   measure/gpu-column.sh start [GPU_RUNS] [-- CPU_RUNS]   set up and launch (returns at once)
+#   measure/gpu-column.sh status                           progress of every run
+#   measure/gpu-column.sh wait SECONDS                     status every 60 s until all done
+#   measure/gpu-column.sh collect                          pack the results into $OUT
 #
 # GPU_RUNS (one after another on the GPU, cores 0-1; two processes sharing the GPU
 # time-slice it and each ran 3x slower, so there is one queue): pt (cases/columnCollapse,
@@ -96,7 +96,7 @@ start() {
   lscpu | grep -E "Model name|^CPU\(s\)" >> $S/device.txt
   cat > $S/run.sh <<EOF
 export LD_LIBRARY_PATH=$S/lib:\${LD_LIBRARY_PATH:-}
-source $PWD/scripts/gpu-column.sh
+source $PWD/measure/gpu-column.sh
 ( gpu_queue ${gpu[*]}; echo gpu > $S/gpu.done ) &
 ( cpu_queue ${cpu[*]}; echo cpu > $S/cpu.done ) &
 wait

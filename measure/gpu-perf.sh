@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The measurements of docs/performance.md in one device call.
 #
-#   scripts/gpu-perf.sh [SECTION...]    on the GPU machine, from the repository root
+#   measure/gpu-perf.sh [SECTION...]    on the GPU machine, from the repository root
 #
 # Sections (default: all, in this order): tests paper variants scaling base output cpu ncu
 # stalls. Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda) and, for `base`,
 # .gpu-base: the executables and plugins of commit de3498e (the code before this work)
-# built the same way, with that commit's cases/ (docs/performance.md, "Reproducing").
+# built the same way, with that commit's cases/ (the "Before" of docs/history/performance-log.md).
 # Device call: carry [".gpu-bundle", ".gpu-base"]. Output under $OUT (at most 8 files come
 # back): log.txt (everything), CSVs of the benchmark and ncu.txt. Each command has its own
 # time limit so that the call ends inside the device's 10 minutes.

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""The targets table of scripts/whole-runs.sh, from one or more of its output folders.
+"""The targets table of measure/whole-runs.sh, from one or more of its output folders.
 
-    scripts/whole-runs-table.py [--json FILE] OUT [OUT...]
+    measure/whole-runs-table.py [--json FILE] OUT [OUT...]
 
 Each OUT holds whole-runs.csv (one row per run) and perhaps bench.csv (scree-bench's resting
 windows and 1e7 blocks, --bench). Several OUTs: runs made side by side, one GPU each
-(scripts/gpu-whole-runs.sh start --gpu K); their rows are joined, and the resting step and the
+(measure/gpu-whole-runs.sh start --gpu K); their rows are joined, and the resting step and the
 blocks come from the first OUT that has a bench.csv. Writes the rows and the bench as JSON
 (FILE; by default whole-runs.json in the first OUT) and prints the table (markdown). A run whose label starts with column or flume is a paper case
 (or a variant of one): it is held against that case's target and resting step.

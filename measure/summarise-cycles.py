@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Summarise the log of a diagnostic build with SCREE_REPORT_CYCLES (scree/core/report_cycles.hpp):
 per window of steps, the slow warps of the particle pass and whether their cycles follow the
-largest or the summed substeps of their lanes (docs/performance.md, entry 16).
+largest or the summed substeps of their lanes (docs/history/performance-log.md, entry 16).
 
-    scripts/summarise-cycles.py LOG [WINDOW_STEPS]
+    measure/summarise-cycles.py LOG [WINDOW_STEPS]
 """
 import collections, sys
 

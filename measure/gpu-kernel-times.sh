@@ -2,7 +2,7 @@
 # Per-kernel GPU times of a window of a case's steps, from Nsight Compute (ncu), on a lent
 # GPU machine: which kernel of a step costs what, with no synchronisation between kernels.
 #
-#   scripts/gpu-kernel-times.sh <case-dir> <max-steps> <skip-launches> <count> <out.csv>
+#   measure/gpu-kernel-times.sh <case-dir> <max-steps> <skip-launches> <count> <out.csv>
 #
 # The case runs <max-steps> steps without output, its kernels launched one by one
 # (--no-graphs: a USF step is four to six launches, a sort every 200 steps adds four);

@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
-# scripts/whole-runs.sh on a lent GPU machine, in the background, so that its runs (one after
+# measure/whole-runs.sh on a lent GPU machine, in the background, so that its runs (one after
 # another, each alone on the GPU: these are the wall times a user waits for) outlast one device
 # call.
 #
-#   scripts/gpu-whole-runs.sh start [--gpu K] ARG...
+#   measure/gpu-whole-runs.sh start [--gpu K] ARG...
 #                                             launch whole-runs.sh ARG... (returns at once);
 #                                             --gpu K: on GPU K alone (CUDA_VISIBLE_DEVICES),
 #                                             so that a machine of several GPUs runs one
 #                                             series per GPU side by side, each run alone on
 #                                             its GPU (one start per K)
-#   scripts/gpu-whole-runs.sh wait SECONDS    until every series is done or SECONDS have
+#   measure/gpu-whole-runs.sh wait SECONDS    until every series is done or SECONDS have
 #                                             passed; prints the newest progress lines
-#   scripts/gpu-whole-runs.sh collect         $OUT/whole-runs.tar.gz (the table of all
+#   measure/gpu-whole-runs.sh collect         $OUT/whole-runs.tar.gz (the table of all
 #                                             series, CSV, JSON, logs, profiles, device,
 #                                             scree-bench's figures)
 #                                             and per run $OUT/<label>.tar.gz (postProcessing/,
@@ -53,7 +53,7 @@ case ${1:-} in
     rm -rf $S && mkdir -p $S
     source "$here/.gpu-bundle/env.sh"
     nvidia-smi --query-gpu=index,name,memory.total,driver_version --format=csv > $S/device.txt 2>&1
-    setsid "${pin[@]}" bash "$here/scripts/whole-runs.sh" --device cuda --out $S "$@" > $S/whole-runs.log 2>&1 < /dev/null &
+    setsid "${pin[@]}" bash "$here/measure/whole-runs.sh" --device cuda --out $S "$@" > $S/whole-runs.log 2>&1 < /dev/null &
     disown -a
     echo "started on $slot${pin:+ (${pin[*]})}: $*"; cat $S/device.txt ;;
   wait)
@@ -77,7 +77,7 @@ case ${1:-} in
     # one table over every series: the resting step and the blocks from the one with --bench
     first=$(for s in $slots; do [ -f $W/$s/bench.csv ] && echo $s; done)
     others=$(for s in $slots; do [ -f $W/$s/bench.csv ] || echo $s; done)
-    (cd $W && /usr/bin/env python3 "$here/scripts/whole-runs-table.py" --json whole-runs.json $first $others > table.md)
+    (cd $W && /usr/bin/env python3 "$here/measure/whole-runs-table.py" --json whole-runs.json $first $others > table.md)
     cat $W/table.md
     (cd $W && tar -czf "$out/whole-runs.tar.gz" table.md whole-runs.json $(for s in $slots; do ls $s/device.txt $s/whole-runs.log \
       $s/whole-runs.csv $s/whole-runs.json $s/runs/*/run.log $s/runs/*/profile.csv $s/bench.csv $s/bench.json \

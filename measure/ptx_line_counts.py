@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """PTX instructions of one kernel per source line, inclusive of what is inlined from it.
 
-    scripts/ptx_line_counts.py FILE.ptx KERNEL-NAME-SUBSTRING [TOP]
+    measure/ptx_line_counts.py FILE.ptx KERNEL-NAME-SUBSTRING [TOP]
 
 Needs PTX made with -lineinfo: each instruction is charged to the line of the .loc before it
 and to every line of that .loc's inlined-at chain. Weighted: a double division 18, a
