@@ -171,7 +171,7 @@ std::string Lexer::read_word_bytes() {
     // joined with `cat`, an editor's paste) it is an invisible part of a word:
     // "\uFEFFendTime" would be an unknown key that prints as 'endTime', and a key
     // written back would lose it when read again (the writer's output starts with it).
-    if (text_.compare(pos_, 3, "\xEF\xBB\xBF") == 0)
+    if (static_cast<unsigned char>(at(0)) == 0xEF && text_.compare(pos_, 3, "\xEF\xBB\xBF") == 0)
       fail(here(), "invisible character U+FEFF (a byte order mark, allowed only at the start of the file) "
                    "inside a word: delete it");
     advance();

@@ -29,7 +29,7 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -53,21 +53,17 @@ constexpr std::size_t kMaxExpandedNodes = 1'000'000;  // items/entries copied by
 /// What a body of entries belongs to.
 enum class Level { main_file, included_file, nested };
 
-/// Which source wrote an entry, and where: the file being read (each file read, the main
-/// one and every #include, is a source of its own) or a `$name;` merge (each a source).
-struct Origin {
-  int source = 0;
-  SourceLocation where;
-};
-
 /// A dictionary under construction.
 struct Scope {
   Dictionary* dict;
   std::string path;  ///< dotted path of the dictionary ("" at the top level)
-  /// key -> the source of its entry: a key written twice by the same source is a mistake
-  /// (a line copied and edited, a value appended), one replacing an included or merged
-  /// entry is the intended "base plus changes" of a variant.
-  std::unordered_map<std::string, Origin> origins = {};
+  /// The source that wrote each entry of `dict` (by position): the file being read
+  /// (each file read, the main one and every #include, is a source of its own) or a
+  /// `$name;` merge (each a source). A key written twice by the same source is a mistake
+  /// (a line copied and edited, a value appended); one replacing an included or merged
+  /// entry is the intended "base plus changes" of a variant. Where the earlier one was
+  /// written is its entry's location.
+  std::vector<int> sources = {};
 };
 
 class Parser {
@@ -83,8 +79,6 @@ class Parser {
   [[noreturn]] static void fail(const SourceLocation& where, std::string message) {
     throw InputError(where, std::move(message));
   }
-
-  Dictionary& current() { return *scopes_.back().dict; }
 
   // ---- nesting and expansion limits ----
 
@@ -153,21 +147,27 @@ class Parser {
   /// is replaced (a variant includes its base and changes a few entries).
   void add_written(const Token& key, Entry e) {
     Scope& scope = scopes_.back();
-    auto [it, fresh] = scope.origins.try_emplace(key.text, Origin{source_, key.where});
-    if (!fresh) {
-      if (it->second.source == source_ && !overwrite_)
-        fail(key.where, shorten(key.text) + ": duplicate entry, already set at " + it->second.where.str() +
+    if (const Entry* earlier = scope.dict->find(key.text)) {
+      int& source = scope.sources[static_cast<std::size_t>(earlier - scope.dict->entries().data())];
+      if (source == source_ && !overwrite_)
+        fail(key.where, shorten(key.text) + ": duplicate entry, already set at " + earlier->where().str() +
                             " (a key is set once per dictionary: remove one of them, or write "
                             "'#inputMode overwrite' before an intended replacement)");
-      it->second = Origin{source_, key.where};
+      source = source_;
+    } else {
+      scope.sources.push_back(source_);
     }
     scope.dict->set(std::move(e));
   }
 
   /// An entry copied by a `$name;` merge (source: that merge).
   void add_merged(Entry e, int source) {
-    scopes_.back().origins[e.key()] = Origin{source, e.where()};
-    current().set(std::move(e));
+    Scope& scope = scopes_.back();
+    if (const Entry* earlier = scope.dict->find(e.key()))
+      scope.sources[static_cast<std::size_t>(earlier - scope.dict->entries().data())] = source;
+    else
+      scope.sources.push_back(source);
+    scope.dict->set(std::move(e));
   }
 
   void parse_entry(Lexer& lx, const Token& key, Level level) {
@@ -263,25 +263,21 @@ class Parser {
   /// value, the list's path for list elements (which append "[index]").
   SourceLocation parse_item(Lexer& lx, std::vector<Item>& out, const std::string& path, bool in_list) {
     Token t = lx.next();
-    const std::string item_path = in_list ? index_path(path, out.size()) : path;
+    // The name of a list or dictionary this item is (made only for those: a table's
+    // numbers would each pay for a string).
+    auto item_path = [&] { return in_list ? index_path(path, out.size()) : path; };
     switch (t.kind) {
-      case Tok::word: out.push_back(simple_item(Item::Kind::word, t)); break;
-      case Tok::string: out.push_back(simple_item(Item::Kind::string, t)); break;
-      case Tok::number: {
-        Item it = simple_item(Item::Kind::number, t);
-        it.number = t.number;
-        it.integral = t.integral;
-        out.push_back(std::move(it));
-        break;
-      }
+      case Tok::word: return simple_item(Item::Kind::word, t, out);
+      case Tok::string: return simple_item(Item::Kind::string, t, out);
+      case Tok::number: return simple_item(Item::Kind::number, t, out);
       case Tok::lparen:
-      case Tok::lbracket: return parse_list(lx, t, item_path, out);
+      case Tok::lbracket: return parse_list(lx, t, item_path(), out);
       case Tok::lbrace: {  // only reached inside lists
         Item it;
         it.kind = Item::Kind::dict;
         it.where = t.where;
         SourceLocation close;
-        it.dict = std::make_shared<const Dictionary>(parse_dict(lx, t, item_path, t.where, close));
+        it.dict = std::make_shared<const Dictionary>(parse_dict(lx, t, item_path(), t.where, close));
         out.push_back(std::move(it));
         return close;
       }
@@ -291,12 +287,23 @@ class Parser {
     return t.end();
   }
 
-  static Item simple_item(Item::Kind kind, const Token& t) {
-    Item it;
+  /// A word, string or number from its token (taken apart); returns the location just
+  /// after it.
+  static SourceLocation simple_item(Item::Kind kind, Token& t, std::vector<Item>& out) {
+    SourceLocation after = t.end();
+    Item& it = out.emplace_back();
     it.kind = kind;
-    it.text = t.text;
-    it.where = t.where;
-    return it;
+    it.integral = t.integral;
+    it.text = std::move(t.text);
+    it.number = t.number;
+    it.where = std::move(t.where);
+    return after;
+  }
+
+  /// "opened at line 3, column 7", for messages about the list `open` began (made only
+  /// when one is needed: a table has a list a row).
+  static std::string opened_at(const Token& open) {
+    return "opened at line " + std::to_string(open.where.line) + ", column " + std::to_string(open.where.column);
   }
 
   /// `( ... )` after its '('; appends the list to `out`.
@@ -305,11 +312,9 @@ class Parser {
     Item list;
     list.kind = Item::Kind::list;
     list.where = open.where;
-    const std::string opened =
-        "opened at line " + std::to_string(open.where.line) + ", column " + std::to_string(open.where.column);
     const bool bracket = open.kind == Tok::lbracket;
     const Tok closer = bracket ? Tok::rbracket : Tok::rparen;
-    const std::string o = bracket ? "'['" : "'('", c = bracket ? "']'" : "')'";
+    const std::string_view o = bracket ? "'['" : "'('", c = bracket ? "']'" : "')'";
     for (;;) {
       const Token& t = lx.peek();
       if (t.kind == closer) {
@@ -320,10 +325,13 @@ class Parser {
       }
       switch (t.kind) {
         case Tok::rparen:
-        case Tok::rbracket: fail(t.where, "expected " + c + " to close the list " + opened + ", found " + describe(t));
-        case Tok::end: fail(t.where, "unterminated list: " + o + " " + opened + " has no matching " + c);
+        case Tok::rbracket:
         case Tok::semicolon:
-        case Tok::rbrace: fail(t.where, "expected " + c + " to close the list " + opened + ", found " + describe(t));
+        case Tok::rbrace:
+          fail(t.where, "expected " + std::string(c) + " to close the list " + opened_at(open) + ", found " + describe(t));
+        case Tok::end:
+          fail(t.where, "unterminated list: " + std::string(o) + " " + opened_at(open) + " has no matching " +
+                            std::string(c));
         case Tok::directive:
           fail(t.where, "unexpected directive '#" + t.text + "' inside a list (directives stand between entries)");
         default: parse_item(lx, list.list, path, true); break;

@@ -140,7 +140,21 @@ std::vector<std::string> Entry::as_word_list() const {
 
 Dictionary::Dictionary(std::string name, SourceLocation where) : name_(std::move(name)), where_(std::move(where)) {}
 
+namespace {
+
+/// Up to this many entries a dictionary is searched by a scan and index_ stays empty:
+/// most dictionaries of a case are that small, and a scan of a few keys is as fast as a
+/// hash, without a node and a copy of each key.
+constexpr std::size_t kScanned = 8;
+
+}  // namespace
+
 const Entry* Dictionary::find(std::string_view key) const noexcept {
+  if (index_.empty()) {
+    for (const Entry& e : entries_)
+      if (e.key() == key) return &e;
+    return nullptr;
+  }
   auto it = index_.find(key);
   return it == index_.end() ? nullptr : &entries_[it->second];
 }
@@ -180,6 +194,19 @@ std::string Dictionary::get_word_or(std::string_view key, std::string def) const
 }
 
 void Dictionary::set(Entry e) {
+  if (index_.empty()) {
+    for (Entry& x : entries_)
+      if (x.key() == e.key()) {
+        x = std::move(e);
+        return;
+      }
+    entries_.push_back(std::move(e));
+    if (entries_.size() > kScanned) {
+      index_.reserve(2 * entries_.size());
+      for (std::size_t p = 0; p < entries_.size(); ++p) index_.emplace(entries_[p].key(), p);
+    }
+    return;
+  }
   auto it = index_.find(std::string_view(e.key()));
   if (it != index_.end()) {
     entries_[it->second] = std::move(e);
