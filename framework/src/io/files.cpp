@@ -6,9 +6,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 namespace scree::reader {
 
@@ -40,6 +42,7 @@ fs::file_type file_type_of_mode(mode_t m) {
 ReadStatus read_text(const fs::path& path, std::string& out, fs::file_type& kind) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
+  if (ec == std::errc::too_many_symbolic_link_levels) return ReadStatus::link_loop;
   if (ec || !fs::exists(st)) return ReadStatus::missing;
   if (fs::is_directory(st)) return ReadStatus::directory;
   if (!fs::is_regular_file(st)) {
@@ -72,6 +75,24 @@ ReadStatus read_text(const fs::path& path, std::string& out, fs::file_type& kind
   }
   out = std::move(text);
   return ReadStatus::ok;
+}
+
+std::string link_chain(const fs::path& path, const std::string& shown) {
+  std::vector<fs::path> seen;  // absolute, normal: where each link of the chain is
+  std::string chain;
+  fs::path at = fs::path(absolute_text(path));
+  fs::path name = shown;  // `at` as shown
+  for (int step = 0; step < 64; ++step) {
+    if (std::find(seen.begin(), seen.end(), at) != seen.end()) return chain + " -> " + name.string();
+    std::error_code ec;
+    const fs::path target = fs::read_symlink(at, ec);
+    if (ec) return step == 0 ? std::string() : chain + " -> " + name.string() + " (a loop in its directories)";
+    chain += (step == 0 ? "" : " -> ") + name.string();
+    seen.push_back(at);
+    name = target.is_absolute() ? target : (name.parent_path() / target).lexically_normal();
+    at = target.is_absolute() ? target.lexically_normal() : (at.parent_path() / target).lexically_normal();
+  }
+  return chain + " -> ...";
 }
 
 std::string absolute_text(const fs::path& p) {

@@ -9,7 +9,9 @@
 
 namespace scree::reader {
 
-enum class ReadStatus { ok, missing, directory, not_regular, unreadable };
+/// link_loop: symbolic links that lead back to themselves, never to a file (the system
+/// says "too many levels of symbolic links"; a missing file is another thing to fix).
+enum class ReadStatus { ok, missing, link_loop, directory, not_regular, unreadable };
 
 /// Read a whole regular file. Anything else (a named pipe, a device, a socket) is refused
 /// before it is opened: reading a FIFO blocks until a writer appears, a device may never
@@ -19,6 +21,11 @@ ReadStatus read_text(const std::filesystem::path& path, std::string& out, std::f
 
 /// What a path that is neither a regular file nor a directory is ("a named pipe").
 std::string special_file_kind(std::filesystem::file_type t);
+
+/// The symbolic links `shown` leads through, written "a -> b -> a" (each as the path a
+/// user would type, from `shown`'s directory), up to where it comes back; "" when `path`
+/// is not itself a link (the loop is then in a directory of the path).
+std::string link_chain(const std::filesystem::path& path, const std::string& shown);
 
 /// `p` made absolute and normal, for messages.
 std::string absolute_text(const std::filesystem::path& p);

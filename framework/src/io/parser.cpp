@@ -50,6 +50,14 @@ constexpr int kMaxNesting = 256;                      // levels of { } and ( )
 constexpr int kMaxIncludeDepth = 64;                  // files open at once
 constexpr std::size_t kMaxExpandedNodes = 1'000'000;  // items/entries copied by macros
 
+/// What a path whose symbolic links go round in a loop is, naming the chain.
+std::string link_loop_text(const fs::path& path, const std::string& shown) {
+  const std::string chain = link_chain(path, shown);
+  if (chain.empty())
+    return "the directories of " + absolute_text(path) + " are symbolic links in a loop, which reaches no file";
+  return "symbolic links in a loop, which reaches no file: " + chain;
+}
+
 /// What a body of entries belongs to.
 enum class Level { main_file, included_file, nested };
 
@@ -485,6 +493,7 @@ class Parser {
       case ReadStatus::ok: break;
       case ReadStatus::missing:
         fail(directive.where, "cannot open include file '" + name + "' (looked for " + absolute_text(actual) + ")");
+      case ReadStatus::link_loop: fail(directive.where, "include loop: " + link_loop_text(actual, display));
       case ReadStatus::directory:
         fail(directive.where, "cannot include '" + name + "': " + absolute_text(actual) + " is a directory");
       case ReadStatus::not_regular:
@@ -536,6 +545,8 @@ Dictionary Dictionary::read_file(const fs::path& path, std::optional<std::string
     case reader::ReadStatus::ok: break;
     case reader::ReadStatus::missing:
       throw InputError(where, "cannot open file '" + display + "' (looked for " + reader::absolute_text(path) + ")");
+    case reader::ReadStatus::link_loop:
+      throw InputError(where, "cannot read '" + display + "': " + reader::link_loop_text(path, display));
     case reader::ReadStatus::directory:
       throw InputError(where, "cannot read '" + display + "': " + reader::absolute_text(path) + " is a directory");
     case reader::ReadStatus::not_regular:
