@@ -26,6 +26,7 @@
 // missing ';', just after the value that lacks it).
 
 #include <cstddef>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,6 +50,7 @@ namespace {
 constexpr int kMaxNesting = 256;                      // levels of { } and ( )
 constexpr int kMaxIncludeDepth = 64;                  // files open at once
 constexpr std::size_t kMaxExpandedNodes = 1'000'000;  // items/entries copied by macros
+constexpr std::size_t kBufferedElements = 4096;       // longer lists are moved, not copied
 
 /// What a path whose symbolic links go round in a loop is, naming the chain.
 std::string link_loop_text(const fs::path& path, const std::string& shown) {
@@ -76,7 +78,7 @@ struct Scope {
 
 class Parser {
  public:
-  Parser(Dictionary& top, OpenFile file) {
+  Parser(Dictionary& top, OpenFile file) : elements_(kMaxNesting + 1) {
     scopes_.push_back({&top, ""});
     files_.push_back(std::move(file));
   }
@@ -317,9 +319,11 @@ class Parser {
   /// `( ... )` after its '('; appends the list to `out`.
   SourceLocation parse_list(Lexer& lx, const Token& open, const std::string& path, std::vector<Item>& out) {
     enter(open);
-    Item list;
-    list.kind = Item::Kind::list;
-    list.where = open.where;
+    // The elements are gathered in this level's reused buffer and the list gets exactly
+    // as many: a list grown in place keeps up to as much room again unused (a row of
+    // three numbers held four), and tables have a list a row.
+    std::vector<Item>& elements = elements_[static_cast<std::size_t>(depth_)];
+    elements.clear();
     const bool bracket = open.kind == Tok::lbracket;
     const Tok closer = bracket ? Tok::rbracket : Tok::rparen;
     const std::string_view o = bracket ? "'['" : "'('", c = bracket ? "']'" : "')'";
@@ -327,8 +331,15 @@ class Parser {
       const Token& t = lx.peek();
       if (t.kind == closer) {
         Token close = lx.next();
+        Item& list = out.emplace_back();
+        list.kind = Item::Kind::list;
+        list.where = open.where;
+        if (elements.size() > kBufferedElements)
+          list.list = std::move(elements);  // a big list: no second copy of it
+        else
+          list.list.assign(std::make_move_iterator(elements.begin()), std::make_move_iterator(elements.end()));
+        elements.clear();
         leave();
-        out.push_back(std::move(list));
         return close.end();
       }
       switch (t.kind) {
@@ -342,7 +353,7 @@ class Parser {
                             std::string(c));
         case Tok::directive:
           fail(t.where, "unexpected directive '#" + t.text + "' inside a list (directives stand between entries)");
-        default: parse_item(lx, list.list, path, true); break;
+        default: parse_item(lx, elements, path, true); break;
       }
     }
   }
@@ -521,6 +532,9 @@ class Parser {
   int sources_ = 1;        // the next unused source number
   bool overwrite_ = false; // '#inputMode overwrite' (or merge) in force in the file being read
   int depth_ = 0;
+  /// The elements of the list being read at each level of nesting (sized once: a
+  /// reference to a level stays valid while deeper lists are read).
+  std::vector<std::vector<Item>> elements_;
   std::size_t expanded_ = 0;
 };
 
