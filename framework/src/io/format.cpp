@@ -34,13 +34,19 @@ std::string located(const SourceLocation& where, const std::string& message) {
   return where.str() + ": " + message;
 }
 
-std::string join_errors(const std::vector<InputError>& errors) {
+/// The texts of `values` (`text(value)` each) separated by `separator`.
+template <class Range, class Text>
+std::string join(const Range& values, char separator, Text text) {
   std::string s;
-  for (const InputError& e : errors) {
-    if (!s.empty()) s += '\n';
-    s += e.what();
+  for (const auto& v : values) {
+    if (!s.empty()) s += separator;
+    s += text(v);
   }
   return s;
+}
+
+std::string join_errors(const std::vector<InputError>& errors) {
+  return join(errors, '\n', [](const InputError& e) { return e.what(); });
 }
 
 }  // namespace
@@ -109,12 +115,7 @@ std::string describe(const Item& item) {
 }
 
 std::string join_items(const std::vector<Item>& items) {
-  std::string s;
-  for (const Item& it : items) {
-    if (!s.empty()) s += ' ';
-    s += it.to_string();
-  }
-  return s;
+  return join(items, ' ', [](const Item& it) { return it.to_string(); });
 }
 
 std::string dict_inline(const Dictionary& d) {

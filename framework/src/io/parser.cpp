@@ -310,8 +310,8 @@ class Parser {
     return after;
   }
 
-  /// "opened at line 3, column 7", for messages about the list `open` began (made only
-  /// when one is needed: a table has a list a row).
+  /// "opened at line 3, column 7": where the list that `open` begins was opened, for its
+  /// messages (made only when one is needed: a table has a list a row).
   static std::string opened_at(const Token& open) {
     return "opened at line " + std::to_string(open.where.line) + ", column " + std::to_string(open.where.column);
   }
