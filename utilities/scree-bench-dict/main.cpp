@@ -1,7 +1,9 @@
 // scree-bench-dict: time and peak memory of the dictionary reader on a generated file.
 //
 //   scree-bench-dict --size 50M                 generate about 50 MB, parse it, report
-//   scree-bench-dict --size 50M --shape table   only the big table (or: entries, mixed)
+//   scree-bench-dict --size 50M --shape table   only the big table (or: entries, the
+//                                               sub-dictionaries; keys, one dictionary
+//                                               of millions of entries; mixed)
 //   scree-bench-dict --parse FILE               parse an existing file and report
 //
 // The generated file is what a large case looks like to the reader: half of it a table
@@ -131,7 +133,13 @@ void write_entries(Out& o, std::size_t until, Lcg& rng) {
   }
 }
 
-/// About `bytes` bytes of dictionary in `path`; `shape` is mixed, table or entries.
+/// One dictionary of many entries (a file written by a program rather than by hand).
+void write_keys(Out& o, std::size_t until, Lcg& rng) {
+  for (std::size_t k = 0; o.size() < until; ++k)
+    o.put("key" + std::to_string(k) + "  " + num("%.9g", rng.next() * 1e3) + ";\n");
+}
+
+/// About `bytes` bytes of dictionary in `path`; `shape` is mixed, table, entries or keys.
 void generate(const fs::path& path, std::size_t bytes, const std::string& shape) {
   Out o(path);
   Lcg rng;
@@ -140,6 +148,8 @@ void generate(const fs::path& path, std::size_t bytes, const std::string& shape)
     write_table(o, bytes, rng);
   } else if (shape == "entries") {
     write_entries(o, bytes, rng);
+  } else if (shape == "keys") {
+    write_keys(o, bytes, rng);
   } else {
     write_table(o, bytes / 2, rng);
     write_entries(o, bytes, rng);
@@ -164,7 +174,7 @@ std::size_t parse_size(const std::string& s) {
 }
 
 int usage(const char* argv0) {
-  std::cerr << "usage: " << argv0 << " [--size BYTES(k|M|G)] [--shape mixed|table|entries] [--file PATH]\n"
+  std::cerr << "usage: " << argv0 << " [--size BYTES(k|M|G)] [--shape mixed|table|entries|keys] [--file PATH]\n"
             << "       " << argv0 << " --parse FILE\n"
             << "Generates a dictionary (default 50M, mixed; in a temporary file unless --file),\n"
             << "reads it with Dictionary::read_file, prints the seconds and the peak RSS.\n";
@@ -190,7 +200,7 @@ int main(int argc, char** argv) {
       else if (a == "--parse") parse_only = value();
       else return usage(argv[0]);
     }
-    if (shape != "mixed" && shape != "table" && shape != "entries") return usage(argv[0]);
+    if (shape != "mixed" && shape != "table" && shape != "entries" && shape != "keys") return usage(argv[0]);
 
     const bool temporary = file.empty() && parse_only.empty();
     if (parse_only.empty()) {
