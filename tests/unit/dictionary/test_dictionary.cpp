@@ -758,6 +758,59 @@ TEST(DictionaryInclude, FilesThatAreNotRegularFilesAreRefusedWithoutBlocking) {
   EXPECT_EQ(Dictionary::read_file(dir.path() / "link", "link").get_integer("x"), 1);
 }
 
+// An #include of a symbolic link that leads back to itself said "cannot open include
+// file", as if the file were missing (issue 42 item 10): it is an include loop, and the
+// message names the links it goes round.
+TEST(DictionaryInclude, SymbolicLinkLoopsAreReportedAsLoopsNamingTheChain) {
+  TempDir dir;
+  fs::create_directories(dir.path() / "constant");
+  fs::create_symlink("loop2", dir.path() / "constant/loop");
+  fs::create_symlink("loop", dir.path() / "constant/loop2");
+  const fs::path includer = dir.write("constant/materialProperties", "a 1;\n#include \"loop\"\n");
+  const InputError two = error_of([&] { Dictionary::read_file(includer, "constant/materialProperties"); });
+  check_error(two, "constant/materialProperties", 2, 1,
+              "include loop: symbolic links in a loop, which reaches no file: "
+              "constant/loop -> constant/loop2 -> constant/loop");
+  EXPECT_EQ(two.message().find("cannot open"), std::string::npos) << two.message();
+
+  fs::create_symlink("self", dir.path() / "self");
+  const fs::path self = dir.write("main", "#include \"self\"\n");
+  check_error(error_of([&] { Dictionary::read_file(self, "main"); }), "main", 1, 1,
+              "include loop: symbolic links in a loop, which reaches no file: self -> self");
+
+  // A link to a directory that leads back to itself, in the path of the included file.
+  fs::create_symlink("d2", dir.path() / "d1");
+  fs::create_symlink("d1", dir.path() / "d2");
+  const fs::path through = dir.write("through", "#include \"d1/x\"\n");
+  check_error(error_of([&] { Dictionary::read_file(through, "through"); }), "through", 1, 1,
+              "include loop: the directories of " + (dir.path() / "d1/x").string() +
+                  " are symbolic links in a loop");
+
+  // The file read first.
+  const InputError top = error_of([&] { Dictionary::read_file(dir.path() / "constant/loop", "constant/loop"); });
+  ASSERT_TRUE(top.where().file);
+  EXPECT_EQ(*top.where().file, "constant/loop");
+  EXPECT_NE(top.message().find("cannot read 'constant/loop': symbolic links in a loop, which reaches no file: "
+                               "constant/loop -> constant/loop2 -> constant/loop"),
+            std::string::npos)
+      << top.message();
+}
+
+// An #include that cannot be opened is one error, at the directive's file:line, with
+// nothing after it (the reader stops there).
+TEST(DictionaryInclude, AnIncludeThatCannotBeOpenedIsReportedOnceWithItsLine) {
+  TempDir dir;
+  const fs::path includer =
+      dir.write("case/constant/materialProperties", "a 1;\n#include \"../../columnCollapse/materials\"\nb $x;\n");
+  const InputError e = error_of([&] { Dictionary::read_file(includer, "constant/materialProperties"); });
+  check_error(e, "constant/materialProperties", 2, 1,
+              "cannot open include file '../../columnCollapse/materials' (looked for " +
+                  (dir.path() / "columnCollapse/materials").string() + ")");
+  const std::string what = e.what();
+  EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  EXPECT_EQ(what.find("cannot open"), what.rfind("cannot open")) << what;
+}
+
 TEST(DictionaryInclude, LongIncludeChainsAreLimited) {
   TempDir dir;
   for (int i = 0; i < 100; ++i)
