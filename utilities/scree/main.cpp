@@ -11,7 +11,7 @@
 // setup: bodies against the grid, boundary conditions, output directories; --check stops
 // there), and a case that already has results (the files of its writers, its
 // postProcessing/, checkpoints/) is not run over unless --overwrite is given. A run writes
-// checkpoints (solver/checkpoint.hpp); --restart, or `startFrom latestTime;` in
+// checkpoints (case/checkpoint.hpp); --restart, or `startFrom latestTime;` in
 // system/controlDict, continues from the newest, appending to the results.
 //
 // The memory the run needs is estimated in that check, before anything is allocated; a
@@ -40,11 +40,11 @@
 #include <string>
 #include <vector>
 
+#include "scree/case/case.hpp"
+#include "scree/case/checkpoint.hpp"
+#include "scree/case/setup_check.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
-#include "scree/solver/case.hpp"
-#include "scree/solver/checkpoint.hpp"
-#include "scree/solver/setup_check.hpp"
 #include "scree/solver/simulation.hpp"
 
 namespace po = boost::program_options;
