@@ -92,17 +92,17 @@ TEST(CaseModel, SubBoxIsThePartOfTheLatticeOverItsCells) {
 
 TEST(CaseModel, PluginContextAndNamedObjectsComeFromTheCase) {
   TempCase tc("case_model");
-  tc.write("system/controlDict",
-           "endTime 0.01;\ndeltaT 1e-3;\nwriteInterval 0.005;\n"
-           "writers { _unused 1; vtk { type vtk; } }\n");
-  tc.write("system/gridDict", "dimension 2;\nlower (0 0);\nupper (1 1);\ncellSize 0.1;\n");
-  tc.write("constant/g", "value (0 -9.81);\n");
-  tc.write("constant/materialProperties", "soil\n{\n    type linearElastic;\n    E 1e6;\n    nu 0.3;\n    rho 1000;\n}\n");
-  tc.write("constant/bodies",
-           "_lowerLeft (0 0);\n"
-           "a { material soil; region { type rectangle; lower $_lowerLeft; upper (0.5 0.5); } }\n"
-           "b { material soil; region { type rectangle; lower (0.6 0); upper (0.9 0.3); } }\n");
-  tc.write("constant/boundaryConditions", "floor { type fixed; face yMin; }\n");
+  // Variables ($macros, keys starting with '_') beside the named objects are not objects.
+  const std::pair<const char*, const char*> files[] = {
+      {"system/controlDict", "endTime 0.01; deltaT 1e-3; writeInterval 0.005; writers { _unused 1; vtk { type vtk; } }"},
+      {"system/gridDict", "dimension 2; lower (0 0); upper (1 1); cellSize 0.1;"},
+      {"constant/g", "value (0 -9.81);"},
+      {"constant/materialProperties", "soil { type linearElastic; E 1e6; nu 0.3; rho 1000; }"},
+      {"constant/bodies", "_lowerLeft (0 0);\n"
+                          "a { material soil; region { type rectangle; lower $_lowerLeft; upper (0.5 0.5); } }\n"
+                          "b { material soil; region { type rectangle; lower (0.6 0); upper (0.9 0.3); } }"},
+      {"constant/boundaryConditions", "floor { type fixed; face yMin; }"}};
+  for (const auto& [file, text] : files) tc.write(file, text);
   const Case c = Case::read(tc.dir(), runtime());
   ASSERT_EQ(c.body_entries().size(), 2u);
   EXPECT_EQ(c.body_entries()[1]->key(), "b");
