@@ -25,8 +25,8 @@
 
 #include "fuzz_common.hpp"
 #include "scree/plugin/loader.hpp"
-#include "scree/solver/case.hpp"
-#include "scree/solver/setup_check.hpp"
+#include "scree/case/case.hpp"
+#include "scree/case/setup_check.hpp"
 
 namespace fs = std::filesystem;
 

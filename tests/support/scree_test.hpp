@@ -18,7 +18,7 @@
 
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
-#include "scree/solver/case.hpp"
+#include "scree/case/case.hpp"
 #include "scree/solver/simulation.hpp"
 
 namespace scree::test {

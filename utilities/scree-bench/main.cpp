@@ -22,7 +22,7 @@
 // 100,000 steps is estimated from them. (b) cases/flume at 5 mm, at rest, right after the
 // release (at 0.05 s: step 2,500 at the case's dt of 2e-5 s) and later in the flow (from
 // step 150,000 by default: about 1.3 s, the flow reaching the floor, where a step costs
-// several times the first flowing steps'); the whole run took 405,933 steps on an H100.
+// several times the first flowing steps'); the whole run takes about 406,000 steps.
 // (c) weak scaling of a granular block resting on a floor from 1e4 to 1e7 particles,
 // for linearElastic and phaseTransition and each shape function, in 2D (a square) and,
 // with --dimensions 3, in 3D (a cube). (d) cpu: Scree's CPU
@@ -57,9 +57,9 @@
 #include "linearElastic/LinearElastic.hpp"
 #include "phaseTransition/PhaseTransition.hpp"
 #include "scalar_mpm.hpp"
+#include "scree/case/case.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
-#include "scree/solver/case.hpp"
 #include "scree/solver/simulation.hpp"
 
 #if defined(SCREE_HAVE_CUDA)
@@ -175,11 +175,8 @@ Row make_row(const scree::Case& c, const fs::path& dir, const std::string& name,
   r.effective_gbs = traffic_per_step(st, r.scheme, dim) * steps / seconds / 1e9;
   r.copy_gbs = copy_gbs;
   r.peak_mb = double(st.peak_device_bytes) / (1 << 20);
-  for (const scree::Entry& b : c.bodies().entries())
-    if (b.is_dict() && b.key()[0] != '_' && b.key() != "FoamFile") {
-      r.material = c.materials().sub(b.dict().get_word("material")).get_word("type");
-      break;
-    }
+  if (const auto bodies = c.body_entries(); !bodies.empty())
+    r.material = c.materials().sub(bodies.front()->dict().get_word("material")).get_word("type");
   return r;
 }
 
@@ -377,8 +374,8 @@ void cpu_comparison(scree::PluginRuntime& rt, const fs::path& root, const fs::pa
 }
 
 /// (e) updates: the slow SIMSAND stress updates recorded late in the 1 mm column collapse
-/// (simsand-late-updates-1mm-column.txt beside this file), replayed through simsand::integrate
-/// on one CPU thread with the column case's own parameters. On the GPU the late step lasts as long as the slowest such update in one
+/// (simsand-late-updates-1mm-column.txt beside this file), replayed through simsand::integrate on one CPU thread with
+/// the column case's own parameters. On the GPU the late step lasts as long as the slowest such update in one
 /// lane, so their cost per update is the CPU's proxy for that step.
 void replay_updates(scree::PluginRuntime& rt, const fs::path& src, std::vector<Row>& rows) {
   namespace ss = scree::materials::simsand;

@@ -11,7 +11,7 @@
 // setup: bodies against the grid, boundary conditions, output directories; --check stops
 // there), and a case that already has results (the files of its writers, its
 // postProcessing/, checkpoints/) is not run over unless --overwrite is given. A run writes
-// checkpoints (solver/checkpoint.hpp); --restart, or `startFrom latestTime;` in
+// checkpoints (case/checkpoint.hpp); --restart, or `startFrom latestTime;` in
 // system/controlDict, continues from the newest, appending to the results.
 //
 // The memory the run needs is estimated in that check, before anything is allocated; a
@@ -40,11 +40,11 @@
 #include <string>
 #include <vector>
 
+#include "scree/case/case.hpp"
+#include "scree/case/checkpoint.hpp"
+#include "scree/case/setup_check.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
-#include "scree/solver/case.hpp"
-#include "scree/solver/checkpoint.hpp"
-#include "scree/solver/setup_check.hpp"
 #include "scree/solver/simulation.hpp"
 
 namespace po = boost::program_options;
@@ -111,13 +111,6 @@ int main(int argc, char** argv) {
       ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs")
       ("reference-kernels", "run the straightforward particle and grid kernels instead of the fast ones (no "
                             "warp-combined scatter, no particle sorting, dense grid updates): a cross-check")
-      ("stress-split", po::value<std::string>()->default_value("auto"),
-       "fast kernels: the stress pass split into an elastic-only kernel and one for the other points: auto (CUDA: "
-       "timed both ways now and then, the faster kept; CPU: off), on or off")
-      ("ledger-kernels", po::value<std::string>()->default_value("split"),
-       "the energy ledger's kernels (energies' `budget yes`): split (its transfer pass in a light kernel, its "
-       "stress pass split as --stress-split says), unsplit (the stress pass never split) or whole (both passes in "
-       "the ledger's whole-pass kernel, as before 2026-11-27): to time them against each other")
       ("profile", "time every kernel phase (synchronising after each) and print a table at the end");
   po::variables_map vm;
   try {
@@ -170,25 +163,6 @@ int main(int argc, char** argv) {
   if (vm.count("reference-kernels")) opt.kernels = scree::KernelPolicy::reference_kernels();
   opt.kernels.graphs = !vm.count("no-graphs");
   opt.profile = vm.count("profile") > 0;
-  {
-    const std::string split = vm["stress-split"].as<std::string>();
-    if (split == "auto") opt.kernels.split = scree::StressSplit::automatic;
-    else if (split == "on") opt.kernels.split = scree::StressSplit::on;
-    else if (split == "off") opt.kernels.split = scree::StressSplit::off;
-    else {
-      std::cerr << "scree: --stress-split: expected auto, on or off, not '" << split << "'\n";
-      return 2;
-    }
-    const std::string ledger = vm["ledger-kernels"].as<std::string>();
-    if (!opt.kernels.set_ledger_kernels(ledger)) {
-      const auto& words = scree::KernelPolicy::kLedgerKernels;  // "split, unsplit or whole"
-      std::cerr << "scree: --ledger-kernels: expected";
-      for (auto w = words.begin(); w != words.end(); ++w)
-        std::cerr << (w == words.begin() ? " " : w + 1 == words.end() ? " or " : ", ") << *w;
-      std::cerr << ", not '" << ledger << "'\n";
-      return 2;
-    }
-  }
 
   const fs::path dir = vm["case"].as<std::string>();
   try {

@@ -9,7 +9,6 @@
 
 #include "scree/io/dictionary.hpp"
 #include "scree/params/spec.hpp"
-#include "scree/solver/case.hpp"
 
 namespace scree {
 

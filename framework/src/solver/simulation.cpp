@@ -5,7 +5,7 @@
 #include <iostream>
 #include <variant>
 
-#include "scree/solver/setup_check.hpp"
+#include "scree/case/setup_check.hpp"
 #include "solver.hpp"
 
 namespace scree {

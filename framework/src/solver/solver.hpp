@@ -6,8 +6,8 @@
 // update of the velocities, (f) G2P of velocities and positions. Per step k (parity
 // p = k % 2) the particle passes scatter into grid set B = sets[p] and gather from the
 // previous step's set A = sets[1 - p]; the G2P of step k runs fused with the P2G of step
-// k + 1 (the "pending" gather), or in flush() before output. The update schemes order
-// the stages so:
+// k + 1 (the "pending" gather: fused_pass), or in flush() before output. The update
+// schemes order the stages so:
 //
 //   USF  (the paper's order): pass[G2P_{k-1} | P2G m, mv] -> grid[v^k]
 //                             -> pass[stress from v^k | P2G f] -> grid[v^{k+1}]
@@ -24,7 +24,10 @@
 // steps (to report progress, write output, or re-sort particles). On CUDA a chunk replays
 // captured graphs of two steps. The pieces around the loop have their own units:
 // TimeControl (time/), OutputSchedule (output/), KernelPolicy (exec/), SplitTuner,
-// Progress and the setup of grid, bodies and boundaries (solver_setup.cpp).
+// Progress, the case model (case/case_model.hpp); of Solver itself, solver_setup.cpp
+// builds the grid, bodies, boundaries and output, passes.cpp the parameters of the
+// passes and grid updates, solver_output.cpp writes output and checkpoints, health.cpp
+// reports a failed run, and solver.cpp is the step and the loop.
 #pragma once
 
 #include <iosfwd>
@@ -38,18 +41,30 @@
 #include "../porous/porous_media.hpp"
 #include "progress.hpp"
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/case/case.hpp"
+#include "scree/case/case_model.hpp"
+#include "scree/case/checkpoint.hpp"
 #include "scree/exec/kernel_policy.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/mpm/body.hpp"
 #include "scree/mpm/grid_update.hpp"
 #include "scree/plugin/context.hpp"
-#include "scree/solver/case.hpp"
-#include "scree/solver/checkpoint.hpp"
 #include "scree/solver/simulation.hpp"
 #include "scree/time/time_control.hpp"
 #include "split_tuner.hpp"
 
 namespace scree {
+
+/// The G2P that finishes a step (and USL's stress update from its v^{k+1}): it runs fused
+/// into the next step's first pass (Solver::fused_pass), or alone in Solver::flush.
+inline unsigned g2p_of(UpdateScheme s) {
+  switch (s) {
+    case UpdateScheme::USL: return kGatherVelocity | kGatherPosition | kStressFromNew;
+    case UpdateScheme::USF: return kGatherVelocity | kGatherPosition;
+    case UpdateScheme::MUSL: return kStressFromVelocity | kGatherPosition;
+  }
+  return 0;
+}
 
 template <int D>
 class Solver {
@@ -79,6 +94,9 @@ class Solver {
   void setup_boundaries();
   void setup_split();
   void setup_output();
+  /// What every particle pass and grid update of the run shares (the physics of the case
+  /// and the kernel policy), once the grid, bodies, walls and output are set up (passes.cpp).
+  void setup_passes();
   /// Continue from a checkpoint (opt_.restart): the bodies', liquid's, clock's and
   /// schedules' state, checked against the case.
   void restore(const Checkpoint& ck);
@@ -88,6 +106,12 @@ class Solver {
   void step_two_phase();              ///< ... of a case with two-phase bodies (USL)
   void launch_steps(std::int64_t n);  ///< n steps, via CUDA graphs when possible
   void flush();                       ///< apply the pending gather (G2P) of the last step
+  /// The pass that opens a step: the last step's pending G2P fused with this step's P2G
+  /// phases `p2g` (the fusion of the update schemes, said here once).
+  PassParams<D> fused_pass(unsigned p2g) const;
+  /// A pass that gathers from and scatters into this step's grid set.
+  PassParams<D> this_step_pass(unsigned phases) const;
+  /// pass_base_ with the phases `flags`, the grid sets and the parity of the step gathered from.
   PassParams<D> pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const;
   GridUpdateParams<D> grid_params(unsigned modes, int set) const;
   void apply_node_laws(unsigned modes, int set) const;
@@ -99,7 +123,7 @@ class Solver {
   void run_chunk(std::int64_t n);
   void after_chunk(bool with_output);
   void check_health();        ///< throws RunFailure when the device stopped the clock on a failure
-  std::string diagnosis();    ///< what went wrong, which particle, body, material, field, step
+  std::string diagnosis();    ///< what went wrong, which particle, body, material, field, step (health.cpp)
   /// Whether output_due writes a checkpoint: on every checkpointInterval-th write time
   /// (scheduled), with these writes whatever the time (always: endTime, a signal), or not
   /// (never: the state a failed run stopped in is written for the diagnosis, and the newest
@@ -140,7 +164,7 @@ class Solver {
   std::int64_t sorted_at_ = 0;  // steps_done() at the last sort
 
   // Grid and boundary conditions
-  GridGeometry<D> grid_{};
+  GlobalGrid<D> grid_{};
   Buffer<Real> grid_data_[2];
   GridFields<D> sets_[2]{};
   mutable Buffer<std::uint32_t> tile_stamps_[2];  // sparse grid updates: tiles each set's passes touched
@@ -169,6 +193,8 @@ class Solver {
   std::optional<SplitTuner> tuner_;  // KernelPolicy::split automatic, on CUDA
   std::int64_t split_steps_ = 0;     // steps run split
   std::unique_ptr<StepGraphs> graphs_;
+  PassParams<D> pass_base_{};         // every pass's physics and policy (setup_passes)
+  GridUpdateParams<D> grid_base_{};   // every grid update's (setup_passes)
 
   // Output, progress and statistics
   std::unique_ptr<OutputSchedule> output_;

@@ -11,8 +11,9 @@
 #include <optional>
 #include <stdexcept>
 
-#include "scree/solver/memory_estimate.hpp"
-#include "scree/solver/particle_generation.hpp"
+#include "scree/case/case_model.hpp"
+#include "scree/case/memory_estimate.hpp"
+#include "scree/case/particle_generation.hpp"
 #include "solver.hpp"
 
 #if defined(SCREE_HAVE_CUDA)
@@ -63,6 +64,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
     split_ = false;
     tuner_.reset();
   }
+  setup_passes();
   if (restart) {
     restore(*restart);
     return;
@@ -156,29 +158,17 @@ void Solver<D>::setup_streams() {
 template <int D>
 void Solver<D>::setup_grid() {
   const GridSettings& gs = settings_.grid;
-  const Real h = gs.cell_size;
-  grid_.h = h;
-  grid_.ghost = gs.ghost_layers;
-  for (int d = 0; d < D; ++d) {
-    const Real lo = gs.lower[d], hi = gs.upper[d];
-    grid_.lower[d] = lo;
-    grid_.upper[d] = hi;
-    const Real cells = (hi - lo) / h;
-    const int nc = static_cast<int>(std::ceil(cells - 1e-9));
-    if (std::fabs(cells - std::round(cells)) > 1e-6)
+  grid_ = grid_geometry<D>(gs);
+  for (int d = 0; d < D; ++d)
+    if (!whole_cells(gs.lower[d], gs.upper[d], gs.cell_size))
       log_ << "warning: system/gridDict: the domain's extent along axis " << d
-           << " is not a whole number of cells; it is extended to " << nc << " cells\n";
-    grid_.upper[d] = lo + nc * h;
-    grid_.n[d] = nc + 1 + 2 * gs.ghost_layers;
-    grid_.origin[d] = lo - gs.ghost_layers * h;
-    grid_.offset[d] = 0;
-  }
+           << " is not a whole number of cells; it is extended to " << grid_.cells[d] << " cells\n";
   // Two sets of nodal fields (grid.hpp), one allocation each.
+  static_assert(sizeof(GridFields<D>) == kGridFieldCount<D> * sizeof(Real*), "GridFields<D> has kGridFieldCount<D> fields");
   const Index nn = grid_.num_nodes();
-  const int fields = 1 + 4 * D;
   for (int s = 0; s < 2; ++s) {
     try {
-      grid_data_[s].resize(static_cast<std::size_t>(nn) * fields, exec_.device);
+      grid_data_[s].resize(static_cast<std::size_t>(nn) * kGridFieldCount<D>, exec_.device);
       tile_stamps_[s].resize(static_cast<std::size_t>(Tiles<D>::total(grid_)), exec_.device);
     } catch (const std::bad_alloc& e) {
       throw out_of_memory(0, e);
@@ -192,22 +182,7 @@ void Solver<D>::setup_grid() {
     for (int d = 0; d < D; ++d) sets_[s].velocity[d] = next();
     for (int d = 0; d < D; ++d) sets_[s].velocity_new[d] = next();
   }
-
-  // What plugins learn about the case.
-  ctx_.case_dir = case_.dir();
-  ctx_.dimension = D;
-  ctx_.device = exec_.device;
-  ctx_.cell_size = h;
-  for (int d = 0; d < D; ++d) {
-    ctx_.grid_origin.push_back(grid_.origin[d]);
-    ctx_.domain_lower.push_back(grid_.lower[d]);
-    ctx_.domain_upper.push_back(grid_.upper[d]);
-    ctx_.grid_nodes.push_back(grid_.n[d]);
-    ctx_.gravity.push_back(gravity_[d]);
-  }
-  ctx_.start_time = settings_.control.time.start_time;
-  ctx_.end_time = settings_.control.time.end_time;
-  ctx_.delta_t = settings_.control.time.delta_t;
+  ctx_ = plugin_context<D>(case_, grid_, exec_.device);
 }
 
 template <int D>
@@ -217,29 +192,28 @@ void Solver<D>::setup_bodies() {
   std::int64_t next_id = 0;
   int id = 0;
   Real min_mass = 1e300;
-  for (const Entry& e : case_.bodies().entries()) {
-    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_' || !e.dict().has("twoPhase")) continue;
+  for (const Entry* e : case_.body_entries()) {
+    if (!e->dict().has("twoPhase")) continue;
     // A two-phase body (porous/two_phase.hpp): the case runs the two-phase step, USL only.
     if (sch.update_scheme != UpdateScheme::USL) {
       const Entry* u = case_.schemes().find("updateScheme");
       throw InputError(u ? u->where() : case_.schemes().where(),
-                       "updateScheme: a case with a two-phase body (" + e.key() +
+                       "updateScheme: a case with a two-phase body (" + e->key() +
                            ", twoPhase) runs the USL scheme; set `updateScheme USL;`");
     }
     try {  // the pore liquid's nodal fields
       porous_ = std::make_unique<PorousMedia<D>>(reg, grid_, exec_, gravity_, sch.shape,
-                                                 Real(0.5) / BodySettings::read(e.dict()).particles_per_cell);
+                                                 Real(0.5) / BodySettings::read(e->dict()).particles_per_cell);
     } catch (const std::bad_alloc& err) {
       throw out_of_memory(0, err);
     }
     break;
   }
   std::size_t part = 0;  // the body's part of the memory estimate (0: the grid)
-  for (const Entry& e : case_.bodies().entries()) {
-    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
+  for (const Entry* e : case_.body_entries()) {
     ++part;
     try {
-      setup_body(e, id, next_id, min_mass);
+      setup_body(*e, id, next_id, min_mass);
     } catch (const std::bad_alloc& err) {
       throw out_of_memory(part, err);
     }
@@ -300,7 +274,6 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   if constexpr (D == 2) body = pe.material.body2(mat, s);
   else body = pe.material.body3(mat, s);
   if (porous) porous_->attach(body.get());
-  ctx_.body_names.push_back(e.key());
   material_names_.push_back(bs.material);
   bodies_.push_back(std::move(body));
 }
@@ -319,35 +292,21 @@ template <int D>
 void Solver<D>::setup_output() {
   const Registry& reg = rt_.registry();
   std::vector<std::unique_ptr<Writer>> writers;
-  if (const Entry* w = case_.control().find("writers")) {
-    for (const Entry& e : w->dict().entries()) {
-      if (!e.is_dict() || e.key()[0] == '_') continue;
-      const Entry& type = e.dict().at("type");
-      const PluginEntry& pe = reg.get(PluginKind::writer, type.as_word(), type.where());
-      SolverContext c = ctx_;
-      c.name = e.key();
-      writers.push_back(pe.writer(e.dict(), c));
-    }
-  }
+  for (const Entry* e : case_.writer_entries())
+    writers.push_back(plugin_of(reg, PluginKind::writer, e->dict()).writer(e->dict(), named(ctx_, e->key())));
   std::vector<OutputSchedule::Function> functions;
-  if (const Entry* f = case_.control().find("functions")) {
-    for (const Entry& e : f->dict().entries()) {
-      if (!e.is_dict() || e.key()[0] == '_') continue;
-      const Dictionary& d = e.dict();
-      const Entry& type = d.at("type");
-      const PluginEntry& pe = reg.get(PluginKind::functionObject, type.as_word(), type.where());
-      SolverContext c = ctx_;
-      c.name = e.key();
-      OutputSchedule::Function fn;
-      fn.object = pe.function_object(d, c);
-      energy_ledger_ = energy_ledger_ || fn.object->needs_energy_ledger();
-      const ParamReader r(*pe.spec, d);  // executeControl, executeInterval: declare_execute_control
-      const std::string ec = r.word("executeControl");
-      using Control = OutputSchedule::Function::Control;
-      fn.control = ec == "timeStep" ? Control::timeStep : (ec == "runTime" ? Control::runTime : Control::writeTime);
-      fn.interval = r.scalar("executeInterval");
-      functions.push_back(std::move(fn));
-    }
+  for (const Entry* e : case_.function_entries()) {
+    const Dictionary& d = e->dict();
+    const PluginEntry& pe = plugin_of(reg, PluginKind::functionObject, d);
+    OutputSchedule::Function fn;
+    fn.object = pe.function_object(d, named(ctx_, e->key()));
+    energy_ledger_ = energy_ledger_ || fn.object->needs_energy_ledger();
+    const ParamReader r(*pe.spec, d);  // executeControl, executeInterval: declare_execute_control
+    const std::string ec = r.word("executeControl");
+    using Control = OutputSchedule::Function::Control;
+    fn.control = ec == "timeStep" ? Control::timeStep : (ec == "runTime" ? Control::runTime : Control::writeTime);
+    fn.interval = r.scalar("executeInterval");
+    functions.push_back(std::move(fn));
   }
   const ControlSettings& cs = settings_.control;
   output_ = std::make_unique<OutputSchedule>(std::move(writers), std::move(functions),
@@ -359,23 +318,18 @@ template <int D>
 void Solver<D>::setup_boundaries() {
   WallSet set(NodeLattice::of(ctx_));
   const Registry& reg = rt_.registry();
-  for (const Entry& e : case_.boundaries().entries()) {
-    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
-    const Dictionary& d = e.dict();
-    const Entry& type = d.at("type");
-    const PluginEntry& pe = reg.get(PluginKind::boundaryCondition, type.as_word(), type.where());
-    SolverContext c = ctx_;
-    c.name = e.key();
-    auto bc = pe.boundary(d, c);
+  for (const Entry* e : case_.boundary_entries()) {
+    const Dictionary& d = e->dict();
+    auto bc = plugin_of(reg, PluginKind::boundaryCondition, d).boundary(d, named(ctx_, e->key()));
     const std::size_t before = set.table().size();
     bc->constrain(set);
     for (std::size_t i = before; i < set.table().size(); ++i)
       if (set.count(static_cast<int>(i)) == 0)
-        log_ << "warning: " << d.where().str() << ": boundary condition '" << e.key() << "' selects no grid node\n";
+        log_ << "warning: " << d.where().str() << ": boundary condition '" << e->key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
     if (bc->hydraulic()) {
       if (!porous_)
-        throw InputError(type.where(), "type " + type.as_word() + ": '" + e.key() +
+        throw InputError(d.at("type").where(), "type " + d.get_word("type") + ": '" + e->key() +
                                            "' acts on the pore liquid, and no body of this case is two-phase (a "
                                            "body with a twoPhase { ... } block in constant/bodies)");
       porous_->add_condition(bc.get());
@@ -394,7 +348,17 @@ void Solver<D>::setup_boundaries() {
                        set.masks());
 }
 
-// The rest of Solver<D> is instantiated in solver.cpp.
+template <int D>
+void Solver<D>::set_velocities(std::size_t body, const std::vector<Real>& v) {
+  if (step_ > 0) throw std::logic_error("set_velocities: only before the first step");
+  bodies_.at(body)->set_velocities(v);
+  if (time_.start(host_ctl_, max_signal_speed(), log_)) sync_control_to_device();
+}
+
+template void Solver<2>::set_velocities(std::size_t, const std::vector<Real>&);
+template void Solver<3>::set_velocities(std::size_t, const std::vector<Real>&);
+
+// The rest of Solver<D> is instantiated in solver.cpp, solver_output.cpp and diagnosis.cpp.
 template Solver<2>::Solver(const Case&, PluginRuntime&, const RunOptions&);
 template Solver<3>::Solver(const Case&, PluginRuntime&, const RunOptions&);
 template Solver<2>::~Solver();

@@ -7,8 +7,7 @@
 // does not flip it back and forth). The flow changes which is faster (the share of plastic
 // points, and so the second kernel's work), hence the repeated trials; a trial costs at
 // most a chunk (~0.5 s) in ~10 s. The split gains for problems of many waves of threads
-// and loses for those under a wave or two, where its two kernels run one after the other
-// (docs/performance.md, entry 13).
+// and loses for those under a wave or two, where its two kernels run one after the other.
 #pragma once
 
 #include <cstdint>

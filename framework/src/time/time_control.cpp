@@ -83,7 +83,15 @@ bool TimeControl::start(StepControl& ctl, Real cmax, std::ostream& log) {
 }
 
 bool TimeControl::reached(double t, double target) {
-  return t >= target - 1e-12 * std::max(1.0, std::fabs(target));
+  return t >= target - kReachedTolerance * std::max(1.0, std::fabs(target));
+}
+
+std::int64_t TimeControl::chunk_length(const StepControl& ctl, int p, double t_event, std::int64_t step_event,
+                                       std::int64_t budget, std::int64_t report) const {
+  std::int64_t n = steps_to(ctl, p, t_event);
+  if (step_event > 0) n = std::min(n, step_event);
+  if (budget > 0) n = std::min(n, budget);
+  return std::min(n, std::max<std::int64_t>(report, 1));
 }
 
 std::int64_t TimeControl::steps_to(const StepControl& ctl, int p, double target) const {
@@ -93,7 +101,7 @@ std::int64_t TimeControl::steps_to(const StepControl& ctl, int p, double target)
   // gave one step on x86.)
   const Real dt = ctl.dt[p];
   if (!(dt > 0)) return 1;
-  const double steps = std::ceil((target - ctl.t[p]) / dt - 1e-9) + (adaptive() ? 1 : 0);
+  const double steps = std::ceil((target - ctl.t[p]) / dt - kWholeStepsTolerance) + (adaptive() ? 1 : 0);
   return static_cast<std::int64_t>(std::clamp(steps, 1.0, kMaxSteps));
 }
 
@@ -102,11 +110,8 @@ bool TimeControl::retarget(StepControl& ctl, int p, double target) const {
   ctl.t_target = target;
   Real dt = ctl.dt_max;
   // A clock stopped on the old target (dt = 0) resumes at the CFL step of the last speed
-  // seen: max_speed[1 - p] has been cleared by then, and a cleared speed gave maxDeltaT, a
-  // step 40 times the acoustic one after every write of a two-phase case (measured:
-  // infiltration1D, maxDeltaT 1e-3 s against 2.6e-5 s), which kicked a vibration of the
-  // column that grew with the number of writes.
-  if (adaptive()) dt = ctl.dt[p] > 0 ? std::min<Real>(dt, ctl.dt[p]) : cfl_step(ctl, ctl.last_speed);
+  // measured: it measured none since (next_cfl_step; its speed has been cleared by then).
+  if (adaptive()) dt = ctl.dt[p] > 0 ? std::min<Real>(dt, ctl.dt[p]) : next_cfl_step(ctl, 0);
   ctl.dt[p] = land_on_target(dt, target - ctl.t[p]);
   return true;
 }

@@ -26,8 +26,8 @@
 #include <string>
 
 #include "scree/geometry/tri_surface.hpp"
-#include "scree/solver/particle_generation.hpp"
-#include "scree/solver/setup_check.hpp"
+#include "scree/case/particle_generation.hpp"
+#include "scree/case/setup_check.hpp"
 #include "scree_test.hpp"
 #include "stl_surfaces.hpp"
 

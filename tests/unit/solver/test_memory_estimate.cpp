@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "scree/solver/memory_estimate.hpp"
-#include "scree/solver/setup_check.hpp"
+#include "scree/case/memory_estimate.hpp"
+#include "scree/case/setup_check.hpp"
 #include "scree_test.hpp"
 
 namespace scree::test {

@@ -20,7 +20,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "scree/solver/checkpoint.hpp"
+#include "scree/case/checkpoint.hpp"
 #include "scree_test.hpp"
 
 namespace fs = std::filesystem;

@@ -1,7 +1,8 @@
 // KernelPolicy: every switch that changes how fast a step runs, never what it computes
-// (within the round-off of the order of additions), in one place. The solver, `scree`'s
-// command line and scree-bench all set them here; docs/performance.md says what each is
-// worth.
+// (within the round-off of the order of additions), in one place. The solver and
+// scree-bench set them here (`scree` itself only --reference-kernels and --no-graphs: the
+// A/B switches that time one kernel against another are scree-bench's); docs/performance.md
+// says what each is worth.
 //
 //   reference     the straightforward kernels, for verification and timing: one generic
 //                 particle kernel with an atomic per particle and node, every grid node in
@@ -41,9 +42,10 @@ enum class StressSplit { automatic, on, off, alternate /* on and off by turns, a
 
 struct KernelPolicy {
   /// Register caps the kernels are compiled for (blocks of 64 threads per SM; 0: the
-  /// compiler's choice). Stress: 6 blocks = 170 registers, 12 warps per SM, measured
-  /// 14-27% faster at rest on an H200 than the compiler's 254 registers. Elastic-only: 10
-  /// blocks = 96 registers, 20 warps per SM (the compiler alone takes 146).
+  /// compiler's choice). Stress: 6 blocks = 170 registers, 12 warps per SM, faster at rest
+  /// than the compiler's 254 registers (more warps hide the latency of the material's
+  /// update). Elastic-only: 10 blocks = 96 registers, 20 warps per SM (the compiler alone
+  /// takes 146).
   static constexpr int kStressCap = 6;
   static constexpr int kElasticCap = 10;
   static constexpr std::initializer_list<int> kStressCaps = {0, kStressCap};
@@ -56,24 +58,24 @@ struct KernelPolicy {
   int stress_blocks_per_sm = kStressCap;
   int elastic_blocks_per_sm = kElasticCap;
   /// A power of 2. An unstable fixed step is then found within this many steps of its first
-  /// step above stopCo (a blow-up takes hundreds). Every 16th step left the phaseTransition
-  /// block, whose wave speed is the dearest, 4.9% slower than no check (performance log,
-  /// entries 27 and 29).
+  /// step above stopCo (a blow-up takes hundreds), and the speed's cost (the dearest for
+  /// materials whose wave speed depends on their state, such as phaseTransition) is paid on
+  /// one step in this many.
   int speed_every = 64;
   /// The health checks the kernels carry (see the top of this file): the grid update's
   /// probe of the nodal velocity and force, and the stopCo speed samples of a fixed step.
   bool health_checks = true;
   /// The energy ledger's transfer pass (PIC blend and walls booked, no stress update) in its
-  /// own light kernel instead of the ledger's whole-pass kernel (255 registers, a 400 B stack
-  /// frame and spills: performance log, entries 36-37). The same sums in the same order.
+  /// own light kernel instead of the ledger's whole-pass kernel (which needs every register
+  /// and spills). The same sums in the same order.
   bool ledger_light_transfer = true;
   /// The energy ledger's stress pass split as the fast one's (`split`): an elastic-only kernel
   /// that books the elastic points' work, then the whole update over the points it deferred
-  /// (performance log, entry 37: the unsplit ledger doubled the column's resting step).
+  /// (unsplit, the ledger's stress pass runs the plastic update's registers on every point).
   bool ledger_split = true;
-  /// The energy ledger's kernels by name (scree --ledger-kernels, scree-bench ledger-NAME):
-  /// split (both switches above on, the default), unsplit (ledger_split off) or whole (both off:
-  /// the ledger's whole-pass kernel, as before 2026-11-27). False, nothing set, for another word.
+  /// The energy ledger's kernels by name (scree-bench ledger-NAME): split (both switches
+  /// above on, the default), unsplit (ledger_split off) or whole (both off: the ledger's
+  /// whole-pass kernel). False, nothing set, for another word.
   static constexpr std::initializer_list<const char*> kLedgerKernels = {"split", "unsplit", "whole"};
   bool set_ledger_kernels(const std::string& name) {
     bool known = false;

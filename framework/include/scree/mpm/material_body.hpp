@@ -274,8 +274,8 @@ class MaterialBody final : public Body<D> {
   template <bool Ledger, class Shape>
   void launch_pass(const PassParams<D>& pp, const Shape& shape) {
     // The transfer pass alone: compiled without the stress update (for the ledger, which books
-    // the PIC blend's and the walls' shares there, its whole pass took 255 registers and a 400 B
-    // stack frame against 96 and none: performance log, entries 36-37; ledger_light_transfer)
+    // the PIC blend's and the walls' shares there, its whole pass needs every register and a
+    // stack frame, the light one a fraction and none: ledger_light_transfer)
     if (!pp.reference && (!Ledger || pp.ledger_light_transfer) && (pp.flags & ~kTransferPhases) == 0) {
       ParticlePass<D, Shape, M, kTransferPhases, false, Ledger> k{pp, store_.arrays(), shape, params_};
       parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
@@ -320,8 +320,8 @@ class MaterialBody final : public Body<D> {
                                                         count + (1 - pp.parity), store_.size(), kDeferredBlocks, full);
   }
   /// Blocks of the deferred points' kernel (grid-stride): 0 asks parallel_for_listed_warps
-  /// for one wave of the device (1,024 fixed was 1.3 waves on an H100 at 6 blocks per SM:
-  /// a tail of 0.3 wave; performance log, entry 17).
+  /// for one wave of the device (a fixed count is a fraction of a wave too many or too few
+  /// on some device, and the last, partial wave runs alone).
   static constexpr int kDeferredBlocks = 0;
 
   Params params_;

@@ -94,9 +94,9 @@ struct PassParams {
   bool serial = false;    ///< CPU loop on one thread: plain adds instead of atomics
   bool need_speed = true;  ///< compute the largest signal speed (the adaptive step, the stopCo check)
   /// With need_speed: 0, every step; else only on steps whose index & speed_mask is 0. The
-  /// health check of a fixed step (stopCo) samples the speed every 16th step: computed on
-  /// every step it cost the 1e7 blocks 8-19% per step (H100, performance log entry 27), and
-  /// an unstable step is caught at most 15 steps later.
+  /// health check of a fixed step (stopCo) samples the speed (KernelPolicy::speed_every):
+  /// computed on every step it is a large share of a cheap material's pass, and an
+  /// unstable step is caught a few steps later all the same.
   unsigned speed_mask = 0;
   bool reference = false;  ///< the straightforward kernel (see the top of this file)
   std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
@@ -287,8 +287,8 @@ struct FreshStress {
 /// pp.deferred and left untouched (no state, position or velocity written, nothing
 /// scattered); the ordinary pass then runs over the deferred points alone. Ledger: the
 /// kernel that keeps the energy ledger (PassParams::energy), compiled apart so that the
-/// others carry none of its code: held through the stress update, its values cost the
-/// register-capped elastic kernel 150 B of spills per point (ptxas; performance log 32).
+/// others carry none of its code: held through the stress update, its values make the
+/// register-capped elastic kernel spill.
 template <int D, class Shape, class M, unsigned May = kAllPhases, bool ElasticFirst = false, bool Ledger = false>
 struct ParticlePass {
   PassParams<D> pp;
@@ -397,8 +397,8 @@ SCREE_UNROLL
         // The new velocity and position (eqs. 10-11) need the gather alone: made before the
         // stress update, so that the gather's sums are dead while the update needs registers.
         // The signal speed takes |v| of the velocity the step started from; -1 when this
-        // step takes no speed. (The flag itself, held through the stress update, cost the
-        // register-capped elastic kernel 32 B of spills per point: performance log entry 30.)
+        // step takes no speed. (The flag itself, held through the stress update, would make
+        // the register-capped elastic kernel spill.)
         const Real v_start = speed_wanted(pp) ? norm(v) : Real(-1);
         if (flags & kGatherVelocity) {
           if (apic) {

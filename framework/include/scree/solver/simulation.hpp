@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "scree/case/case.hpp"
 #include "scree/exec/kernel_policy.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/output/snapshot.hpp"
 #include "scree/plugin/loader.hpp"
-#include "scree/solver/case.hpp"
 
 namespace scree {
 
@@ -67,7 +67,7 @@ struct RunOptions {
   /// together as InputErrors before anything is allocated or written, and its warnings
   /// go to `log`. Off only for a caller that ran it itself (the scree executable).
   bool check_setup = true;
-  /// A checkpoint to continue from (solver/checkpoint.hpp; empty: start from the case's
+  /// A checkpoint to continue from (case/checkpoint.hpp; empty: start from the case's
   /// initial state). The writers and function objects continue their series from its time.
   std::filesystem::path restart;
 };

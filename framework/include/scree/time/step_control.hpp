@@ -21,6 +21,7 @@
 #include <cmath>
 
 #include "scree/core/config.hpp"
+#include "scree/core/constants.hpp"
 
 namespace scree {
 
@@ -89,8 +90,8 @@ struct StepControl {
 /// non-finite stress, velocity or mass of a point reaches its stencil's nodes in the step's
 /// P2G). Counted; the clock stops after the step (advance_clock), and the host finds the
 /// point in the frozen state (Solver::diagnosis). The particle pass itself tests nothing:
-/// three inline tests there cost the paper's column 9% per step on an H100 (performance
-/// log entry 27); the grid update is a small share of a step.
+/// inline tests there are paid per point and per step, a measurable share of the step;
+/// the grid update is a small share of a step.
 SCREE_INLINE void report_nonfinite_node(StepControl* c, int par) {
 #if defined(__CUDA_ARCH__)
   if (atomicAdd(&c->bad.count, 1ull) != 0) return;
@@ -107,9 +108,10 @@ SCREE_INLINE void report_nonfinite_node(StepControl* c, int par) {
 }
 
 /// The step that lands on a target `remaining` seconds ahead: the remainder when dt would
-/// overshoot it or stop short of it by less than 1e-6 dt (no sliver of a step), else dt.
+/// overshoot it or stop short of it by less than kLandingSlack dt (no sliver of a step),
+/// else dt.
 SCREE_INLINE Real land_on_target(Real dt, Real remaining) {
-  return remaining < dt * (1 + Real(1e-6)) ? remaining : dt;
+  return remaining < dt * (1 + kLandingSlack) ? remaining : dt;
 }
 
 /// The adaptive step from the largest signal speed c + |v| seen in a step:
@@ -120,19 +122,28 @@ SCREE_INLINE Real cfl_step(const StepControl& c, Real max_speed) {
   return dt;
 }
 
+/// The step after one that measured the signal speed `measured` (0: it measured none):
+/// the CFL step of that speed, or of the last speed measured (StepControl::last_speed)
+/// when there is none. A step may measure none: USL's step after the start or after a
+/// flush (a write) has no stress update of its own (it ran in the flush, or runs in the
+/// next step's pass), and a clock stopped on a target resumes after its speed was cleared.
+/// A cleared speed taken as measured gave maxDeltaT: 2.4 times the CFL step in the second
+/// step of every adaptive USL run (tests/verification/restart), and a step 40 times the
+/// acoustic one after every write of a two-phase case. The host keeps last_speed with the
+/// device's (Solver::flush reads the clock back after the gather that measures it).
+SCREE_INLINE Real next_cfl_step(const StepControl& c, Real measured) {
+  return cfl_step(c, measured > 0 ? measured : c.last_speed);
+}
+
 /// Advance the clock past step `par` and choose the next step (slot 1 - par). One thread
 /// runs this, at the end of the step; it writes slots nobody else reads in this step.
 SCREE_INLINE void advance_clock(StepControl* c, int par) {
   const Real t = c->t[par], dt = c->dt[par];
   const Real t1 = t + dt;
-  // A step that measured no signal speed keeps the last one measured: USL's step after the
-  // start or after a flush (a write) has no stress update of its own (it ran in the flush,
-  // or runs in the next step's pass), and a cleared speed gave maxDeltaT, 2.4 times the
-  // CFL step in the second step of every adaptive USL run (tests/verification/restart).
-  Real dt1 = cfl_step(*c, c->max_speed[par] > 0 ? c->max_speed[par] : c->last_speed);
+  Real dt1 = next_cfl_step(*c, c->max_speed[par]);
   const Real remaining = c->t_target - t1;
   // On the target (within round-off): stop until the host sets the next one.
-  dt1 = remaining <= Real(1e-9) * dt1 ? Real(0) : land_on_target(dt1, remaining);
+  dt1 = remaining <= kOnTargetTolerance * dt1 ? Real(0) : land_on_target(dt1, remaining);
   // Health: a failure stops the clock for good (the host ends the run when it sees it).
   unsigned fail = 0;
   if (c->bad.count > 0) fail |= kFailNonFinite;

@@ -71,6 +71,12 @@ class SCREE_API TimeControl {
   /// step may shrink), at least 1.
   std::int64_t steps_to(const StepControl& ctl, int p, double target) const;
 
+  /// The steps of the next chunk (the host syncs with the device after each): those to
+  /// the next event (steps_to `t_event`; `step_event` steps, if > 0), at most `budget`
+  /// (if > 0) and `report` steps (a progress report, a particle sort), at least 1.
+  std::int64_t chunk_length(const StepControl& ctl, int p, double t_event, std::int64_t step_event,
+                            std::int64_t budget, std::int64_t report) const;
+
   /// Aim the clock at a new target: slot p's step is derived again (it may have been
   /// clamped to 0 on the old target) and clamped to land on the new one. Returns whether
   /// ctl changed.

@@ -1,16 +1,17 @@
 // estimate_memory and check_memory (see memory_estimate.hpp).
-#include "scree/solver/memory_estimate.hpp"
+#include "scree/case/memory_estimate.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 
+#include "scree/case/case_model.hpp"
+#include "scree/case/particle_generation.hpp"
 #include "scree/material/material.hpp"
 #include "scree/mpm/grid.hpp"
 #include "scree/mpm/wall_law.hpp"
 #include "scree/porous/two_phase.hpp"
-#include "scree/solver/particle_generation.hpp"
 
 namespace scree {
 
@@ -29,8 +30,6 @@ double MemoryEstimate::device_bytes() const { return device == Device::cuda ? ba
 namespace {
 
 constexpr double kReal = sizeof(Real);
-
-bool is_body(const Entry& e) { return e.is_dict() && e.key() != "FoamFile" && !e.key().empty() && e.key()[0] != '_'; }
 
 /// What the estimate depends on, read once; evaluate() gives the estimate for any cell
 /// size, and for another particlesPerCell of one body (what would fit).
@@ -63,14 +62,13 @@ Model read_model(const Case& c, const Registry& reg, Device device, bool with_ou
   m.output = with_output && (c.control().has("writers") || c.control().has("functions"));
   m.grid = s.grid;
   m.cell_size_where = c.grid().has("cellSize") ? c.grid().at("cellSize").where() : c.grid().where();
-  for (const Entry& e : c.boundaries().entries()) m.walls = m.walls || is_body(e);
+  m.walls = !c.boundary_entries().empty();
   m.apic = s.schemes.transfer == Transfer::apic;
   m.sorts = s.schemes.sort_interval > 0;
-  for (const Entry& e : c.bodies().entries()) {
-    if (!is_body(e)) continue;
-    const Dictionary& d = e.dict();
+  for (const Entry* e : c.body_entries()) {
+    const Dictionary& d = e->dict();
     Model::Body b;
-    b.name = e.key();
+    b.name = e->key();
     b.dict = &d;
     const Entry* ppc = d.find("particlesPerCell");
     b.where = ppc ? ppc->where() : d.where();
@@ -93,7 +91,7 @@ Model read_model(const Case& c, const Registry& reg, Device device, bool with_ou
 double grid_nodes(const GridSettings& g, double h) {
   double n = 1;
   for (int d = 0; d < g.dimension && d < static_cast<int>(g.lower.size()) && d < static_cast<int>(g.upper.size()); ++d)
-    n *= std::ceil((g.upper[d] - g.lower[d]) / h - 1e-9) + 1 + 2 * g.ghost_layers;  // setup_grid's n[d]
+    n *= domain_cells(g.lower[d], g.upper[d], h) + 1 + 2 * g.ghost_layers;  // GlobalGrid<D>::n[d]
   return n;
 }
 
@@ -110,9 +108,9 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
   const bool gpu = m.device == Device::cuda;
 
   MemoryPart g{"the grid", "cellSize", m.cell_size_where, grid_nodes(m.grid, h)};
-  // solver_setup.cpp: two sets of 1 + 4 D nodal fields, and a stamp (uint32) per tile of
-  // Tiles<D>::kNodes nodes for each set.
-  g.backend_each = 2.0 * (1 + 4 * D) * kReal + 2.0 * sizeof(std::uint32_t) / (D == 2 ? Tiles<2>::kNodes : Tiles<3>::kNodes);
+  // Solver::setup_grid: two sets of kGridFieldCount nodal fields, and a stamp (uint32) per
+  // tile of Tiles<D>::kNodes nodes for each set.
+  g.backend_each = 2.0 * (D == 2 ? kGridFieldCount<2> : kGridFieldCount<3>) * kReal + 2.0 * sizeof(std::uint32_t) / (D == 2 ? Tiles<2>::kNodes : Tiles<3>::kNodes);
   if (m.walls) {  // a WallMask per node on the backend, and the WallSet's on the host while it is built
     g.backend_each += sizeof(WallMask);
     g.host_each += sizeof(WallMask);

@@ -1,5 +1,5 @@
 // Particle generation (see particle_generation.hpp).
-#include "scree/solver/particle_generation.hpp"
+#include "scree/case/particle_generation.hpp"
 
 #include <algorithm>
 #include <array>
@@ -9,9 +9,9 @@
 #include <memory>
 #include <string>
 
+#include "scree/case/case.hpp"
 #include "scree/geometry/shapes.hpp"
 #include "scree/geometry/tri_surface.hpp"
-#include "scree/solver/case.hpp"
 
 namespace scree {
 namespace {
@@ -396,15 +396,14 @@ void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vecto
   };
   std::vector<Placed> placed;
   const ParamSpec& spec = *CoreSpecs::get().body;
-  for (const Entry& e : bodies.entries()) {
-    if (!e.is_dict() || e.key() == "FoamFile" || e.key()[0] == '_') continue;
-    const Dictionary& body = e.dict();
+  for (const Entry* e : plugin_entries(bodies)) {
+    const Dictionary& body = e->dict();
     // What generate_particles reads besides the region, and the spec does not size.
     if (const Entry* w = body.find("angularVelocity"); w && static_cast<int>(w->as_scalar_list().size()) != (D == 2 ? 1 : 3))
       errors.push_back(angular_velocity_error<D>(*w));
     try {
       const Dictionary& region = body.sub("region");
-      Placed p{e.key(), read_shape<D>(body, case_dir), BodySettings::read(body).particles_per_cell,
+      Placed p{e->key(), read_shape<D>(body, case_dir), BodySettings::read(body).particles_per_cell,
                ParamReader(spec, body).boolean("allowOverlap")};
       bool any = false, outside = false;
       for_each_position(p.shape, g, p.n, [&](const Vec<D>& x) {

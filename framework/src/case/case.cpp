@@ -1,13 +1,13 @@
 // Reading and validating a whole case (see case.hpp for the layout).
-#include "scree/solver/case.hpp"
+#include "scree/case/case.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 
 #include "../porous/porous_media.hpp"
+#include "scree/case/particle_generation.hpp"
 #include "scree/output/snapshot.hpp"
-#include "scree/solver/particle_generation.hpp"
 
 namespace fs = std::filesystem;
 
@@ -41,7 +41,7 @@ const CoreSpecs& CoreSpecs::get() {
     auto c = std::make_shared<ParamSpec>("controlDict", "time control, output and plugins (system/controlDict)");
     c->word("application", "the solver (informational)").default_value("scree");
     c->scalar("startTime", "s", "start time of a run from the case's initial state (0)").default_value(0.0).range(0, 0);
-    // Restart (solver/checkpoint.hpp): OpenFOAM's startFrom; `scree --restart` is latestTime.
+    // Restart (case/checkpoint.hpp): OpenFOAM's startFrom; `scree --restart` is latestTime.
     c->word("startFrom", "startTime: a run starts from the case's initial state; latestTime: it continues "
                          "from the newest checkpoint in checkpoints/ (from startTime when there is none)")
         .choices({"startTime", "latestTime"})
@@ -308,10 +308,26 @@ const CoreSpecs& CoreSpecs::get() {
   return specs;
 }
 
-namespace {
+bool names_an_object(const Entry& e) { return e.key() != "FoamFile" && !e.key().empty() && e.key()[0] != '_'; }
 
-/// Entries named _name are variables for $macros, not bodies, materials or plugins.
-bool is_variable(const Entry& e) { return !e.key().empty() && e.key()[0] == '_'; }
+std::vector<const Entry*> plugin_entries(const Dictionary& d) {
+  std::vector<const Entry*> out;
+  for (const Entry& e : d.entries())
+    if (e.is_dict() && names_an_object(e)) out.push_back(&e);
+  return out;
+}
+
+const PluginEntry& plugin_of(const Registry& reg, PluginKind kind, const Dictionary& d) {
+  const Entry& type = d.at("type");
+  return reg.get(kind, type.as_word(), type.where());
+}
+
+std::vector<const Entry*> Case::group_entries(const char* group) const {
+  const Entry* g = control_.find(group);
+  return g && g->is_dict() ? plugin_entries(g->dict()) : std::vector<const Entry*>{};
+}
+
+namespace {
 
 /// Read a case file; a parse error, or a required file that is missing, is recorded and
 /// an empty dictionary returned whose name is marked, so that neither its contents nor
@@ -346,7 +362,7 @@ void validate_plugin_entries(const Dictionary& d, PluginKind kind, const Registr
                              std::vector<InputError>& errors, int dim,
                              const std::vector<std::string>& extra_keys = {}) {
   for (const Entry& e : d.entries()) {
-    if (e.key() == "FoamFile" || is_variable(e)) continue;
+    if (!names_an_object(e)) continue;
     if (!e.is_dict()) {
       errors.emplace_back(e.where(), "'" + e.key() + "': expected a dictionary { type ...; ... }, found " +
                                          e.value_string());
@@ -429,7 +445,7 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
     // executeInterval counts steps with executeControl timeStep, as writeInterval does.
     if (errors.size() == before)
       for (const Entry& e : f->dict().entries()) {
-        if (!e.is_dict() || is_variable(e)) continue;
+        if (!e.is_dict() || !names_an_object(e)) continue;
         const Entry* control = e.dict().find("executeControl");
         const Entry* interval = e.dict().find("executeInterval");
         if (control && interval && control->as_word() == "timeStep")
@@ -443,7 +459,7 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   {
     std::vector<std::string> known = standard_particle_fields();
     for (const Entry& e : c.materials_.entries()) {
-      if (!e.is_dict() || is_variable(e) || !e.dict().has("type")) continue;
+      if (!e.is_dict() || !names_an_object(e) || !e.dict().has("type")) continue;
       try {
         if (const PluginEntry* pe = reg.find(PluginKind::material, e.dict().get_word("type")))
           known.insert(known.end(), pe->output_fields.begin(), pe->output_fields.end());
@@ -485,10 +501,10 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   // not be read, that is the one error (no "material 'soil' is not defined" besides).
   std::vector<std::string> materials;
   for (const Entry& e : c.materials_.entries())
-    if (e.key() != "FoamFile" && !is_variable(e)) materials.push_back(e.key());
+    if (names_an_object(e)) materials.push_back(e.key());
   int nbodies = 0;
   for (const Entry& e : c.bodies_.entries()) {
-    if (e.key() == "FoamFile" || is_variable(e)) continue;
+    if (!names_an_object(e)) continue;
     if (!e.is_dict()) {
       errors.emplace_back(e.where(), "'" + e.key() + "': expected a body dictionary { material ...; region {...} }");
       continue;

@@ -1,9 +1,9 @@
 // CaseSettings::read (see settings.hpp): every core key through its spec, defaults applied
 // by ParamReader from the one place they are written, CoreSpecs (case.cpp).
-#include "scree/solver/settings.hpp"
+#include "scree/case/settings.hpp"
 
+#include "scree/case/case.hpp"
 #include "scree/params/spec.hpp"
-#include "scree/solver/case.hpp"
 
 namespace scree {
 namespace {

@@ -1,5 +1,5 @@
 // Checkpoint files (see checkpoint.hpp).
-#include "scree/solver/checkpoint.hpp"
+#include "scree/case/checkpoint.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -4,7 +4,7 @@
 // sub-cells of each background cell, keeping the points inside the region; each point
 // carries the volume (h/n)^D of its sub-cell. Regions: rectangle and polygon in 2D; box,
 // cylinder, sphere, extrudedPolygon and stl in 3D (geometry/shapes.hpp, tri_surface.hpp;
-// their keys are documented by the body spec, solver/case.cpp, and `scree --list-plugins`).
+// their keys are documented by the body spec, case/case.cpp, and `scree --list-plugins`).
 // A body's `clip { lower (..); upper (..); }` keeps the points inside that box as well
 // (a quarter cylinder beside two symmetry planes). The mass of a body is rho times the
 // volume of its sub-cells whose centres are inside: within the volume of the shell of

@@ -28,10 +28,10 @@
 #include <string>
 #include <vector>
 
+#include "scree/case/case.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/io/dictionary.hpp"
 #include "scree/plugin/registry.hpp"
-#include "scree/solver/case.hpp"
 
 namespace scree {
 

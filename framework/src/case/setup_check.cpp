@@ -1,5 +1,5 @@
 // check_setup, output_places and existing_results (see setup_check.hpp).
-#include "scree/solver/setup_check.hpp"
+#include "scree/case/setup_check.hpp"
 
 #include <unistd.h>
 
@@ -10,38 +10,16 @@
 #include <system_error>
 
 #include "scree/boundary/boundary_condition.hpp"
-#include "scree/plugin/context.hpp"
-#include "scree/solver/checkpoint.hpp"
-#include "scree/solver/memory_estimate.hpp"
-#include "scree/solver/particle_generation.hpp"
+#include "scree/case/case_model.hpp"
+#include "scree/case/checkpoint.hpp"
+#include "scree/case/memory_estimate.hpp"
+#include "scree/case/particle_generation.hpp"
 
 namespace fs = std::filesystem;
 
 namespace scree {
 
-template <int D>
-GridGeometry<D> grid_geometry(const GridSettings& gs) {
-  GridGeometry<D> g{};
-  g.h = gs.cell_size;
-  g.ghost = gs.ghost_layers;
-  for (int d = 0; d < D; ++d) {
-    const Real lo = gs.lower[d], hi = gs.upper[d];
-    const int nc = static_cast<int>(std::ceil((hi - lo) / g.h - 1e-9));
-    g.lower[d] = lo;
-    g.upper[d] = lo + nc * g.h;
-    g.n[d] = nc + 1 + 2 * gs.ghost_layers;
-    g.origin[d] = lo - gs.ghost_layers * g.h;
-    g.offset[d] = 0;
-  }
-  return g;
-}
-
-template GridGeometry<2> grid_geometry<2>(const GridSettings&);
-template GridGeometry<3> grid_geometry<3>(const GridSettings&);
-
 namespace {
-
-bool is_plugin_entry(const Entry& e) { return e.is_dict() && !e.key().empty() && e.key()[0] != '_'; }
 
 /// Why `dir` cannot be created and written to, or "" if it can; nothing is created.
 std::string unwritable(const fs::path& dir) {
@@ -78,44 +56,21 @@ bool inside(const fs::path& dir, const fs::path& case_dir) {
 
 template <int D>
 void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
-  const CaseSettings& s = c.settings();
-  const GridGeometry<D> grid = grid_geometry<D>(s.grid);
+  const GlobalGrid<D> grid = grid_geometry<D>(c.settings().grid);
   check_bodies<D>(c.bodies(), grid, report.errors, c.dir());
 
   // Boundary conditions: built on the host against this grid, as the run builds them.
-  SolverContext ctx;
-  ctx.case_dir = c.dir();
-  ctx.dimension = D;
-  ctx.device = Device::cpu;
-  ctx.cell_size = grid.h;
-  for (int d = 0; d < D; ++d) {
-    ctx.grid_origin.push_back(grid.origin[d]);
-    ctx.domain_lower.push_back(grid.lower[d]);
-    ctx.domain_upper.push_back(grid.upper[d]);
-    ctx.grid_nodes.push_back(grid.n[d]);
-    ctx.gravity.push_back(s.gravity[d]);
-  }
-  ctx.start_time = s.control.time.start_time;
-  ctx.end_time = s.control.time.end_time;
-  ctx.delta_t = s.control.time.delta_t;
-  for (const Entry& e : c.bodies().entries())
-    if (is_plugin_entry(e) && e.key() != "FoamFile") ctx.body_names.push_back(e.key());
-
+  const SolverContext ctx = plugin_context<D>(c, grid, Device::cpu);
   WallSet walls(NodeLattice::of(ctx));
   const Registry& reg = rt.registry();
-  for (const Entry& e : c.boundaries().entries()) {
-    if (!is_plugin_entry(e) || e.key() == "FoamFile") continue;
-    const Dictionary& d = e.dict();
+  for (const Entry* e : c.boundary_entries()) {
+    const Dictionary& d = e->dict();
     try {
-      const Entry& type = d.at("type");
-      const PluginEntry& pe = reg.get(PluginKind::boundaryCondition, type.as_word(), type.where());
-      SolverContext bc_ctx = ctx;
-      bc_ctx.name = e.key();
-      pe.boundary(d, bc_ctx)->constrain(walls);
+      plugin_of(reg, PluginKind::boundaryCondition, d).boundary(d, named(ctx, e->key()))->constrain(walls);
     } catch (const InputError& err) {
       report.errors.push_back(err);
     } catch (const std::exception& err) {
-      report.errors.emplace_back(d.where(), "boundary condition '" + e.key() + "': " + err.what());
+      report.errors.emplace_back(d.where(), "boundary condition '" + e->key() + "': " + err.what());
     }
   }
 }
@@ -172,11 +127,9 @@ SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output, Devi
 
 std::vector<OutputPlace> output_places(const Case& c, const Registry& reg) {
   std::vector<OutputPlace> places;
-  auto visit = [&](const char* group, PluginKind kind) {
-    const Entry* g = c.control().find(group);
-    if (!g || !g->is_dict()) return;
-    for (const Entry& e : g->dict().entries()) {
-      if (!is_plugin_entry(e)) continue;
+  auto visit = [&](const std::vector<const Entry*>& entries, PluginKind kind) {
+    for (const Entry* entry : entries) {
+      const Entry& e = *entry;
       const Dictionary& d = e.dict();
       const Entry* type = d.find("type");
       const PluginEntry* pe = type ? reg.find(kind, type->as_word()) : nullptr;
@@ -198,9 +151,9 @@ std::vector<OutputPlace> output_places(const Case& c, const Registry& reg) {
       }
     }
   };
-  visit("writers", PluginKind::writer);
-  visit("functions", PluginKind::functionObject);
-  if (c.settings().control.checkpoint_interval > 0) {  // solver/checkpoint.hpp
+  visit(c.writer_entries(), PluginKind::writer);
+  visit(c.function_entries(), PluginKind::functionObject);
+  if (c.settings().control.checkpoint_interval > 0) {  // case/checkpoint.hpp
     const Entry* e = c.control().find("checkpointInterval");
     places.push_back({"the checkpoints", checkpoint_dir(c.dir()), e ? e->where() : c.control().where(), ""});
   }

@@ -18,18 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "scree/case/case.hpp"
+#include "scree/case/case_model.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/io/dictionary.hpp"
-#include "scree/mpm/grid.hpp"
 #include "scree/plugin/loader.hpp"
-#include "scree/solver/case.hpp"
 
 namespace scree {
-
-/// The background grid of a case: the domain of system/gridDict extended to whole
-/// cells, with its ghost layers (the run's setup builds the same grid).
-template <int D>
-SCREE_API GridGeometry<D> grid_geometry(const GridSettings& grid);
 
 struct SetupReport {
   std::vector<InputError> errors;    ///< what the run would reject (file:line each)

@@ -1,0 +1,120 @@
+// Solver<D>: the parameters of the particle passes and grid updates. What every pass of
+// the run shares (the physics of the case: gravity, the FLIP/PIC blend, the volume cap,
+// the damping, the light-node mass; and the kernel policy) is built once, at setup
+// (setup_passes); a pass adds its phases, the grid sets it reads and writes and the
+// parity of the step it gathers from.
+#include "solver.hpp"
+
+namespace scree {
+
+template <int D>
+void Solver<D>::setup_passes() {
+  const SchemeSettings& sch = settings_.schemes;
+  const DampingSettings& damping = sch.damping;
+  PassParams<D>& pp = pass_base_;
+  pp.grid = grid_;
+  pp.control = ctl_.data();
+  pp.gravity = gravity_;
+  pp.pic_fraction = sch.pic_fraction;
+  pp.pic_rate = sch.pic_rate;
+  pp.max_volume_ratio = sch.max_volume_ratio;
+  pp.transfer = sch.transfer;
+  pp.serial = exec_.device == Device::cpu && exec_.threads == 1;
+  pp.reference = policy_.reference;
+  // The signal speed: for the adaptive step, and for the health check of a fixed one (stopCo).
+  pp.need_speed = time_.adaptive() || policy_.reference || (host_ctl_.stop_co > 0 && policy_.health_checks);
+  // A fixed step wants the speed for the stopCo check alone: sampled (PassParams::speed_mask).
+  pp.speed_mask = time_.adaptive() || policy_.reference ? 0u : static_cast<unsigned>(policy_.speed_every - 1);
+  pp.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
+  pp.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
+  pp.energy = energy_ledger_;
+  pp.ledger_light_transfer = policy_.ledger_light_transfer;
+  // The walls' share on the points where the gather still sees the step's force (USF, USL;
+  // MUSL re-maps momentum into the force array first): PassParams::wall_ledger.
+  pp.wall_ledger = energy_ledger_ && sch.update_scheme != UpdateScheme::MUSL && !porous_;
+  pp.mass_eps = mass_eps_;
+  pp.damping = damping.coefficient;
+  pp.damping_start = damping.start_time;
+  pp.damping_end = damping.end_time;
+
+  GridUpdateParams<D>& gp = grid_base_;
+  gp.grid = grid_;
+  gp.control = ctl_.data();
+  gp.walls = has_walls_ ? walls_.data() : nullptr;
+  gp.masks = has_walls_ ? masks_.data() : nullptr;
+  gp.mass_eps = mass_eps_;
+  gp.damping = damping.coefficient;
+  gp.damping_start = damping.start_time;
+  gp.damping_end = damping.end_time;
+  gp.energy = energy_ledger_;
+  gp.energy_walls = energy_ledger_ && (sch.update_scheme == UpdateScheme::MUSL || porous_);
+  gp.health = policy_.health_checks;
+}
+
+template <int D>
+PassParams<D> Solver<D>::fused_pass(unsigned p2g) const {
+  // Step k's first pass runs the G2P that finishes step k - 1 (from its grid set, at its
+  // parity: its dt drives the gather) fused with step k's P2G into the other set, so that
+  // the particles are read and written once per step. The first step after a flush has no
+  // G2P pending: the pass is then the P2G alone.
+  const int k = parity(), last = 1 - k;
+  return pass_params((pending_ ? g2p_of(settings_.schemes.update_scheme) : 0u) | p2g, last, k, last);
+}
+
+template <int D>
+PassParams<D> Solver<D>::this_step_pass(unsigned phases) const {
+  return pass_params(phases, parity(), parity(), parity());
+}
+
+template <int D>
+PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const {
+  PassParams<D> pp = pass_base_;
+  pp.flags = flags;
+  pp.parity = parity();
+  pp.gather_parity = gather_parity;
+  pp.gather = sets_[gather_set];
+  pp.scatter = sets_[scatter_set];
+  pp.tile_stamps = policy_.sparse() ? tile_stamps_[scatter_set].data() : nullptr;
+  pp.split_elastic = split_;
+  return pp;
+}
+
+template <int D>
+GridUpdateParams<D> Solver<D>::grid_params(unsigned modes, int set) const {
+  GridUpdateParams<D> gp = grid_base_;
+  gp.modes = modes;
+  gp.parity = parity();
+  gp.cur = sets_[set];
+  gp.other = sets_[1 - set];
+  if (policy_.sparse()) {
+    gp.cur_stamps = tile_stamps_[set].data();
+    gp.other_stamps = tile_stamps_[1 - set].data();
+  }
+  return gp;
+}
+
+template <int D>
+void Solver<D>::set_split(bool on) {
+  if (on == split_) return;
+  split_ = on;
+  // The split's kernels clear the counter of the step after theirs: when they stop, the
+  // last step's count stays behind, and a later split step of that parity would re-run
+  // the points it lists (a 2.5 mm column collapse on the GPU took 50% more steps so).
+  for (auto& b : bodies_) b->reset_split();
+  if (graphs_) graphs_->clear();  // captured with the other way's kernels
+}
+
+template void Solver<2>::set_split(bool);
+template void Solver<3>::set_split(bool);
+template void Solver<2>::setup_passes();
+template void Solver<3>::setup_passes();
+template PassParams<2> Solver<2>::fused_pass(unsigned) const;
+template PassParams<3> Solver<3>::fused_pass(unsigned) const;
+template PassParams<2> Solver<2>::this_step_pass(unsigned) const;
+template PassParams<3> Solver<3>::this_step_pass(unsigned) const;
+template PassParams<2> Solver<2>::pass_params(unsigned, int, int, int) const;
+template PassParams<3> Solver<3>::pass_params(unsigned, int, int, int) const;
+template GridUpdateParams<2> Solver<2>::grid_params(unsigned, int) const;
+template GridUpdateParams<3> Solver<3>::grid_params(unsigned, int) const;
+
+}  // namespace scree

@@ -1,0 +1,189 @@
+// Solver<D>: output, checkpoints and the run's statistics. What is due at a write time goes to the output
+// thread (output/output_schedule.hpp) as a snapshot of the particles (and the grid when a
+// writer asks for it), with a checkpoint (case/checkpoint.hpp) queued after the frames of
+// its time.
+#include <chrono>
+#include <cstring>
+
+#include "solver.hpp"
+
+namespace scree {
+
+template <int D>
+void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
+  if (!output_) return;
+  const double t = time();
+  const OutputSchedule::Due due = output_->due(t, step_, force_all);
+  // Checkpoints at every checkpointInterval-th write time after the run's first output
+  // (the initial state, or the restart's own), and when asked (endTime, a signal).
+  const std::int64_t every = settings_.control.checkpoint_interval;
+  if (due.write_time && !first_output_) ++writes_;
+  const bool checkpoint = when != CheckpointWhen::never && every > 0 && !first_output_ && t != checkpoint_time_ &&
+                          (when == CheckpointWhen::always || (due.write_time && writes_ % every == 0));
+  first_output_ = false;
+  std::vector<double> schedule;  // before done(): a restart runs what is due now
+  if (checkpoint) schedule = output_->state();
+  if (!due.any()) {
+    if (checkpoint) write_checkpoint(schedule);
+    output_->done(due, t, step_);
+    return;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  std::shared_ptr<Snapshot> snap;
+  std::vector<std::function<void(BodySnapshot&)>> finish;
+  if (exec_.device == Device::cuda && !due.with_grid) {
+    // Asynchronous: the particle data are copied on the device and sent to the host on
+    // their own stream while the next steps run; the output thread waits for the copy,
+    // builds the fields and writes. The run stops only for the flush's pass.
+    flush();
+    snap = std::make_shared<Snapshot>(snapshot_header());
+    for (auto& b : bodies_) {
+      std::vector<BodySnapshot::Scalar> scalars;  // taken now, at this time
+      if (porous_) porous_->scalars(b.get(), scalars);
+      finish.push_back([fill = b->snapshot_async(copy_stream_), scalars](BodySnapshot& out) {
+        fill(out);
+        out.scalars = scalars;
+      });
+    }
+  } else {
+    snap = std::make_shared<Snapshot>(snapshot(due.with_grid));
+  }
+  output_->submit(due, std::move(snap), std::move(finish));
+  if (checkpoint) write_checkpoint(schedule);
+  output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  output_->done(due, t, step_);
+}
+
+template <int D>
+void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
+  // The particles as of now (the set the next step scatters into is then all zeros); the
+  // host's clock is the device's after a flush (flush reads it back).
+  flush();
+  mem::synchronize(exec_.device);
+  auto ck = std::make_shared<Checkpoint>();
+  ck->dimension = D;
+  ck->time = time();
+  ck->step = step_;
+  ck->sorted_at = sorted_at_;
+  ck->writes = writes_;
+  ck->clock.resize(sizeof host_ctl_);
+  std::memcpy(ck->clock.data(), &host_ctl_, sizeof host_ctl_);
+  ck->schedule = schedule;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Checkpoint::Body b;
+    b.name = ctx_.body_names[i];
+    b.material_type = bodies_[i]->material_type();
+    b.particles = static_cast<std::uint64_t>(bodies_[i]->size());
+    b.data = bodies_[i]->save_state();
+    b.columns = bodies_[i]->bytes_per_particle() / sizeof(Real);
+    ck->bodies.push_back(std::move(b));
+  }
+  if (porous_) ck->liquid = porous_->save_state();
+  checkpoint_time_ = ck->time;
+  // Written after the frames of this time (the output thread runs its jobs in order).
+  const std::filesystem::path file = checkpoint_file(case_.dir(), ck->time), dir = case_.dir();
+  const std::size_t keep = static_cast<std::size_t>(settings_.control.checkpoint_keep);
+  output_->submit_job([ck, file, dir, keep] {
+    ck->write(file);
+    purge_checkpoints(dir, keep);
+  });
+}
+
+template <int D>
+void Solver<D>::finish_output(CheckpointWhen checkpoint) {
+  if (!opt_.output) return;
+  output_due(true, checkpoint);
+  output_->finish();
+}
+
+template <int D>
+Snapshot Solver<D>::snapshot_header() const {
+  Snapshot s;
+  s.time = time();
+  s.step = steps_done();  // the steps that advanced the clock: the same in every run
+  s.dimension = D;
+  // The ledger as of the last sync with the device: flush() has just read the clock back.
+  s.energy.kept = energy_ledger_;
+  if (energy_ledger_) {
+    const Real* e = host_ctl_.energy;
+    s.energy.stress_work = e[kEnergyStressWork];
+    s.energy.collisional = e[kEnergyCollisional];
+    s.energy.pic = e[kEnergyPic];
+    s.energy.damping = e[kEnergyDamping];
+    s.energy.walls = e[kEnergyWalls];
+  }
+  s.bodies.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    s.bodies[i].material = material_names_[i];
+  return s;
+}
+
+template <int D>
+Snapshot Solver<D>::snapshot(bool with_grid) {
+  flush();
+  mem::synchronize(exec_.device);
+  Snapshot s = snapshot_header();
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const std::string material = s.bodies[i].material;
+    bodies_[i]->snapshot(s.bodies[i]);
+    if (porous_) porous_->scalars(bodies_[i].get(), s.bodies[i].scalars);
+    s.bodies[i].material = material;
+  }
+  if (with_grid) {
+    s.has_grid = true;
+    const Index nn = grid_.num_nodes();
+    for (int d = 0; d < D; ++d) {
+      s.grid.n[d] = grid_.n[d];
+      s.grid.origin[d] = grid_.origin[d];
+    }
+    s.grid.h = grid_.h;
+    const int last = static_cast<int>((step_ + 1) % 2);
+    auto copy = [&](const Real* p) {
+      std::vector<Real> v(nn);
+      mem::copy(v.data(), Device::cpu, p, exec_.device, nn * sizeof(Real));
+      return v;
+    };
+    FieldData mass{"mass", 1, "kg", "nodal mass", copy(sets_[last].mass)};
+    FieldData vel{"velocity", 3, "m/s", "nodal velocity v^{k+1}", std::vector<Real>(3 * nn, 0.0)};
+    for (int d = 0; d < D; ++d) {
+      const auto c = copy(sets_[last].velocity_new[d]);
+      for (Index i = 0; i < nn; ++i) vel.values[3 * i + d] = c[i];
+    }
+    s.grid.fields.push_back(std::move(mass));
+    s.grid.fields.push_back(std::move(vel));
+  }
+  return s;
+}
+
+template <int D>
+RunStats Solver<D>::stats() const {
+  RunStats r;
+  r.steps = step_;
+  r.simulated_time = time() - run_start_;
+  r.wall_seconds = wall_;
+  r.output_seconds = output_wall_;
+  for (auto& b : bodies_) {
+    r.particles += b->size();
+    r.bytes_per_particle = std::max(r.bytes_per_particle, b->bytes_per_particle());
+  }
+  r.nodes = grid_.num_nodes();
+  r.peak_device_bytes = mem::peak_bytes(exec_.device);
+  r.lost_particles = host_ctl_.lost;
+  r.split_steps = split_steps_;
+  return r;
+}
+
+template RunStats Solver<2>::stats() const;
+template RunStats Solver<3>::stats() const;
+template void Solver<2>::output_due(bool, CheckpointWhen);
+template void Solver<3>::output_due(bool, CheckpointWhen);
+template void Solver<2>::write_checkpoint(const std::vector<double>&);
+template void Solver<3>::write_checkpoint(const std::vector<double>&);
+template void Solver<2>::finish_output(CheckpointWhen);
+template void Solver<3>::finish_output(CheckpointWhen);
+template Snapshot Solver<2>::snapshot_header() const;
+template Snapshot Solver<3>::snapshot_header() const;
+template Snapshot Solver<2>::snapshot(bool);
+template Snapshot Solver<3>::snapshot(bool);
+
+}  // namespace scree
