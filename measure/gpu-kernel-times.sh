@@ -11,7 +11,8 @@
 # past the window. Writes <out.csv> (per kernel name: launches, mean / min / max duration
 # in us, registers, grid) and <out.csv>.raw (ncu's own CSV), and prints the table.
 # Example (the column at rest, steps ~1,000-1,015): gpu-kernel-times.sh cases/columnCollapse 1100 5000 60 k.csv
-# SCREE_ARGS adds options to scree's command line (e.g. SCREE_ARGS="--stress-split on").
+# SCREE_ARGS adds options to scree's command line (e.g. SCREE_ARGS="--threads 1"; kernel
+# variants are scree-bench's --kernels, not scree's).
 set -euo pipefail
 case_dir=$1 max_steps=$2 skip=$3 count=$4 out=$5
 bin=${SCREE_BUILD_DIR:-build}/bin/scree

@@ -21,8 +21,8 @@
 # --bench (GPU) first runs scree-bench on the idle GPU, before the runs: the paper cases' resting
 # windows (the resting step: a run's first progress interval already holds flow) and the 1e7
 # blocks (OUT/bench.csv; --bench-kernels: scree-bench's variants, fast first; the table reads
-# fast). --scree-args: more arguments for every run's scree (--ledger-kernels unsplit: the
-# kernel variants of KernelPolicy over whole runs). Each run's profile (ms per step and mean dt per interval) is
+# fast). --scree-args: more arguments for every run's scree (e.g. --no-output).
+# Kernel variants of KernelPolicy are scree-bench's (--kernels), not scree's. Each run's profile (ms per step and mean dt per interval) is
 # OUT/runs/<label>/profile.csv (measure/whole-run-profile.py).
 #
 # On a lent GPU machine: carry the bundle (../shared/gpu/bundle.sh build-cuda) and run
