@@ -145,3 +145,40 @@ TEST(EndToEnd, ShippedElasticColumnCase) {
   EXPECT_NEAR(sum / n, -rho * g * (H - 0.0125), 0.02 * rho * g * H);
 }
 
+// A run in which points leave the grid (issue 42 item 13): a block thrown at 5 m/s towards
+// the grid's right edge, beside one at rest. The run-out front is that of the points still
+// on the grid, not the edge the lost ones stick at, and lostPoints.csv counts the lost ones
+// (the solver warns of them too).
+TEST(EndToEnd, PointsThatLeaveTheGridAreLeftOutAndCounted) {
+  TempDir dir;
+  const fs::path d = dir.path();
+  write_file(d / "constant" / "materialProperties", "soil { type linearElastic; E 1e6; nu 0.3; rho 1000; }\n");
+  write_file(d / "constant" / "g", "value (0 0);\n");
+  write_file(d / "constant" / "bodies",
+             "rest { material soil; region { type rectangle; lower (0.1 0.4); upper (0.3 0.6); } "
+             "particlesPerCell 2; }\n"
+             "thrown { material soil; region { type rectangle; lower (0.6 0.4); upper (0.8 0.6); } "
+             "particlesPerCell 2; velocity (5 0); }\n");
+  write_file(d / "system" / "gridDict", "dimension 2;\nlower (0 0);\nupper (1 1);\ncellSize 0.1;\n");
+  write_file(d / "system" / "controlDict",
+             "endTime 0.1;\ndeltaT 1e-4;\nwriteControl adjustableRunTime;\nwriteInterval 0.05;\n"
+             "maxLostFraction 1;\nwriters {}\nfunctions { front { type runOut; origin (0 0); } }\n");
+  const fs::path log = d / "log.scree";
+  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + d.string() +
+                          "' --device cpu --threads 2 > '" + log.string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream lf(log);
+  std::stringstream out;
+  out << lf.rdbuf();
+  ASSERT_EQ(rc, 0) << out.str();
+  const fs::path pp = d / "postProcessing" / "front";
+  const Csv front = read_csv(pp / "runOut.csv");
+  ASSERT_EQ(front.rows.size(), 3u);  // t = 0, 0.05, 0.1
+  EXPECT_EQ(front.num(0, "particles [-]"), 32);  // 2 x 2 cells of 2 x 2 points each, both blocks
+  EXPECT_EQ(front.num(2, "particles [-]"), 16) << "the thrown block has left the grid by t = 0.1 s";
+  EXPECT_LT(front.num(2, "runout [m]"), 0.3) << "the front of the block at rest, not the grid's edge";
+  const Csv lost = read_csv(pp / "lostPoints.csv");
+  ASSERT_FALSE(lost.rows.empty());
+  EXPECT_EQ(lost.num(lost.rows.size() - 1, "time [s]"), 0.1);
+  EXPECT_EQ(lost.num(lost.rows.size() - 1, "lost points [-]"), 16);
+}
