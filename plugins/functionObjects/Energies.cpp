@@ -34,6 +34,7 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
       bodies_(read_bodies(r, ctx)),
       origin_(read_point(r, "origin", ctx)),
       budget_(r.boolean("budget")) {
+  lost_ = LostPoints(ctx, who_);
   if (budget_ && !bodies_.empty())
     throw InputError(where_of(r, "bodies"),
                      "bodies: the energy budget is kept over every body of the case (the kernels' ledger is not "
@@ -78,6 +79,7 @@ Energies::Result Energies::evaluate(const Snapshot& s) const {
     const FieldData* we = budget_ ? b.find("elasticEnergy") : nullptr;
     const FieldData* T = budget_ ? b.find("granularTemperature") : nullptr;
     for (Index p = 0; p < b.n; ++p) {
+      if (b.is_lost(p)) continue;  // left the grid (LostPoints)
       const double* vp = &v.values[3 * p];
       const double* x = &b.position[3 * p];
       const double mp = m.values[p];
@@ -109,6 +111,7 @@ Energies::Budget Energies::budget(const Result& r, const EnergyLedger& e, const 
 void Energies::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
+  lost_.record(s, bodies_);
   const Result r = evaluate(s);
   std::vector<double> row{s.time, r.kinetic, r.potential, r.total()};
   if (budget_) {

@@ -87,6 +87,7 @@ class Energies final : public FunctionObject {
   bool budget_ = false;
   CsvFile csv_;
   std::int64_t last_step_ = -1;
+  LostPoints lost_;  ///< points that left the grid: left out, counted in lostPoints.csv
   /// The first row's values (budget): from the first execution, or on a restart from the
   /// rows kept in the CSV file.
   std::optional<Result> first_;

@@ -166,6 +166,31 @@ void CsvFile::row_text(const std::vector<std::string>& cells) {
   if (!out_) throw std::runtime_error("cannot write " + path_.string() + " (disk full?)");
 }
 
+// ------------------------------------------------------------------ LostPoints
+
+LostPoints::LostPoints(const SolverContext& ctx, std::string who)
+    : path_(ctx.post_processing_dir() / "lostPoints.csv"), start_time_(ctx.start_time), who_(std::move(who)) {}
+
+std::int64_t LostPoints::record(const Snapshot& s, const std::vector<std::string>& bodies) {
+  if (!started_) {
+    started_ = true;
+    std::error_code ec;
+    if (start_time_ <= 0 && !path_.empty()) fs::remove(path_, ec);  // an earlier run's
+  }
+  std::int64_t lost = 0;
+  for (const auto& b : s.bodies)
+    if (selected(bodies, b))
+      for (Index p = 0; p < b.n; ++p) lost += b.is_lost(p);
+  if (lost > 0 && !path_.empty()) {
+    if (!csv_.is_open()) {
+      ensure_writable_dir(path_.parent_path(), who_);
+      csv_.open(path_, {"time [s]", "lost points [-]"}, start_time_);
+    }
+    csv_.row({s.time, static_cast<double>(lost)});
+  }
+  return lost;
+}
+
 // ------------------------------------------------------------------ helpers
 
 void ensure_writable_dir(const fs::path& dir, const std::string& who) {

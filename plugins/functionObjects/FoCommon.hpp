@@ -73,6 +73,27 @@ class CsvFile {
   std::unique_ptr<Pending> pending_;
 };
 
+/// Points that have left the grid (BodySnapshot::lost) count in no function object's
+/// statistics: each leaves them out and says how many there were in
+/// postProcessing/<name>/lostPoints.csv ("time [s],lost points [-]", over its selected
+/// bodies), one row per execution from the first at which there is one. A run that loses
+/// no point writes no such file, and its other files are as before. A fresh run removes
+/// the file an earlier run left; a restart keeps its rows before the restart's time.
+class LostPoints {
+ public:
+  LostPoints() = default;
+  LostPoints(const SolverContext& ctx, std::string who);
+  /// The selected bodies' lost points at s; writes the row once there are any.
+  std::int64_t record(const Snapshot& s, const std::vector<std::string>& bodies);
+
+ private:
+  std::filesystem::path path_;
+  double start_time_ = 0;
+  std::string who_;
+  bool started_ = false;
+  CsvFile csv_;
+};
+
 /// Create `dir` (and parents) and check that it is writable; throws std::runtime_error
 /// naming `who` and the directory otherwise.
 void ensure_writable_dir(const std::filesystem::path& dir, const std::string& who);

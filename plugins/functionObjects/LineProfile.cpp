@@ -57,6 +57,7 @@ LineProfile::LineProfile(const ParamReader& r, const SolverContext& ctx)
       start_(read_point(r, "start", ctx)),
       end_(read_point(r, "end", ctx)),
       long_format_(r.boolean("longFormat")) {
+  lost_ = LostPoints(ctx, who_);
   Vec3 d{end_[0] - start_[0], end_[1] - start_[1], end_[2] - start_[2]};
   length_ = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   if (!(length_ > 0) || !std::isfinite(length_))
@@ -165,6 +166,7 @@ LineProfile::Profile LineProfile::evaluate(const Snapshot& s) {
         field[c] = f;
     }
     for (Index p = 0; p < b.n; ++p) {
+      if (b.is_lost(p)) continue;  // left the grid (LostPoints)
       const double* x = &b.position[3 * static_cast<std::size_t>(p)];
       const double rel[3] = {x[0] - start_[0], x[1] - start_[1], x[2] - start_[2]};
       const double along = dot(direction_, rel);
@@ -205,6 +207,7 @@ void LineProfile::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   const Profile prof = evaluate(s);
   last_step_ = s.step;
+  lost_.record(s, bodies_);
   if (!prepared_) {
     prepare_time_files(dir_, who_, start_time_, "lineProfile.csv");
     prepared_ = true;

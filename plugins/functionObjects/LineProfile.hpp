@@ -78,6 +78,7 @@ class LineProfile final : public FunctionObject {
   CsvFile long_csv_;
   bool prepared_ = false;  ///< the directory made (first execution)
   std::int64_t last_step_ = -1;
+  LostPoints lost_;  ///< points that left the grid: left out, counted in lostPoints.csv
 };
 
 }  // namespace scree::fo

@@ -41,6 +41,7 @@ ParticleProbes::ParticleProbes(const ParamReader& r, const SolverContext& ctx)
       dimension_(ctx.dimension),
       start_time_(ctx.start_time),
       bodies_(read_bodies(r, ctx)) {
+  lost_ = LostPoints(ctx, who_);
   // points ((x y) (x y) ...)
   const Entry& pe = r.entry("points");
   const Item& list = pe.single_item();
@@ -100,6 +101,7 @@ void ParticleProbes::pick(const Snapshot& s) {
     for (const auto& b : s.bodies) {
       if (!selected(bodies_, b)) continue;
       for (Index p = 0; p < b.n; ++p) {
+        if (b.is_lost(p)) continue;  // left the grid (LostPoints)
         double d2 = 0;
         for (int d = 0; d < 3; ++d) {
           const double dx = b.position[3 * p + d] - pr.point[d];
@@ -212,6 +214,7 @@ void ParticleProbes::open_probe(Probe& pr, const BodySnapshot& b) {
 void ParticleProbes::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
+  lost_.record(s, bodies_);
   if (!picked_) {
     ensure_writable_dir(dir_, who_);
     if (!(start_time_ > 0 && load_selection())) {
@@ -248,10 +251,12 @@ void ParticleProbes::execute(const Snapshot& s) {
       open_probe(pr, *b);
     }
     std::vector<double> row = {s.time};
-    if (!b) {
+    const bool lost = b && b->is_lost(index[i]);  // frozen where it left the grid: not the flow's values
+    if (!b || lost) {
       if (!pr.missing_reported)
-        std::cerr << "warning: " << who_ << ": particle " << pr.id << " of probe '" << pr.name
-                  << "' is no longer in the snapshot; its rows are nan from t = " << s.time << "\n";
+        std::cerr << "warning: " << who_ << ": particle " << pr.id << " of probe '" << pr.name << "' "
+                  << (lost ? "has left the grid" : "is no longer in the snapshot") << "; its rows are nan from t = "
+                  << s.time << "\n";
       pr.missing_reported = true;
       row.resize(1 + dim + pr.columns.size(), nan);
       pr.csv.row(row);

@@ -68,6 +68,7 @@ class ParticleProbes final : public FunctionObject {
   std::vector<Probe> probes_;
   bool picked_ = false;
   std::int64_t last_step_ = -1;
+  LostPoints lost_;  ///< points that left the grid: left out, counted in lostPoints.csv
 };
 
 }  // namespace scree::fo

@@ -196,6 +196,7 @@ RunOut::RunOut(const ParamReader& r, const SolverContext& ctx)
       up_(read_direction(r, "up", ctx, default_up(ctx))),
       front_quantile_(r.scalar("frontQuantile")),
       height_quantile_(r.scalar("heightQuantile")) {
+  lost_ = LostPoints(ctx, who_);
   if (r.has("radial")) {
     for (const char* k : {"direction", "origin", "up"})
       if (r.has(k)) throw InputError(where_of(r, k), not_with_radial(k));
@@ -255,6 +256,7 @@ RunOut::Result RunOut::evaluate(const Snapshot& s) const {
     const FieldData& v = require_field(b, "velocity", who_);
     const FieldData& m = require_field(b, "mass", who_);
     for (Index p = 0; p < b.n; ++p) {
+      if (b.is_lost(p)) continue;  // left the grid (LostPoints)
       const double* x = &b.position[3 * p];
       double along, up;
       if (!radial_) {
@@ -309,6 +311,7 @@ RunOut::Result RunOut::evaluate(const Snapshot& s) const {
 void RunOut::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
+  lost_.record(s, bodies_);
   const Result r = evaluate(s);
   std::vector<double> row = {s.time, r.runout, r.height, r.kinetic_energy, r.max_speed, r.mean_velocity[0],
                              r.mean_velocity[1]};

@@ -76,6 +76,7 @@ class RunOut final : public FunctionObject {
   double window_lo_ = 0, window_hi_ = 0;
   CsvFile csv_;
   std::int64_t last_step_ = -1;
+  LostPoints lost_;  ///< points that left the grid: left out, counted in lostPoints.csv
 };
 
 }  // namespace scree::fo

@@ -105,6 +105,7 @@ SurfaceProfile::SurfaceProfile(const ParamReader& r, const SolverContext& ctx)
       direction_(read_direction(r, "direction", ctx, {1, 0, 0})),
       up_(read_direction(r, "up", ctx, default_up(ctx))),
       width_(r.has("binWidth") ? r.scalar("binWidth") : ctx.cell_size) {
+  lost_ = LostPoints(ctx, who_);
   if (!(width_ > 0))
     throw InputError(where_of(r, "binWidth"), "binWidth: must be positive (no grid cell size to default to)");
   const bool three_d = ctx.dimension == 3;
@@ -162,6 +163,7 @@ std::vector<SurfaceProfile::Bin> SurfaceProfile::evaluate(const Snapshot& s) con
   for (const auto& b : s.bodies) {
     if (!selected(bodies_, b)) continue;
     for (Index p = 0; p < b.n; ++p) {
+      if (b.is_lost(p)) continue;  // left the grid (LostPoints)
       const double* x = &b.position[3 * p];
       const double rel[3] = {x[0] - origin_[0], x[1] - origin_[1], x[2] - origin_[2]};
       const double along = dot(direction_, rel);
@@ -205,6 +207,7 @@ std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot&
   for (const auto& b : s.bodies) {
     if (!selected(bodies_, b)) continue;
     for (Index p = 0; p < b.n; ++p) {
+      if (b.is_lost(p)) continue;  // left the grid (LostPoints)
       const double* x = &b.position[3 * p];
       const double rel[3] = {x[0] - origin_[0], x[1] - origin_[1], x[2] - origin_[2]};
       const double da = dot(axis_a_, rel), db = dot(axis_b_, rel);
@@ -252,6 +255,7 @@ std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot&
 void SurfaceProfile::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
+  lost_.record(s, bodies_);
   if (!prepared_) {
     prepare_time_files(dir_, who_, start_time_);
     prepared_ = true;

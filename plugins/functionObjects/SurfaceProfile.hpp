@@ -82,6 +82,7 @@ class SurfaceProfile final : public FunctionObject {
   double start_time_ = 0;
   bool prepared_ = false;  ///< the directory made (first execution)
   std::int64_t last_step_ = -1;
+  LostPoints lost_;  ///< points that left the grid: left out, counted in lostPoints.csv
 };
 
 }  // namespace scree::fo

@@ -31,6 +31,7 @@ ParamSpec WaterBalance::spec() {
 
 WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
     : who_("waterBalance '" + ctx.name + "'"), bodies_(read_bodies(r, ctx)) {
+  lost_ = LostPoints(ctx, who_);
   const std::string unit = ctx.dimension == 3 ? " [kg]" : " [kg/m]";
   const std::vector<std::string> header = {"time [s]",
                                            "stored" + unit,
@@ -120,6 +121,7 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
     }
     double w = 0;
     for (Index p = 0; p < b.n; ++p) {
+      if (b.is_lost(p)) continue;  // left the grid (LostPoints)
       const double pw = f[0]->values[p], sat = f[1]->values[p], n = f[2]->values[p], vol = f[3]->values[p];
       w += (1 + pw / bulk) * n * sat * vol;
     }
@@ -141,6 +143,7 @@ void WaterBalance::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   const Totals t = evaluate(s);
   last_step_ = s.step;
+  lost_.record(s, bodies_);
   if (!have_reference_) {
     reference_ = t;
     have_reference_ = true;

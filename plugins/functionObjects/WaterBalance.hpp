@@ -52,6 +52,7 @@ class WaterBalance final : public FunctionObject {
   bool have_reference_ = false;
   Totals reference_;
   std::int64_t last_step_ = -1;
+  LostPoints lost_;  ///< points that left the grid: left out, counted in lostPoints.csv
 };
 
 }  // namespace scree::fo

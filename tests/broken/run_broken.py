@@ -13,7 +13,7 @@ variant.json:
   "doc":        the defect it guards against (one line)
   "base":       optional: the valid case to break, relative to the repository root
                 (default: tests/broken/base), e.g. "cases/elasticColumn"; a copy of it
-                without its results (VTK/, postProcessing/)
+                without its results (tests/support/case_copy.py)
   "args":       scree's arguments besides --case (e.g. ["--check"])
   "env":        optional: environment variables set for scree, e.g.
                 {"SCREE_TEST_FREE_MEMORY": "2e9"} (the free memory its check assumes)
@@ -63,6 +63,8 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "tests", "support"))
+from case_copy import copy_case  # noqa: E402
 PLANTED = {
     "VTK/particles.pvd": "<?xml version=\"1.0\"?>\n<!-- results of an earlier run -->\n",
     "VTK/particles_0.vtp": "earlier run, t = 0\n",
@@ -90,7 +92,7 @@ def snapshot(root):
 
 def prepare_case(variant_dir, case, base=None):
     src = os.path.join(ROOT, base) if base else os.path.join(HERE, "base")
-    shutil.copytree(src, case, ignore=shutil.ignore_patterns("VTK", "postProcessing", "checkpoints", ".scree*") if base else None)
+    copy_case(src, case)
     for dirpath, _, filenames in os.walk(variant_dir):
         for name in filenames:
             src = os.path.join(dirpath, name)

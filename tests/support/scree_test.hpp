@@ -52,6 +52,34 @@ inline PluginRuntime& runtime() {
   return *rt;
 }
 
+/// Copies the case directory `src` (a shipped case, cases/<name>, or one of its variants)
+/// into `dst` as a user starts from it: without what a run of it or of a variant left there,
+/// VTK/, postProcessing/, checkpoints/, hidden temporaries and lock files (the setup script's
+/// default run leaves results in cases/elasticColumn, which made restart-sensitive tests
+/// fail on a fresh machine). Every test that copies a shipped case copies it through this
+/// function, or through copy_case() of tests/support/case_copy.py (the same rule, for
+/// the Python tests). `dst` is created; files already there are overwritten.
+inline void copy_case(const std::filesystem::path& src, const std::filesystem::path& dst) {
+  namespace fs = std::filesystem;
+  auto result = [](const fs::path& name) {
+    const std::string n = name.string();
+    return n == "VTK" || n == "postProcessing" || n == "checkpoints" || n.front() == '.' ||
+           name.extension() == ".lock";
+  };
+  fs::create_directories(dst);
+  for (auto it = fs::recursive_directory_iterator(src); it != fs::recursive_directory_iterator(); ++it) {
+    const fs::path rel = fs::relative(it->path(), src);
+    if (result(it->path().filename())) {
+      if (it->is_directory()) it.disable_recursion_pending();
+      continue;
+    }
+    if (it->is_directory())
+      fs::create_directories(dst / rel);
+    else
+      fs::copy_file(it->path(), dst / rel, fs::copy_options::overwrite_existing);
+  }
+}
+
 /// A case directory under the system temp directory, removed when the object dies.
 class TempCase {
  public:

@@ -1,9 +1,9 @@
 // Regions of grid nodes and the set of walls built from boundary conditions.
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "scree/boundary/boundary_condition.hpp"
-#include "scree/plugin/context.hpp"
 
 namespace scree {
 
@@ -64,7 +64,8 @@ void Region::declare(ParamSpec& spec) {
   });
 }
 
-RegionWall::RegionWall(const ParamReader& r, const SolverContext& ctx) : region_(Region::read(r, ctx)), name_(ctx.name) {
+RegionWall::RegionWall(const ParamReader& r, const NodeLattice& grid, std::string name)
+    : region_(Region::read(r, grid)), name_(std::move(name)) {
   read_time_window(r, wall_);
 }
 
@@ -72,10 +73,10 @@ void RegionWall::constrain(WallSet& set) const {
   set.add(wall_, [this](const Real* x) { return region_.contains(x); }, name_);
 }
 
-Region Region::read(const ParamReader& r, const SolverContext& ctx) {
+Region Region::read(const ParamReader& r, const NodeLattice& grid) {
   Region g;
-  g.dim_ = ctx.dimension;
-  g.tol_ = 1e-6 * ctx.cell_size;
+  g.dim_ = grid.dimension;
+  g.tol_ = 1e-6 * grid.h;
   const Dictionary& d = r.dict();
   if (d.has("face")) {
     g.kind_ = Kind::face;
@@ -86,7 +87,7 @@ Region Region::read(const ParamReader& r, const SolverContext& ctx) {
       throw InputError(d.at("face").where(), "face: " + f + " does not exist in a " + std::to_string(g.dim_) +
                                                  "D case; expected one of " +
                                                  (g.dim_ == 2 ? "xMin, xMax, yMin, yMax" : "xMin, xMax, yMin, yMax, zMin, zMax"));
-    g.plane_ = g.upper_ ? ctx.domain_upper[g.axis_] : ctx.domain_lower[g.axis_];
+    g.plane_ = g.upper_ ? grid.upper[g.axis_] : grid.lower[g.axis_];
     g.normal_.assign(g.dim_, 0.0);
     g.normal_[g.axis_] = g.upper_ ? -1 : 1;
     g.description_ = "face " + f;
@@ -146,17 +147,6 @@ void for_each_node(const NodeLattice& grid, F&& f) {
   }
 }
 }  // namespace
-
-NodeLattice NodeLattice::of(const SolverContext& ctx) {
-  NodeLattice g;
-  g.dimension = ctx.dimension;
-  g.h = ctx.cell_size;
-  for (int d = 0; d < ctx.dimension; ++d) {
-    g.origin[d] = ctx.grid_origin[d];
-    g.nodes[d] = ctx.grid_nodes[d];
-  }
-  return g;
-}
 
 std::vector<Index> select_nodes(const NodeLattice& grid, const std::function<bool(const Real*)>& select) {
   std::vector<Index> nodes;

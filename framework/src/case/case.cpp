@@ -455,8 +455,10 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
 
   // `fields (...)` of writers and function objects: every name must be a field some body
   // of this case will have (the standard ones or its material's), so that a typo is an
-  // error here, with its line, rather than a warning at the first write.
-  {
+  // error here, with its line, rather than a warning at the first write. Not when the
+  // materials or bodies did not read (an include that cannot be opened, say): their fields
+  // are then unknown, and that file's error is the one to report.
+  if (readable(c.materials_) && readable(c.bodies_)) {
     std::vector<std::string> known = standard_particle_fields();
     for (const Entry& e : c.materials_.entries()) {
       if (!e.is_dict() || !names_an_object(e) || !e.dict().has("type")) continue;

@@ -4,10 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scree/core/constants.hpp"
+
 namespace scree::geometry {
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}  // namespace
 
 Box3 Box3::intersect(const Box3& o) const {
   Box3 r;
@@ -88,8 +87,8 @@ Box3 ExtrudedPolygon::bounds() const {
   const int u = (axis + 1) % 3, v = (axis + 2) % 3;
   b.lo[axis] = min;
   b.hi[axis] = max;
-  b.lo[u] = b.lo[v] = 1e300;
-  b.hi[u] = b.hi[v] = -1e300;
+  b.lo[u] = b.lo[v] = kUnbounded;
+  b.hi[u] = b.hi[v] = -kUnbounded;
   for (const auto& p : points) {
     b.lo[u] = std::min(b.lo[u], p[0]);
     b.hi[u] = std::max(b.hi[u], p[0]);

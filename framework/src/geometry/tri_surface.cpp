@@ -2,6 +2,7 @@
 #include "scree/geometry/tri_surface.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -12,6 +13,9 @@
 #include <sstream>
 #include <system_error>
 #include <unordered_map>
+#include <utility>
+
+#include "scree/core/constants.hpp"
 
 namespace fs = std::filesystem;
 
@@ -66,7 +70,10 @@ std::vector<TriSurface::Triangle> parse_ascii(const std::string& text, const std
       if (!(ls >> w)) return false;
       char* end = nullptr;
       out[i] = std::strtod(w.c_str(), &end);
-      if (end == w.c_str() || *end != '\0' || !std::isfinite(out[i])) return false;
+      if (end == w.c_str() || *end != '\0') return false;
+      if (!std::isfinite(out[i]))  // "inf", "nan", or beyond the range of a double (1e400)
+        throw InputError(at_line(display, n), "ASCII STL: '" + w + "' is not a finite number; expected " +
+                                                  "coordinates in metres" + named_at(key));
     }
     std::string extra;
     return !(ls >> extra);
@@ -154,6 +161,77 @@ std::string where_triangle(const TriSurface::Triangle& t, bool binary, const std
                 : "the facet at " + display + ":" + std::to_string(t.line);
 }
 
+/// (b - a) x (c - a) . (d - a): > 0 when d lies on the side of the plane abc that its
+/// normal points to, 0 on the plane.
+double orient(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  return dot(cross(b - a, c - a), d - a);
+}
+
+/// Whether the segment pq crosses the triangle t: p and q strictly on either side of its
+/// plane, and the line through them within the closed triangle, an edge or a vertex
+/// included (two shells may cross exactly through the diagonal of a face). A segment that
+/// only touches the plane (shells sharing a face, an edge or a vertex) does not cross. Each
+/// edge's side is computed from its vertices in one order (PointLess), so that the two
+/// triangles sharing an edge see exactly opposite sides of it and a line through the edge
+/// is within one of them whatever the rounding.
+bool crosses(const Point3& p, const Point3& q, const TriSurface::Triangle& t) {
+  const double dp = orient(t.v[0], t.v[1], t.v[2], p), dq = orient(t.v[0], t.v[1], t.v[2], q);
+  if (!((dp > 0 && dq < 0) || (dp < 0 && dq > 0))) return false;
+  double side[3];
+  for (int k = 0; k < 3; ++k) {
+    const Point3& a = t.v[k];
+    const Point3& b = t.v[(k + 1) % 3];
+    side[k] = PointLess{}(a, b) ? orient(p, q, a, b) : -orient(p, q, b, a);
+  }
+  return (side[0] >= 0 && side[1] >= 0 && side[2] >= 0) || (side[0] <= 0 && side[1] <= 0 && side[2] <= 0);
+}
+
+/// The first pair of triangles (in file order) that cross each other without sharing a
+/// vertex, or {-1, -1}: a surface that crosses itself, or closed shells that overlap, whose
+/// inside the parity rule gets wrong (where two shells overlap it counts as outside).
+/// Candidates are the pairs whose bounding boxes share a cell of a uniform grid.
+std::pair<int, int> first_crossing(const std::vector<TriSurface::Triangle>& tris,
+                                   const std::vector<std::array<int, 3>>& vertex_ids, const Box3& bounds) {
+  const int n = static_cast<int>(tris.size());
+  const int cells = static_cast<int>(std::clamp(std::ceil(std::cbrt(n / 2.0)), 1.0, 64.0));
+  double size[3];
+  for (int d = 0; d < 3; ++d) size[d] = bounds.hi[d] > bounds.lo[d] ? (bounds.hi[d] - bounds.lo[d]) / cells : 1;
+  auto cell = [&](double x, int d) {
+    return std::clamp(static_cast<int>(std::floor((x - bounds.lo[d]) / size[d])), 0, cells - 1);
+  };
+  std::vector<std::array<int, 6>> range(tris.size());
+  std::vector<std::vector<int>> grid(static_cast<std::size_t>(cells) * cells * cells);
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      const auto [lo, hi] = std::minmax({tris[i].v[0][d], tris[i].v[1][d], tris[i].v[2][d]});
+      range[i][d] = cell(lo, d);
+      range[i][3 + d] = cell(hi, d);
+    }
+    for (int z = range[i][2]; z <= range[i][5]; ++z)
+      for (int y = range[i][1]; y <= range[i][4]; ++y)
+        for (int x = range[i][0]; x <= range[i][3]; ++x)
+          grid[(static_cast<std::size_t>(z) * cells + y) * cells + x].push_back(i);
+  }
+  std::vector<int> seen(tris.size(), -1);  // the triangle i for which j was last tested
+  for (int i = 0; i < n; ++i)
+    for (int z = range[i][2]; z <= range[i][5]; ++z)
+      for (int y = range[i][1]; y <= range[i][4]; ++y)
+        for (int x = range[i][0]; x <= range[i][3]; ++x)
+          for (int j : grid[(static_cast<std::size_t>(z) * cells + y) * cells + x]) {
+            if (j <= i || seen[j] == i) continue;
+            seen[j] = i;
+            bool shared = false;
+            for (int a : vertex_ids[i])
+              for (int b : vertex_ids[j]) shared = shared || a == b;
+            if (shared) continue;
+            const auto& s = tris[i];
+            const auto& t = tris[j];
+            for (int k = 0; k < 3; ++k)
+              if (crosses(s.v[k], s.v[(k + 1) % 3], t) || crosses(t.v[k], t.v[(k + 1) % 3], s)) return {i, j};
+          }
+  return {-1, -1};
+}
+
 }  // namespace
 
 std::shared_ptr<const TriSurface> TriSurface::load(const fs::path& path, const std::string& display,
@@ -214,6 +292,26 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
   if (tris.empty())
     throw InputError(key, "file: " + display + " holds no triangle; expected a closed triangulated surface");
 
+  // Coordinates so large that a triangle's squared area (the fourth power of its size, in
+  // the test below) overflows: no test on such a surface means anything, and it must not be
+  // reported as zero-area triangles (inf <= inf). Typically a surface in other units.
+  for (const Triangle& t : tris) {
+    const Point3 e1 = t.v[1] - t.v[0], e2 = t.v[2] - t.v[0], e3 = t.v[2] - t.v[1];
+    const double longest = std::max({dot(e1, e1), dot(e2, e2), dot(e3, e3)});
+    const Point3 c = cross(e1, e2);
+    if (!std::isfinite(longest * longest) || !std::isfinite(dot(c, c))) {
+      double largest = 0;
+      for (const Point3& p : t.v)
+        for (int d = 0; d < 3; ++d) largest = std::max(largest, std::fabs(p[d]));
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%g", largest);
+      throw InputError(key, "file: " + display + " has coordinates too large to compute with (the first: " +
+                                where_triangle(t, binary, display) + ", a coordinate of magnitude " + buf +
+                                ": its squared area overflows a double); expected coordinates in metres " +
+                                "(scale the surface)");
+    }
+  }
+
   // Zero-area triangles: a sliver's edges are shared by three triangles, and it has no inside.
   int degenerate = 0;
   const Triangle* first_degenerate = nullptr;
@@ -241,8 +339,11 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
     Point3 a, b;
   };
   std::unordered_map<std::uint64_t, EdgeUse> edges;
+  std::vector<std::array<int, 3>> vertex_ids;
+  vertex_ids.reserve(tris.size());
   for (const Triangle& t : tris) {
     const int v[3] = {id(t.v[0]), id(t.v[1]), id(t.v[2])};
+    vertex_ids.push_back({v[0], v[1], v[2]});
     for (int k = 0; k < 3; ++k) {
       const int a = v[k], b = v[(k + 1) % 3];
       const std::uint64_t e = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
@@ -277,8 +378,8 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
   auto s = std::make_shared<TriSurface>();
   s->tris_ = std::move(tris);
   Box3& b = s->bounds_;
-  b.lo = {1e300, 1e300, 1e300};
-  b.hi = {-1e300, -1e300, -1e300};
+  b.lo = {kUnbounded, kUnbounded, kUnbounded};
+  b.hi = {-kUnbounded, -kUnbounded, -kUnbounded};
   double six_v = 0;
   for (const Triangle& t : s->tris_) {
     for (const Point3& p : t.v)
@@ -289,6 +390,30 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
     six_v += dot(t.v[0], cross(t.v[1], t.v[2]));
   }
   s->volume_ = std::fabs(six_v) / 6;
+
+  // Crossing triangles: closed shells that overlap, or a surface through itself.
+  if (const auto [i, j] = first_crossing(s->tris_, vertex_ids, b); i >= 0) {
+    // Shells: the triangles joined by shared vertices (union-find over vertex ids).
+    std::vector<int> parent(ids.size());
+    for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = static_cast<int>(k);
+    auto root = [&](int x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const auto& v : vertex_ids)
+      for (int k = 1; k < 3; ++k) parent[root(v[k])] = root(v[0]);
+    int shells = 0;
+    for (std::size_t k = 0; k < parent.size(); ++k) shells += root(static_cast<int>(k)) == static_cast<int>(k);
+    const bool two_shells = root(vertex_ids[i][0]) != root(vertex_ids[j][0]);
+    throw InputError(key, "file: the surface of " + display + " crosses itself: " +
+                              where_triangle(s->tris_[i], binary, display) + " crosses " +
+                              where_triangle(s->tris_[j], binary, display) +
+                              (two_shells ? ", of two of its " + std::to_string(shells) + " closed shells, which overlap"
+                                          : ", of one closed shell") +
+                              "; the inside of such a surface is not defined (where shells overlap, the points would "
+                              "count as outside); expected closed shells that neither cross themselves nor overlap "
+                              "(join overlapping solids into one surface, their union)");
+  }
 
   // Bucket grids of the projections across x, y and z.
   for (int k = 0; k < 3; ++k) {
@@ -310,7 +435,7 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
       const double area2 = (t.v[1][u] - t.v[0][u]) * (t.v[2][v] - t.v[0][v]) -
                            (t.v[1][v] - t.v[0][v]) * (t.v[2][u] - t.v[0][u]);
       if (area2 == 0) continue;  // edge-on to the ray: never crossed
-      double ulo = 1e300, uhi = -1e300, vlo = 1e300, vhi = -1e300;
+      double ulo = kUnbounded, uhi = -kUnbounded, vlo = kUnbounded, vhi = -kUnbounded;
       for (const Point3& p : t.v) {
         ulo = std::min(ulo, p[u]);
         uhi = std::max(uhi, p[u]);

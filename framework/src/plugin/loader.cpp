@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <boost/dll/shared_library.hpp>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <set>
 
@@ -31,11 +32,30 @@ const Registry& PluginRuntime::registry() const { return impl_->registry; }
 std::vector<std::string> PluginRuntime::loaded() const { return impl_->paths; }
 
 namespace {
-/// Directory of libscree.so itself (so an installed tree finds <prefix>/lib/scree/plugins).
-std::string dlerror_or(const char* fallback) {
+/// Why the dynamic loader refuses the library at `path`, in its own words without the path
+/// it repeats: Boost.DLL's exception has consumed dlerror() and ends with the errno text of
+/// its own error code (": Bad file descriptor"), which is not the reason. A file that is not
+/// an ELF object at all is said to be "not a shared object". `fallback`: the exception's
+/// text, when dlopen accepts the file after all.
+std::string dlopen_refusal(const fs::path& path, const std::string& fallback) {
+  if (std::ifstream f(path, std::ios::binary); f) {
+    char magic[4] = {};
+    f.read(magic, 4);
+    if (f.gcount() < 4 || magic[0] != 0x7f || magic[1] != 'E' || magic[2] != 'L' || magic[3] != 'F')
+      return "not a shared object (the file has no ELF header)";
+  }
+  void* h = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
+  if (h) {
+    dlclose(h);
+    return fallback;
+  }
   const char* e = dlerror();
-  return e ? std::string(e) : std::string(fallback);
+  std::string why = e ? e : fallback;
+  const std::string prefix = path.string() + ": ";
+  if (why.compare(0, prefix.size(), prefix) == 0) why.erase(0, prefix.size());
+  return why;
 }
+/// Directory of libscree.so itself (so an installed tree finds <prefix>/lib/scree/plugins).
 fs::path core_library_dir() {
   Dl_info info{};
   if (dladdr(reinterpret_cast<void*>(&core_library_dir), &info) && info.dli_fname)
@@ -112,7 +132,7 @@ void PluginRuntime::load(const std::string& name, const SourceLocation& where, c
   try {
     lib.load(path, boost::dll::load_mode::rtld_lazy | boost::dll::load_mode::rtld_local);
   } catch (const std::exception& e) {
-    throw InputError(where, "cannot load plugin library '" + path.string() + "': " + dlerror_or(e.what()));
+    throw InputError(where, "cannot load plugin library '" + path.string() + "': " + dlopen_refusal(path, e.what()));
   }
   if (!lib.has(SCREE_PLUGIN_ABI_SYMBOL) || !lib.has(SCREE_PLUGIN_ENTRY_SYMBOL))
     throw InputError(where, "'" + path.string() + "' is not a Scree plugin (it has no " SCREE_PLUGIN_ENTRY_SYMBOL

@@ -49,24 +49,6 @@ void write_case(const fs::path& dir) {
              "}\n");
 }
 
-/// The scree executable's exit status and what it printed.
-struct ScreeRun {
-  int rc;
-  std::string out;
-};
-
-/// Runs the scree executable on the case `dir` with `args` (each with its leading space), its
-/// output (stdout and stderr) to `log`.
-ScreeRun run_scree(const fs::path& dir, const std::string& args, const fs::path& log) {
-  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.string() + "'" + args +
-                          " > '" + log.string() + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  std::ifstream lf(log);
-  std::stringstream out;
-  out << lf.rdbuf();
-  return {rc, out.str()};
-}
-
 }  // namespace
 
 TEST(FreeFall3D, EnergiesRunOutHeightFieldAndVtk) {

@@ -453,6 +453,79 @@ TEST(ShapeErrors, StlFileMissingMalformedOpenOrDegenerate) {
   });
 }
 
+/// Writes `tris` as constant/triSurface/s.stl of `tc` (ASCII).
+void write_stl(const TempCase& tc, const std::vector<Tri>& tris) {
+  std::filesystem::create_directories(tc.dir() / "constant/triSurface");
+  write_ascii_stl((tc.dir() / "constant/triSurface/s.stl").string(), tris);
+}
+
+// Two closed shells that overlap (issue 42 item 9): the parity rule leaves their common part
+// empty (2,560 points where the union has 3,280), so the file is an error naming both
+// facets. The cubes cross exactly through the diagonals of each other's faces.
+TEST(ShapeErrors, StlOfTwoOverlappingShellsIsRefused) {
+  const std::string r = "region { type stl; file \"constant/triSurface/s.stl\"; }";
+  expect_error(3, r,
+               "constant/bodies:4:24: file: the surface of constant/triSurface/s.stl crosses itself: the facet at "
+               "constant/triSurface/s.stl:",
+               "", [](const TempCase& tc) {
+                 auto t = box({0, 0, 0}, {0.2, 0.2, 0.2});
+                 const auto b = box({0.1, 0.1, 0.1}, {0.3, 0.3, 0.3});
+                 t.insert(t.end(), b.begin(), b.end());
+                 write_stl(tc, t);
+               });
+  expect_error(3, r, "of two of its 2 closed shells, which overlap", "", [](const TempCase& tc) {
+    auto t = box({0, 0, 0}, {0.2, 0.2, 0.2});
+    const auto b = box({0.1, 0.1, 0.1}, {0.3, 0.3, 0.3});
+    t.insert(t.end(), b.begin(), b.end());
+    write_stl(tc, t);
+  });
+  // Crossing like a plus sign: no vertex of either bar is inside the other.
+  expect_error(3, r, "of two of its 2 closed shells, which overlap", "", [](const TempCase& tc) {
+    auto t = box({-0.3, -0.05, -0.05}, {0.3, 0.05, 0.05});
+    const auto b = box({-0.05, -0.3, -0.04}, {0.05, 0.3, 0.04});
+    t.insert(t.end(), b.begin(), b.end());
+    write_stl(tc, t);
+  });
+}
+
+// Shells that do not overlap stay valid: two apart, and a cube with a cavity (a smaller cube
+// inside it, whose inside is outside the body by the parity rule).
+TEST(ShapeErrors, StlOfSeparateOrNestedShellsChecksClean) {
+  for (const auto& [lo, hi] : {std::pair{P3{0.3, 0.3, 0.3}, P3{0.5, 0.5, 0.5}},
+                               std::pair{P3{0.05, 0.05, 0.05}, P3{0.15, 0.15, 0.15}}}) {
+    TempCase tc("stl_shells");
+    write_case(tc, 3, "region { type stl; file \"constant/triSurface/s.stl\"; }");
+    auto t = box({0, 0, 0}, {0.2, 0.2, 0.2});
+    const auto b = box(lo, hi);
+    t.insert(t.end(), b.begin(), b.end());
+    write_stl(tc, t);
+    EXPECT_EQ(errors_of(tc), "") << lo[0];
+  }
+}
+
+// Coordinates out of a double's reach (issue 42 item 10): a cube scaled by 1e300 was
+// reported as 12 zero-area triangles (its areas overflow); 1e400 is not a number at all.
+TEST(ShapeErrors, StlCoordinatesTooLargeOrNotFinite) {
+  const std::string r = "region { type stl; file \"constant/triSurface/s.stl\"; }";
+  expect_error(3, r,
+               "constant/bodies:4:24: file: constant/triSurface/s.stl has coordinates too large to compute with (the "
+               "first: the facet at constant/triSurface/s.stl:2, a coordinate of magnitude 2e+299",
+               "", [](const TempCase& tc) { write_stl(tc, box({-2e299, -2e299, -2e299}, {2e299, 2e299, 2e299})); });
+  expect_error(3, r,
+               "constant/triSurface/s.stl:5:1: ASCII STL: '1e400' is not a finite number; expected coordinates in "
+               "metres",
+               "", [](const TempCase& tc) {
+                 write_file(tc, "constant/triSurface/s.stl",
+                            "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e400 0 0\nvertex 0 1 0\n"
+                            "endloop\nendfacet\nendsolid s\n");
+               });
+  TempCase tc("stl_huge");
+  write_case(tc, 3, r);
+  write_stl(tc, box({-2e299, -2e299, -2e299}, {2e299, 2e299, 2e299}));
+  const std::string e = errors_of(tc);
+  EXPECT_EQ(e.find("zero-area"), std::string::npos) << e;
+}
+
 // ---- overlap and domain checks of 3D bodies -------------------------------------------
 
 TEST(ShapeErrors, OverlappingSpheresAndASphereOutsideTheDomain) {

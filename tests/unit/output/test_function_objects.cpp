@@ -171,6 +171,48 @@ TEST(RunOut, InputErrors) {
   }
 }
 
+// Points that left the grid (issue 42 item 13: a run where 97 of 1,600 points had left
+// reported 1,600 particles and a front stuck at the grid's edge). Particle 3 of "left"
+// (x = 2, the front) is lost at the second execution: every function object leaves it out,
+// and says how many were lost in lostPoints.csv, which a run without lost points never
+// writes (its other files are as before).
+TEST(LostPoints, LeftOutOfEveryStatisticAndCounted) {
+  TempDir dir;
+  auto front_ctx = make_context(dir.path(), "front");
+  auto energy_ctx = make_context(dir.path(), "energy");
+  auto front = make_function("runOut", "bodies (left); origin (0.1 0);", front_ctx);
+  auto energy = make_function("energies", "bodies (left); origin (0 0.1);", energy_ctx);
+  for (auto* f : {front.get(), energy.get()}) f->execute(layout(0.0, 0));
+  EXPECT_FALSE(fs::exists(dir.path() / "postProcessing" / "front" / "lostPoints.csv")) << "none lost yet";
+  Snapshot s = layout(0.5, 7);
+  s.bodies[0].lost = {0, 0, 0, 1};
+  s.bodies[1].lost = {1};  // not a selected body: not counted
+  for (auto* f : {front.get(), energy.get()}) f->execute(s);
+  const Csv c = read_csv(dir.path() / "postProcessing" / "front" / "runOut.csv");
+  ASSERT_EQ(c.rows.size(), 2u);
+  EXPECT_NEAR(c.num(0, "runout [m]"), 1.9, kTol);
+  EXPECT_NEAR(c.num(1, "runout [m]"), 0.8, kTol);  // the furthest point still on the grid, x = 0.9
+  EXPECT_EQ(c.num(1, "particles [-]"), 3);
+  EXPECT_EQ(c.num(1, "mass [kg/m]"), 6);
+  EXPECT_NEAR(c.num(1, "kinetic_energy [J/m]"), 7.5, kTol);  // 1/2 (1*1 + 2*4 + 3*2)
+  for (const char* name : {"front", "energy"}) {
+    const Csv lost = read_csv(dir.path() / "postProcessing" / name / "lostPoints.csv");
+    const std::vector<std::string> header = {"time [s]", "lost points [-]"};
+    EXPECT_EQ(lost.header, header) << name;
+    ASSERT_EQ(lost.rows.size(), 1u) << name << ": a row from the first execution with a lost point";
+    EXPECT_EQ(lost.num(0, "time [s]"), 0.5);
+    EXPECT_EQ(lost.num(0, "lost points [-]"), 1) << name;
+  }
+  const Csv e = read_csv(dir.path() / "postProcessing" / "energy" / "energies.csv");
+  EXPECT_NEAR(e.num(1, "kinetic [J/m]"), 7.5, kTol);
+  EXPECT_NEAR(e.num(1, "potential [J/m]"), 9.81 * 0.3, kTol);  // m g (y - 0.1) of the three left: 0.3
+
+  // A fresh run in the same place removes the earlier run's count.
+  auto again = make_function("runOut", "bodies (left); origin (0.1 0);", front_ctx);
+  again->execute(layout(0.0, 0));
+  EXPECT_FALSE(fs::exists(dir.path() / "postProcessing" / "front" / "lostPoints.csv"));
+}
+
 TEST(Energies, KineticAndPotential) {
   TempDir dir;
   auto ctx = make_context(dir.path(), "energy");

@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -172,6 +173,24 @@ inline std::vector<PvdItem> read_pvd(const fs::path& p) {
   for (auto it = std::sregex_iterator(text.begin(), text.end(), ds); it != std::sregex_iterator(); ++it)
     items.push_back({std::stod((*it)[1]), (*it)[2]});
   return items;
+}
+
+/// The scree executable's exit status and what it printed.
+struct ScreeRun {
+  int rc;
+  std::string out;
+};
+
+/// Runs the scree executable of the build tree on the case `dir` with `args` (each with its
+/// leading space), its output (stdout and stderr) to `log`.
+inline ScreeRun run_scree(const fs::path& dir, const std::string& args, const fs::path& log) {
+  const std::string cmd = std::string(SCREE_BINARY_DIR "/bin/scree") + " --case '" + dir.string() + "'" + args +
+                          " > '" + log.string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream lf(log);
+  std::stringstream out;
+  out << lf.rdbuf();
+  return {rc, out.str()};
 }
 
 /// Files in `dir` whose names start with '.' or contain ".tmp" (left-over temporaries).

@@ -47,6 +47,27 @@ TEST(PluginRuntime, RefusesALibraryThatIsNotAPlugin) {
   EXPECT_THROW(rt.load("libdoes_not_exist.so"), InputError);
 }
 
+// A file named like a plugin that is not a shared object (a text file): the dynamic
+// loader's reason, once, without the errno text that Boost.DLL's exception appends (it
+// ended with ": Bad file descriptor", issue 42 item 10).
+TEST(PluginRuntime, AFileThatIsNotASharedObjectGetsTheLoadersReason) {
+  TempCase tc("not_a_shared_object");
+  const std::filesystem::path lib = tc.dir() / "libtext.so";
+  std::ofstream(lib) << "not a shared object\n";
+  PluginRuntime rt;
+  try {
+    rt.load(lib.string(), SourceLocation{std::make_shared<std::string>("system/controlDict"), 2, 7});
+    FAIL() << "loaded a text file";
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("system/controlDict:2:7: cannot load plugin library '" + lib.string() + "'"), std::string::npos)
+        << w;
+    EXPECT_NE(w.find("not a shared object"), std::string::npos) << w;
+    EXPECT_EQ(w.find("Bad file descriptor"), std::string::npos) << w;
+    EXPECT_EQ(w.find("boost"), std::string::npos) << w;
+  }
+}
+
 TEST(PluginRuntime, SameKernelTemplateInTwoLibrariesRunsEachOwnBody) {
   const Device dev = test_device();
   boost::dll::shared_library a(kTestLibs + "/libscree_test_fill_a.so");

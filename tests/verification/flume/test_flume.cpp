@@ -101,10 +101,7 @@ State measure(const Snapshot& s) {
 /// cases/flume in tc at 20 mm cells, run to end_time [s] with steps of at most 2e-5 s, no
 /// writers or function objects; `schemes`: more of system/mpmSchemes.
 Case coarse_flume(const TempCase& tc, double end_time, const std::string& schemes = "") {
-  const auto src = std::filesystem::path(SCREE_SOURCE_DIR) / "cases/flume";
-  for (const char* d : {"system", "constant"})
-    std::filesystem::copy(src / d, tc.dir() / d,
-                          std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
+  copy_case(std::filesystem::path(SCREE_SOURCE_DIR) / "cases/flume", tc.dir());
   std::ofstream(tc.dir() / "system/gridDict", std::ios::app) << "\n#inputMode overwrite\ncellSize 0.02;\n";
   if (!schemes.empty()) std::ofstream(tc.dir() / "system/mpmSchemes", std::ios::app) << "\n#inputMode overwrite\n" << schemes;
   std::ofstream(tc.dir() / "system/controlDict", std::ios::app)

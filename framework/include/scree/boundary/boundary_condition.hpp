@@ -61,12 +61,16 @@ struct OpenSurface {
   bool outflow_only = false;
 };
 
-/// The grid's nodes as WallSet and select_nodes visit them.
+/// The grid's nodes as WallSet and select_nodes visit them, and the domain box that
+/// regions (faces) are read against.
 struct NodeLattice {
   int dimension = 2;
   Real origin[3] = {0, 0, 0};  ///< position of node (0, 0, 0) [m]
   int nodes[3] = {1, 1, 1};    ///< nodes per axis
   Real h = 0;                  ///< spacing [m]
+  Real lower[3] = {0, 0, 0}, upper[3] = {0, 0, 0};  ///< the domain box (gridDict lower, upper) [m]
+  /// The case's grid as plugins learn it. Defined in the plugin layer (src/plugin/context.cpp),
+  /// where SolverContext is known: this folder is below plugin/ in the README's layering.
   SCREE_API static NodeLattice of(const SolverContext& ctx);
   Index count() const { return static_cast<Index>(nodes[0]) * nodes[1] * nodes[2]; }
 };
@@ -76,7 +80,10 @@ class SCREE_API Region {
  public:
   /// Declare the region parameters (face | box | halfSpace) in a spec.
   static void declare(ParamSpec& spec);
-  /// Read from a validated dictionary. Throws InputError for an incomplete region.
+  /// Read from a validated dictionary against the case's grid (faces: its domain box).
+  /// Throws InputError for an incomplete region.
+  static Region read(const ParamReader& r, const NodeLattice& grid);
+  /// The same with the grid of a plugin's context (src/plugin/context.cpp).
   static Region read(const ParamReader& r, const SolverContext& ctx);
 
   bool contains(const Real* x) const;
@@ -185,7 +192,9 @@ class SCREE_API BoundaryCondition {
 /// `wall_` in their constructor.
 class SCREE_API RegionWall : public BoundaryCondition {
  public:
+  /// `ctx`: the region's grid and the condition's name (src/plugin/context.cpp).
   RegionWall(const ParamReader& r, const SolverContext& ctx);
+  RegionWall(const ParamReader& r, const NodeLattice& grid, std::string name);
   void constrain(WallSet& set) const override;
 
  protected:

@@ -167,6 +167,7 @@ class MaterialBody final : public Body<D> {
     out.n = n;
     out.position.assign(static_cast<std::size_t>(3 * n), 0.0);
     out.id.resize(n);
+    out.lost.assign(static_cast<std::size_t>(n), 0);
     auto add = [&](std::string nm, int comps, std::string unit, std::string doc) -> Real* {
       out.fields.push_back({std::move(nm), comps, std::move(unit), std::move(doc),
                             std::vector<Real>(static_cast<std::size_t>(comps * n), 0.0)});
@@ -210,6 +211,7 @@ class MaterialBody final : public Body<D> {
       Mat<D> F;
       for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = col(store_.c_F() + i)[p];
       vol[p] = std::fabs(col(store_.c_vol0())[p]) * det(F);
+      out.lost[p] = col(store_.c_vol0())[p] < 0;  // ParticlePass::lost marks a point that left the grid
       pmass[p] = col(store_.c_mass())[p];
       dens[p] = vol[p] > 0 ? col(store_.c_mass())[p] / vol[p] : 0;
       bid[p] = out.body_id;

@@ -39,6 +39,11 @@ struct BodySnapshot {
   std::vector<Real> position;      ///< 3 per particle (z = 0 in 2D) [m]
   std::vector<std::int64_t> id;    ///< particle ids (unique over the case, stable)
   std::vector<FieldData> fields;   ///< velocity, displacement, stress, ... and material fields
+  /// 1 for a point that has left the grid (its stencil reached past the last node: it is
+  /// frozen where it left, mpm/particle_pass.hpp), 0 otherwise; empty where the snapshot does
+  /// not say (one made by hand). Function objects leave these points out of what they measure.
+  std::vector<std::uint8_t> lost;
+  bool is_lost(Index p) const { return !lost.empty() && lost[static_cast<std::size_t>(p)] != 0; }
   /// Per-body scalars at this time: constants a post-processor needs and cumulative
   /// quantities since t = 0. A two-phase body (porous/) gives liquidDensity [kg/m^3],
   /// liquidBulkModulus [Pa], liquidInflowSurface [kg] (the pore liquid's net mass that
