@@ -247,16 +247,16 @@ bool PorousMedia<D>::holds(const Body<D>* body) const {
 }
 
 template <int D>
-void PorousMedia<D>::add_condition(const BoundaryCondition* bc) {
+void PorousMedia<D>::add_condition(const HydraulicCondition* hc) {
   std::vector<PorePressureLaw> laws;
-  bc->constrain_pores(laws);
+  hc->constrain_pores(laws);
   for (const PorePressureLaw& l : laws) laws_.push_back(l);
   if (static_cast<int>(laws_.size()) > kMaxPorePressureLaws)
     throw std::runtime_error("too many pore-pressure conditions (at most " + std::to_string(kMaxPorePressureLaws) +
                              " per case)");
-  if (bc->has_hydraulic_law()) node_laws_.push_back(bc);
+  if (hc->has_hydraulic_law()) node_laws_.push_back(hc);
   std::vector<OpenSurface> open;
-  bc->open_surfaces(open);
+  hc->open_surfaces(open);
   for (const OpenSurface& o : open) {
     const int bit = static_cast<int>(open_windows_.size());
     if (bit >= kMaxOpenSurfaces)
@@ -406,7 +406,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.control = control;
   g.parity = parity;
   g.mass_eps = mass_eps;
-  for (const BoundaryCondition* bc : node_laws_) bc->apply_hydraulic(exec_, g);
+  for (const HydraulicCondition* hc : node_laws_) hc->apply_hydraulic(exec_, g);
   SurfaceInflow<D> f;
   f.grid = grid_;
   f.solid = solid_sets[set];

@@ -35,8 +35,8 @@ class PorousMedia {
   /// effective initial stress, and return true (the body is then attach()ed).
   bool prepare(const Dictionary& body, BodySetup<D>& s, Real grain_density);
   void attach(Body<D>* body);
-  /// A hydraulic condition (has_hydraulic_law or constrain_pores).
-  void add_condition(const BoundaryCondition* bc);
+  /// A hydraulic condition of the case (its pore pressures, open surfaces and node law).
+  void add_condition(const HydraulicCondition* hc);
   /// The walls of the case and which of them the liquid obeys (all but the drained).
   void set_walls(const Wall* walls, const WallMask* masks, const std::vector<Wall>& table,
                  const std::vector<WallMask>& host_masks);
@@ -100,7 +100,7 @@ class PorousMedia {
   Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals)
   Index n_cells_ = 0;
   std::vector<PorePressureLaw> laws_;
-  std::vector<const BoundaryCondition*> node_laws_;
+  std::vector<const HydraulicCondition*> node_laws_;
   const Wall* walls_ = nullptr;
   const WallMask* masks_ = nullptr;
   Buffer<WallMask> liquid_masks_;

@@ -373,12 +373,13 @@ void Solver<D>::setup_boundaries() {
       if (set.count(static_cast<int>(i)) == 0)
         log_ << "warning: " << d.where().str() << ": boundary condition '" << e.key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
-    if (bc->hydraulic()) {
+    // A condition on the pore liquid (porous/hydraulic_condition.hpp) goes to the porous media.
+    if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) {
       if (!porous_)
         throw InputError(type.where(), "type " + type.as_word() + ": '" + e.key() +
                                            "' acts on the pore liquid, and no body of this case is two-phase (a "
                                            "body with a twoPhase { ... } block in constant/bodies)");
-      porous_->add_condition(bc.get());
+      porous_->add_condition(hc);
     }
     boundaries_.push_back(std::move(bc));
   }
