@@ -6,10 +6,11 @@
 #include <cmath>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
+#include "scree/core/constants.hpp"
 #include "scree/io/dictionary.hpp"
 #include "scree/params/spec.hpp"
-#include "scree/solver/case.hpp"
 
 namespace scree {
 
@@ -60,9 +61,9 @@ std::vector<std::string> two_phase_field_names() {
 }
 
 template <int D>
-PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, const Exec& exec, const Vec<D>& gravity,
-                            ShapeKind shape, Real gimp_half_length)
-    : reg_(reg), grid_(grid), exec_(exec), gravity_(gravity), shape_(shape), gimp_half_length_(gimp_half_length) {
+PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>& grid, const Exec& exec,
+                            const Vec<D>& gravity, ShapeKind shape, Real gimp_half_length)
+    : models_(std::move(models)), grid_(grid), exec_(exec), gravity_(gravity), shape_(shape), gimp_half_length_(gimp_half_length) {
   Real gmax = -1;
   for (int d = 0; d < D; ++d)
     if (std::fabs(gravity[d]) > gmax) {
@@ -126,15 +127,8 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
                        "give intrinsicPermeability instead");
     P.kappa = r.scalar("hydraulicConductivity") * P.viscosity / (P.rho_l * g);
   }
-  auto plugin = [&](const char* key, PluginKind kind) -> const PluginEntry* {
-    if (!tp.has(key)) return nullptr;
-    const Entry& t = tp.at(key).dict().at("type");
-    return &reg_.get(kind, t.as_word(), t.where());
-  };
-  if (const PluginEntry* pe = plugin("retention", PluginKind::retention))
-    b.retention = pe->retention(tp.at("retention").dict());
-  if (const PluginEntry* pe = plugin("permeability", PluginKind::permeability))
-    b.permeability = pe->permeability(tp.at("permeability").dict());
+  if (tp.has("retention")) b.retention = models_.retention(tp.at("retention").dict());
+  if (tp.has("permeability")) b.permeability = models_.permeability(tp.at("permeability").dict());
   if (b.permeability && !b.retention)
     throw InputError(tp.at("permeability").where(),
                      "permeability: a relative permeability needs a retention curve (retention { type ...; }); a "
@@ -173,7 +167,7 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
   // (Bishop, chi = S_l), with K0 acting on the effective stresses.
   if (const Entry* is = body.find("initialStress"); is && is->dict().get_word("type") == "geostatic" && g > 0) {
     const Real K0 = is->dict().has("K0") ? is->dict().get_scalar("K0") : Real(0.5);
-    Real top = -1e300;
+    Real top = -kUnbounded;
     std::vector<Real> depth(n);
     for (std::size_t p = 0; p < n; ++p) {
       depth[p] = s.sigma[p][vertical_] / (-grain_density * g);
