@@ -10,23 +10,24 @@
 #include <vector>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/plugin/context.hpp"
+#include "scree/porous/hydraulic_condition.hpp"
 
 namespace scree::boundary {
 
-class Ponding final : public BoundaryCondition {
+class Ponding final : public BoundaryCondition, public HydraulicCondition {
  public:
   static constexpr const char* type_name = "ponding";
   static ParamSpec spec() {
     ParamSpec s(type_name, "open surface of two-phase bodies (p_w = 0): ponding water, a drained top, a seepage face");
     Region::declare(s);
-    s.scalar("startTime", "s", "the condition acts from this time").default_value(-1e300);
-    s.scalar("endTime", "s", "the condition acts until this time").default_value(1e300);
+    s.scalar("startTime", "s", "the condition acts from this time").default_value(-kUnbounded);
+    s.scalar("endTime", "s", "the condition acts until this time").default_value(kUnbounded);
     return s;
   }
   Ponding(const ParamReader& r, const SolverContext& ctx)
       : region_(Region::read(r, ctx)), t_start_(r.scalar("startTime")), t_end_(r.scalar("endTime")) {}
-  bool hydraulic() const override { return true; }
   void open_surfaces(std::vector<OpenSurface>& out) const override {
     out.push_back({[this](const Real* x) { return region_.contains(x); }, t_start_, t_end_});
   }

@@ -15,12 +15,13 @@
 #include <vector>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/plugin/context.hpp"
-#include "scree/porous/two_phase.hpp"
+#include "scree/porous/hydraulic_condition.hpp"
 
 namespace scree::boundary {
 
-class PorePressure final : public BoundaryCondition {
+class PorePressure final : public BoundaryCondition, public HydraulicCondition {
  public:
   static constexpr const char* type_name = "porePressure";
   static ParamSpec spec() {
@@ -29,8 +30,8 @@ class PorePressure final : public BoundaryCondition {
     s.vector("max", "m", "upper corner of the box").size(-1);
     s.scalar("value", "Pa", "pore pressure, compression positive (give this or waterTable)").optional();
     s.scalar("waterTable", "m", "hydrostatic: elevation of the water table along -g (give this or value)").optional();
-    s.scalar("startTime", "s", "the condition acts from this time").default_value(-1e300);
-    s.scalar("endTime", "s", "the condition acts until this time").default_value(1e300);
+    s.scalar("startTime", "s", "the condition acts from this time").default_value(-kUnbounded);
+    s.scalar("endTime", "s", "the condition acts until this time").default_value(kUnbounded);
     s.check([](const Dictionary& d, std::vector<InputError>& errors) {
       if (d.has("value") == d.has("waterTable"))
         errors.emplace_back(d.where(), "porePressure: give exactly one of value [Pa] and waterTable [m]");
@@ -58,7 +59,6 @@ class PorePressure final : public BoundaryCondition {
     law_.t_start = r.scalar("startTime");
     law_.t_end = r.scalar("endTime");
   }
-  bool hydraulic() const override { return true; }
   void constrain_pores(std::vector<PorePressureLaw>& laws) const override { laws.push_back(law_); }
 
  private:

@@ -22,9 +22,9 @@
 //
 // Surface nodes are found at every step: nodes with mass that touch an empty cell and a cell
 // holding points, or only empty cells (their mass then comes from the GIMP domains of points
-// beyond: porous/two_phase.hpp, surface_node), inside the condition's region and time window.
+// beyond: porous/free_surface.hpp, surface_node), inside the condition's region and time window.
 // There the surface is open while it rains (a two-phase body's surface is closed elsewhere,
-// porous/two_phase.hpp): p_w = 0, the natural condition, takes in what the soil can take.
+// porous/grid_update.hpp): p_w = 0, the natural condition, takes in what the soil can take.
 //
 //   rain { type rainfall; box { min (0 1.0); max (0.1 1.2); } intensity 1800; unit mm/h; }
 #pragma once
@@ -33,13 +33,15 @@
 #include <vector>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/context.hpp"
-#include "scree/porous/two_phase.hpp"
+#include "scree/porous/free_surface.hpp"
+#include "scree/porous/hydraulic_condition.hpp"
 
 namespace scree::boundary {
 
-/// The correction (A)-(E) at one node (seepage_correction, porous/two_phase.hpp), applied
+/// The correction (A)-(E) at one node (seepage_correction, porous/free_surface.hpp), applied
 /// only where (B) holds; returns whether it was applied.
 template <int D>
 SCREE_HD inline bool rainfall_correction(const Real* grad, Real ms, Real ml, Real mlm, const Real* w, Real* vs,
@@ -77,7 +79,7 @@ struct RainfallKernel {
 };
 }  // namespace detail
 
-class Rainfall final : public BoundaryCondition {
+class Rainfall final : public BoundaryCondition, public HydraulicCondition {
  public:
   static constexpr const char* type_name = "rainfall";
   static ParamSpec spec() {
@@ -88,8 +90,8 @@ class Rainfall final : public BoundaryCondition {
     s.scalar("intensity", "m/s or mm/h (unit)", "rain intensity, per unit horizontal area").non_negative();
     s.word("unit", "the intensity's unit").choices({"m/s", "mm/h"}).default_value("m/s");
     s.vector("direction", "-", "direction in which the rain falls (default: along gravity)").size(-1).optional();
-    s.scalar("startTime", "s", "the rain starts").default_value(-1e300);
-    s.scalar("endTime", "s", "the rain stops").default_value(1e300);
+    s.scalar("startTime", "s", "the rain starts").default_value(-kUnbounded);
+    s.scalar("endTime", "s", "the rain stops").default_value(kUnbounded);
     return s;
   }
   Rainfall(const ParamReader& r, const SolverContext& ctx) : region_(Region::read(r, ctx)) {
@@ -107,7 +109,6 @@ class Rainfall final : public BoundaryCondition {
     t_end_ = r.scalar("endTime");
     hosted_ = select_nodes(NodeLattice::of(ctx), [this](const Real* x) { return region_.contains(x); });
   }
-  bool hydraulic() const override { return true; }
   bool has_hydraulic_law() const override { return true; }
   /// Under the rain the surface is open (p_w = 0, the weak form's natural condition): the
   /// soil takes what it can, and (B) clips it to the rain.
@@ -131,7 +132,7 @@ class Rainfall final : public BoundaryCondition {
 
   Region region_;
   Real w_[3] = {0, 0, 0};
-  Real t_start_ = -1e300, t_end_ = 1e300;
+  Real t_start_ = -kUnbounded, t_end_ = kUnbounded;
   std::vector<Index> hosted_;
   mutable Buffer<Index> nodes_;
 };

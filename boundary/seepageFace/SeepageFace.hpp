@@ -11,11 +11,13 @@
 #include <vector>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/plugin/context.hpp"
+#include "scree/porous/hydraulic_condition.hpp"
 
 namespace scree::boundary {
 
-class SeepageFace final : public BoundaryCondition {
+class SeepageFace final : public BoundaryCondition, public HydraulicCondition {
  public:
   static constexpr const char* type_name = "seepageFace";
   static ParamSpec spec() {
@@ -23,13 +25,12 @@ class SeepageFace final : public BoundaryCondition {
                 "seepage face of two-phase bodies: open (p_w = 0) where the soil behind it is saturated and in "
                 "compression, closed where it is in suction: the liquid leaves, never enters");
     Region::declare(s);
-    s.scalar("startTime", "s", "the condition acts from this time").default_value(-1e300);
-    s.scalar("endTime", "s", "the condition acts until this time").default_value(1e300);
+    s.scalar("startTime", "s", "the condition acts from this time").default_value(-kUnbounded);
+    s.scalar("endTime", "s", "the condition acts until this time").default_value(kUnbounded);
     return s;
   }
   SeepageFace(const ParamReader& r, const SolverContext& ctx)
       : region_(Region::read(r, ctx)), t_start_(r.scalar("startTime")), t_end_(r.scalar("endTime")) {}
-  bool hydraulic() const override { return true; }
   void open_surfaces(std::vector<OpenSurface>& out) const override {
     OpenSurface o{[this](const Real* x) { return region_.contains(x); }, t_start_, t_end_};
     o.outflow_only = true;

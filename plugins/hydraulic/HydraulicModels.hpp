@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <string_view>
 
 #include "scree/params/spec.hpp"
 #include "scree/porous/hydraulic_model.hpp"
@@ -48,7 +49,13 @@ class VanGenuchten final : public RetentionModel {
   double s_min() const override { return smin_; }
   double s_max() const override { return smax_; }
   double suction_scale() const override { return p0_; }
-  double vg_exponent() const override { return lambda_; }
+  double parameter(std::string_view name) const override {
+    if (name == "p0") return p0_;
+    if (name == "lambda") return lambda_;
+    if (name == "Smin") return smin_;
+    if (name == "Smax") return smax_;
+    return std::nan("");
+  }
 
  private:
   double p0_, lambda_, smin_, smax_;
@@ -56,7 +63,7 @@ class VanGenuchten final : public RetentionModel {
 
 /// Mualem (1976) with van Genuchten's closed form (van Genuchten 1980, eq. 8):
 ///   k_rel = S_e^(1/2) [1 - (1 - S_e^(1/m))^m]^2,
-/// with m the retention curve's exponent (vanGenuchten: m = lambda) unless given. The
+/// with m the retention curve's parameter `lambda` (vanGenuchten's, its m) unless given. The
 /// floor keeps k_rel >= floor: at S_e -> 0 Mualem's k_rel -> 0 and the drag -> infinity; the
 /// implicit drag copes with any value, the floor only keeps the coefficient finite. 1e-12
 /// (the default) is below any flow it could carry (K_sat 1e-3 m/s: 1e-15 m/s).
@@ -76,12 +83,12 @@ class MualemVanGenuchten final : public PermeabilityModel {
   explicit MualemVanGenuchten(const ParamReader& r)
       : m_(r.has("m") ? r.scalar("m") : std::nan("")), floor_(r.scalar("floor")) {}
   std::string incompatible(const RetentionModel& ret) const override {
-    if (std::isnan(m_) && std::isnan(ret.vg_exponent()))
-      return "m: the retention curve has no van Genuchten exponent to take it from; give m";
+    if (std::isnan(m_) && std::isnan(ret.parameter("lambda")))
+      return "m: the retention curve has no van Genuchten exponent (a parameter lambda) to take it from; give m";
     return {};
   }
   double relative(double se, const RetentionModel& ret) const override {
-    const double m = std::isnan(m_) ? ret.vg_exponent() : m_;  // incompatible() rules out NaN
+    const double m = std::isnan(m_) ? ret.parameter("lambda") : m_;  // incompatible() rules out NaN
     if (se <= 0) return floor_;
     if (se >= 1) return 1;
     const double k = std::sqrt(se) * std::pow(1 - std::pow(1 - std::pow(se, 1 / m), m), 2);

@@ -1,13 +1,19 @@
-// Tabulation of the retention and permeability curves for the kernels (hydraulic_model.hpp).
+// Tabulation of the retention and permeability curves for the kernels (hydraulic_model.hpp),
+// and the key functions of the porous formulation's plugin interfaces (their type
+// information lives in the core, where the solver's dynamic_cast finds a plugin's
+// HydraulicCondition: hydraulic_condition.hpp).
 #include "scree/porous/hydraulic_model.hpp"
 
 #include <cmath>
 #include <vector>
 
+#include "scree/porous/hydraulic_condition.hpp"
+
 namespace scree {
 
 RetentionModel::~RetentionModel() = default;
 PermeabilityModel::~PermeabilityModel() = default;
+HydraulicCondition::~HydraulicCondition() = default;
 
 HydraulicTableStorage::HydraulicTableStorage(const RetentionModel* ret, const PermeabilityModel* perm, Device device) {
   HydraulicTable& t = table_;

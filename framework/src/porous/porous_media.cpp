@@ -6,7 +6,9 @@
 #include <cmath>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
+#include "scree/core/constants.hpp"
 #include "scree/io/dictionary.hpp"
 #include "scree/params/spec.hpp"
 
@@ -59,9 +61,9 @@ std::vector<std::string> two_phase_field_names() {
 }
 
 template <int D>
-PorousMedia<D>::PorousMedia(const Registry& reg, const GridGeometry<D>& grid, const Exec& exec, const Vec<D>& gravity,
-                            ShapeKind shape, Real gimp_half_length)
-    : reg_(reg), grid_(grid), exec_(exec), gravity_(gravity), shape_(shape), gimp_half_length_(gimp_half_length) {
+PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>& grid, const Exec& exec,
+                            const Vec<D>& gravity, ShapeKind shape, Real gimp_half_length)
+    : models_(std::move(models)), grid_(grid), exec_(exec), gravity_(gravity), shape_(shape), gimp_half_length_(gimp_half_length) {
   Real gmax = -1;
   for (int d = 0; d < D; ++d)
     if (std::fabs(gravity[d]) > gmax) {
@@ -125,15 +127,8 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
                        "give intrinsicPermeability instead");
     P.kappa = r.scalar("hydraulicConductivity") * P.viscosity / (P.rho_l * g);
   }
-  auto plugin = [&](const char* key, PluginKind kind) -> const PluginEntry* {
-    if (!tp.has(key)) return nullptr;
-    const Entry& t = tp.at(key).dict().at("type");
-    return &reg_.get(kind, t.as_word(), t.where());
-  };
-  if (const PluginEntry* pe = plugin("retention", PluginKind::retention))
-    b.retention = pe->retention(tp.at("retention").dict());
-  if (const PluginEntry* pe = plugin("permeability", PluginKind::permeability))
-    b.permeability = pe->permeability(tp.at("permeability").dict());
+  if (tp.has("retention")) b.retention = models_.retention(tp.at("retention").dict());
+  if (tp.has("permeability")) b.permeability = models_.permeability(tp.at("permeability").dict());
   if (b.permeability && !b.retention)
     throw InputError(tp.at("permeability").where(),
                      "permeability: a relative permeability needs a retention curve (retention { type ...; }); a "
@@ -172,7 +167,7 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
   // (Bishop, chi = S_l), with K0 acting on the effective stresses.
   if (const Entry* is = body.find("initialStress"); is && is->dict().get_word("type") == "geostatic" && g > 0) {
     const Real K0 = is->dict().has("K0") ? is->dict().get_scalar("K0") : Real(0.5);
-    Real top = -1e300;
+    Real top = -kUnbounded;
     std::vector<Real> depth(n);
     for (std::size_t p = 0; p < n; ++p) {
       depth[p] = s.sigma[p][vertical_] / (-grain_density * g);
@@ -246,16 +241,16 @@ bool PorousMedia<D>::holds(const Body<D>* body) const {
 }
 
 template <int D>
-void PorousMedia<D>::add_condition(const BoundaryCondition* bc) {
+void PorousMedia<D>::add_condition(const HydraulicCondition* hc) {
   std::vector<PorePressureLaw> laws;
-  bc->constrain_pores(laws);
+  hc->constrain_pores(laws);
   for (const PorePressureLaw& l : laws) laws_.push_back(l);
   if (static_cast<int>(laws_.size()) > kMaxPorePressureLaws)
     throw std::runtime_error("too many pore-pressure conditions (at most " + std::to_string(kMaxPorePressureLaws) +
                              " per case)");
-  if (bc->has_hydraulic_law()) node_laws_.push_back(bc);
+  if (hc->has_hydraulic_law()) node_laws_.push_back(hc);
   std::vector<OpenSurface> open;
-  bc->open_surfaces(open);
+  hc->open_surfaces(open);
   for (const OpenSurface& o : open) {
     const int bit = static_cast<int>(open_windows_.size());
     if (bit >= kMaxOpenSurfaces)
@@ -405,7 +400,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.control = control;
   g.parity = parity;
   g.mass_eps = mass_eps;
-  for (const BoundaryCondition* bc : node_laws_) bc->apply_hydraulic(exec_, g);
+  for (const HydraulicCondition* hc : node_laws_) hc->apply_hydraulic(exec_, g);
   SurfaceInflow<D> f;
   f.grid = grid_;
   f.solid = solid_sets[set];

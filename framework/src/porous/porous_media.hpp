@@ -4,19 +4,29 @@
 // block; a single-phase case never creates it (private to the core).
 #pragma once
 
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <vector>
 
-#include "scree/boundary/boundary_condition.hpp"
 #include "scree/exec/memory.hpp"
+#include "scree/io/dictionary.hpp"
 #include "scree/mpm/body.hpp"
 #include "scree/mpm/schemes.hpp"
 #include "scree/output/snapshot.hpp"
-#include "scree/plugin/registry.hpp"
+#include "scree/params/spec.hpp"
 #include "scree/porous/two_phase.hpp"
 
 namespace scree {
+
+/// How a two-phase body's `retention { type ...; }` and `permeability { type ...; }` become
+/// models (porous/hydraulic_model.hpp): the plugin registry's factories, which the solver
+/// hands over (the porous formulation sits below the plugins in the README's layering).
+/// Each takes the model's dictionary and throws InputError for a type it does not know.
+struct HydraulicModelFactory {
+  std::function<std::unique_ptr<RetentionModel>(const Dictionary&)> retention;
+  std::function<std::unique_ptr<PermeabilityModel>(const Dictionary&)> permeability;
+};
 
 /// The `twoPhase { ... }` block of a body (constant/bodies): its spec.
 SCREE_API std::shared_ptr<ParamSpec> two_phase_spec();
@@ -26,7 +36,7 @@ SCREE_API std::vector<std::string> two_phase_field_names();
 template <int D>
 class PorousMedia {
  public:
-  PorousMedia(const Registry& reg, const GridGeometry<D>& grid, const Exec& exec, const Vec<D>& gravity,
+  PorousMedia(HydraulicModelFactory models, const GridGeometry<D>& grid, const Exec& exec, const Vec<D>& gravity,
               ShapeKind shape, Real gimp_half_length);
   ~PorousMedia();
 
@@ -35,8 +45,8 @@ class PorousMedia {
   /// effective initial stress, and return true (the body is then attach()ed).
   bool prepare(const Dictionary& body, BodySetup<D>& s, Real grain_density);
   void attach(Body<D>* body);
-  /// A hydraulic condition (has_hydraulic_law or constrain_pores).
-  void add_condition(const BoundaryCondition* bc);
+  /// A hydraulic condition of the case (its pore pressures, open surfaces and node law).
+  void add_condition(const HydraulicCondition* hc);
   /// The walls of the case and which of them the liquid obeys (all but the drained).
   void set_walls(const Wall* walls, const WallMask* masks, const std::vector<Wall>& table,
                  const std::vector<WallMask>& host_masks);
@@ -81,7 +91,7 @@ class PorousMedia {
   };
   PorePassParams<D> pass_params(const PorousBody& b, int gather_set, int scatter_set) const;
 
-  const Registry& reg_;
+  HydraulicModelFactory models_;
   GridGeometry<D> grid_;
   Exec exec_;
   Vec<D> gravity_;
@@ -100,7 +110,7 @@ class PorousMedia {
   Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals)
   Index n_cells_ = 0;
   std::vector<PorePressureLaw> laws_;
-  std::vector<const BoundaryCondition*> node_laws_;
+  std::vector<const HydraulicCondition*> node_laws_;
   const Wall* walls_ = nullptr;
   const WallMask* masks_ = nullptr;
   Buffer<WallMask> liquid_masks_;

@@ -202,7 +202,15 @@ void Solver<D>::setup_bodies() {
                            ", twoPhase) runs the USL scheme; set `updateScheme USL;`");
     }
     try {  // the pore liquid's nodal fields
-      porous_ = std::make_unique<PorousMedia<D>>(reg, grid_, exec_, gravity_, sch.shape,
+      // The bodies' retention and permeability models, by their type, from the plugins.
+      HydraulicModelFactory models{
+          [&reg](const Dictionary& d) {
+            return reg.get(PluginKind::retention, d.at("type").as_word(), d.at("type").where()).retention(d);
+          },
+          [&reg](const Dictionary& d) {
+            return reg.get(PluginKind::permeability, d.at("type").as_word(), d.at("type").where()).permeability(d);
+          }};
+      porous_ = std::make_unique<PorousMedia<D>>(std::move(models), grid_, exec_, gravity_, sch.shape,
                                                  Real(0.5) / BodySettings::read(e->dict()).particles_per_cell);
     } catch (const std::bad_alloc& err) {
       throw out_of_memory(0, err);
@@ -327,12 +335,13 @@ void Solver<D>::setup_boundaries() {
       if (set.count(static_cast<int>(i)) == 0)
         log_ << "warning: " << d.where().str() << ": boundary condition '" << e->key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
-    if (bc->hydraulic()) {
+    // A condition on the pore liquid (porous/hydraulic_condition.hpp) goes to the porous media.
+    if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) {
       if (!porous_)
         throw InputError(d.at("type").where(), "type " + d.get_word("type") + ": '" + e->key() +
                                            "' acts on the pore liquid, and no body of this case is two-phase (a "
                                            "body with a twoPhase { ... } block in constant/bodies)");
-      porous_->add_condition(bc.get());
+      porous_->add_condition(hc);
     }
     boundaries_.push_back(std::move(bc));
   }

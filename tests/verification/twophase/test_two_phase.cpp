@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "Rainfall.hpp"
+#include "scree/core/constants.hpp"
 #include "scree_test.hpp"
 
 namespace scree::test {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kG = 9.81;
 
 const FieldData& field(const BodySnapshot& b, const char* name) {
@@ -484,7 +484,7 @@ TEST(TwoPhase, SeepageFaceLetsLiquidOutNeverIn) {
     Snapshot s = sim.snapshot();
     const BodySnapshot& b = s.bodies.at(0);
     const FieldData& p = field(b, "porePressure");
-    double worst = 0, top_p = -1e300, y_worst = 0;
+    double worst = 0, top_p = -kUnbounded, y_worst = 0;
     for (Index i = 0; i < b.n; ++i) {
       const double y = b.position[3 * i + 1];
       const double e = std::fabs(p.values[i] - gw * (0.6 - y)) / (gw * H);

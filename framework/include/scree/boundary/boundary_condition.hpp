@@ -23,10 +23,9 @@
 // has endTime 0.2). In a two-phase case a wall also stops the pore liquid (impermeable)
 // unless it is `drained`.
 //
-// Hydraulic conditions act on the pore liquid of two-phase bodies (porous/two_phase.hpp):
-// a prescribed pore pressure on the points of a region (constrain_pores: water table,
-// ponding), or a law on both phases' nodal velocities after the two-phase grid update
-// (apply_hydraulic: rainfall, boundary/rainfall).
+// A condition on the pore liquid of two-phase bodies (rainfall, ponding, seepageFace,
+// porePressure) implements the porous formulation's HydraulicCondition beside this class
+// (porous/hydraulic_condition.hpp).
 //
 //   struct MyWall : RegionWall {
 //     static constexpr const char* type_name = "myWall";
@@ -49,17 +48,6 @@
 namespace scree {
 
 struct SolverContext;  // what plugins learn about the case (scree/plugin/context.hpp)
-template <int D>
-struct TwoPhaseNodes;   // the two-phase grid after its update (scree/porous/two_phase.hpp)
-struct PorePressureLaw;
-/// A stretch of a two-phase body's surface that a hydraulic condition opens (ponding, rain).
-struct OpenSurface {
-  std::function<bool(const Real* x)> select;  ///< the surface nodes it opens, by position
-  Real t_start = -1e300, t_end = 1e300;
-  /// A seepage face: open only where the soil behind it is not in suction (nodal p_w >= 0),
-  /// so that the liquid may leave but not enter; closed elsewhere.
-  bool outflow_only = false;
-};
 
 /// The grid's nodes as WallSet and select_nodes visit them, and the domain box that
 /// regions (faces) are read against.
@@ -153,26 +141,6 @@ class SCREE_API BoundaryCondition {
     (void)g;
   }
   virtual void apply(const Exec& ex, const GridNodes<3>& g) const {
-    (void)ex;
-    (void)g;
-  }
-
-  // Hydraulic conditions (two-phase bodies, porous/two_phase.hpp), at their points of the step:
-  /// Whether the condition acts on the pore liquid only (it needs a two-phase body).
-  virtual bool hydraulic() const { return false; }
-  /// Prescribed pore pressures on points (the water table, ponding, a drained layer):
-  /// applied after each step's pore-pressure update.
-  virtual void constrain_pores(std::vector<PorePressureLaw>& laws) const { (void)laws; }
-  /// Stretches of surface the condition opens (the liquid's natural condition p_w = 0 there:
-  /// ponding, rain); a two-phase body's surface is closed elsewhere.
-  virtual void open_surfaces(std::vector<OpenSurface>& out) const { (void)out; }
-  /// A law on both phases' nodal velocities after the two-phase grid update (rainfall).
-  virtual bool has_hydraulic_law() const { return false; }
-  virtual void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<2>& g) const {
-    (void)ex;
-    (void)g;
-  }
-  virtual void apply_hydraulic(const Exec& ex, const TwoPhaseNodes<3>& g) const {
     (void)ex;
     (void)g;
   }

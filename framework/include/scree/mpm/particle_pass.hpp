@@ -35,6 +35,7 @@
 #include "scree/mpm/grid.hpp"
 #include "scree/mpm/schemes.hpp"
 #include "scree/mpm/shape_functions.hpp"
+#include "scree/mpm/stencil.hpp"
 
 namespace scree {
 
@@ -542,14 +543,9 @@ SCREE_UNROLL
       atomic_add(field, value, serial);
 #endif
     };
-SCREE_UNROLL
-    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-      Index I = 0;
-      Real N = 0;
-      Vec<D> gradN = Vec<D>::zero(), dx = Vec<D>::zero();
-      if (active) st.node(k, g, x, I, N, gradN, dx);
+    for_each_stencil_node(st, g, x, active, [&](Index I, Real N, const Vec<D>& gradN, const Vec<D>& dx) {
 #if !defined(__CUDA_ARCH__)
-      if (!active || (N == 0 && (flags & kScatterForce) == 0)) continue;
+      if (N == 0 && (flags & kScatterForce) == 0) return;
 #endif
       if (flags & kScatterMassMomentum) {
         add(&pp.scatter.mass[I], N * mass);  // eq. (5)
@@ -566,7 +562,7 @@ SCREE_UNROLL
           add(&pp.scatter.force[d][I], -vol * s + N * mass * pp.gravity[d]);
         }
       }
-    }
+    });
   }
 
   /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c +

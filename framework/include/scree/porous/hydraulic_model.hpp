@@ -22,6 +22,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <string_view>
 
 #include "scree/core/config.hpp"
 #include "scree/exec/memory.hpp"
@@ -39,8 +40,13 @@ class SCREE_API RetentionModel {
   virtual double s_max() const = 0;  ///< S_l at zero suction, S_max
   /// The suction scale of the curve [Pa] (the table spans 1e-4 to 1e6 of it).
   virtual double suction_scale() const = 0;
-  /// The van Genuchten exponent m (Mualem's permeability uses it), or NaN.
-  virtual double vg_exponent() const { return std::numeric_limits<double>::quiet_NaN(); }
+  /// The curve's parameter of that name, as its dictionary spells it (vanGenuchten's
+  /// "lambda"), or NaN where it has none: a permeability model may take its shape from the
+  /// curve it is given (PermeabilityModel::relative, incompatible).
+  virtual double parameter(std::string_view name) const {
+    (void)name;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
 };
 
 class SCREE_API PermeabilityModel {

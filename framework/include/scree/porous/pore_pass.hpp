@@ -1,0 +1,60 @@
+// What the pore liquid's passes over a two-phase body's points share (porous/pore_gather.hpp,
+// porous/pore_scatter.hpp): their parameters beyond the solid pass's, and their base.
+#pragma once
+
+#include <cstdint>
+
+#include "scree/core/config.hpp"
+#include "scree/mpm/particle_pass.hpp"
+#include "scree/porous/hydraulic_condition.hpp"
+#include "scree/porous/liquid_fields.hpp"
+
+namespace scree {
+
+/// What the pore passes need beyond the solid pass's parameters.
+template <int D>
+struct PorePassParams {
+  PoreParams pore;
+  LiquidFields<D> gather;   ///< the liquid set read (the last step's)
+  LiquidFields<D> scatter;  ///< the liquid set written (this step's)
+  Real* cells = nullptr;    ///< points per cell (this step's), for the surface nodes
+  std::uint8_t* surface = nullptr;  ///< per node: 1 on a surface of the points (SurfaceMask)
+  Real* extra = nullptr;    ///< the body's extra columns (PoreColumn order)
+  int n_laws = 0;
+  PorePressureLaw laws[kMaxPorePressureLaws];
+  int vertical = 1;         ///< the axis opposite to gravity
+  Real g = 0;               ///< |g| [m/s^2]
+  /// The liquid mass balance per cell (PoreRate, PorePressure): sum V r_p [m^3/s] and
+  /// sum V C_p [m^3/Pa] over the cell's points; not alternating: the grid update clears them.
+  Real* inflow = nullptr;
+  Real* capacity = nullptr;
+  /// Per cell, sum V C p [m^3] then sum V C x_d [m^4/Pa] for each axis d, n_cells apart.
+  Real* moments = nullptr;
+  /// Per cell after CellPressure: the new mean pressure P_c [Pa], then the centroid x_c
+  /// [m] and the slope g_c [Pa/m] per axis, n_cells apart (1 + 2 D of them).
+  Real* cell_pressure = nullptr;
+  Index n_cells = 0;
+  /// Every two-phase body of the case has the same rho_l and mu_l / kappa (the common case,
+  /// one soil and water): the nodal drag at k_rel = 1 is then Q_I = M_lm,I mu_l / (kappa
+  /// rho_l) and sum N V = M_l,I / rho_l, so neither is scattered (two of the eleven nodal sums
+  /// per node in 2D). This factor mu_l / (kappa rho_l) [1/s], or 0 when the bodies differ:
+  /// both are then scattered (LiquidFields::drag, volume).
+  Real drag_per_mass = 0;
+  /// Cumulative liquid mass [kg] since t = 0: [0] through the surfaces (SurfaceInflow),
+  /// [1] added by the prescribed pore pressures. Null: not counted.
+  Real* totals = nullptr;
+};
+
+/// What every pass over a two-phase body's points holds: the solid pass's parameters (grid,
+/// sets, control, PIC fraction), the liquid's, the body's arrays and the shape functions.
+template <int D, class Shape>
+struct PorePass {
+  PassParams<D> pp;
+  PorePassParams<D> lp;
+  ParticleArrays<D> pa;
+  Shape shape;
+  /// Column c (PoreColumn order) of point p.
+  SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+};
+
+}  // namespace scree
