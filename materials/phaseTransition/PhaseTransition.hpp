@@ -4,7 +4,7 @@
 //   sigma = sigma_f + sigma_col                                                     (eq. 1)
 //
 // Both parts see the same strain increment and share the void ratio e (1 + e follows the
-// volume). sigma_f is integrated incrementally (simsand_model.hpp, eqs. 12-18) and stored in
+// volume). sigma_f is integrated incrementally (simsand_integrator.hpp, eqs. 12-18) and stored in
 // the state (co-rotated here with the step's spin, Hughes-Winget); sigma_col is recomputed
 // every step from the granular temperature T and the strain rate D = deps/dt
 // (kinetic_theory.hpp, eqs. 19-28), T being integrated exactly over the step.
@@ -86,7 +86,7 @@ struct PhaseTransition {
   SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     update_with<simsand::Production>(p, s, sigma, inc);
   }
-  /// update() with the frictional part evaluated under the policy Pol (simsand_model.hpp:
+  /// update() with the frictional part evaluated under the policy Pol (simsand_params.hpp:
   /// the tests compare Production with the reference evaluations).
   template <class Pol>
   SCREE_HD static void update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
@@ -119,7 +119,7 @@ struct PhaseTransition {
     s.trD = ri.tr;
     // Grains in free flight (kt::dispersed): no contact network and no collisional continuum,
     // so no stress of either kind; T is carried unchanged (no stress, no work). Selects, not
-    // a branch: the register-capped elastic kernel spilled 100 B more with an early return.
+    // a branch: an early return made the register-capped elastic kernel spill.
     const bool flying = kt::dispersed(p.c, s.e);
     const Real T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
     s.T = flying ? s.T : T;
@@ -188,7 +188,7 @@ struct PhaseTransition {
       return simsand::critical_void_ratio(p.f, pressure(s.sigf));
     });
     out.derived("elasticEnergy", "J/m^3",
-                "elastic energy of sigma_f stored per volume, an estimate (eq. 13 is hypoelastic: simsand_model.hpp)",
+                "elastic energy of sigma_f stored per volume, an estimate (eq. 13 is hypoelastic: simsand_formulas.hpp)",
                 [](const Params& p, const State& s, const Sym3&) { return simsand::elastic_energy(p.f, s.e, s.sigf); });
   }
 };

@@ -4,9 +4,9 @@
 // hardening towards the void-ratio dependent peak ratio M_p (eq. 14; M_p tends to M_c as
 // e -> e_c), stress-dilatancy (eq. 15), a curved critical-state line (eq. 16) and the
 // interlocking laws for the peak and phase-transformation friction angles (eqs. 17-18), 3D
-// with a Lode-angle dependent M. The formulas and the stress integration live in
-// materials/common (scree/materials/simsand_model.hpp, shared with phaseTransition);
-// README.md lists the parameters and every decision.
+// with a Lode-angle dependent M. The formulas (scree/materials/simsand_formulas.hpp) and the
+// stress integration (simsand_integrator.hpp) live in materials/common, shared with
+// phaseTransition; README.md lists the parameters and every decision.
 //
 // This is the purely frictional model that the paper compares with (section 4.1.3).
 //
@@ -96,8 +96,8 @@ struct Simsand {
   }
 
   /// The p-wave speed; none for a dispersed point (no contacts: the stiffness of eq. 13 at
-  /// p_min and a density of 1e-3 of the grains' would otherwise set the step: the flume's
-  /// frictional run at 5 mm fell to dt = 7e-7 s on one point at J = 6.9e5).
+  /// p_min and a density of 1e-3 of the grains' or less would otherwise set the step, one
+  /// stretched point slowing the whole run by orders of magnitude; README, "Dispersed points").
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3& sigma, Real rho, Real) {
     const Real c = simsand::pwave_speed(p.m, s.e, pressure(sigma), rho);
     return dispersed(p, s.e) ? Real(0) : c;
@@ -120,7 +120,7 @@ struct Simsand {
       return simsand::critical_void_ratio(p.m, pressure(sig));
     });
     out.derived("elasticEnergy", "J/m^3",
-                "elastic energy stored per volume, an estimate (eq. 13 is hypoelastic: simsand_model.hpp)",
+                "elastic energy stored per volume, an estimate (eq. 13 is hypoelastic: simsand_formulas.hpp)",
                 [](const Params& p, const State& s, const Sym3& sig) { return simsand::elastic_energy(p.m, s.e, sig); });
     out.derived("peakStressRatio", "-", "M_p (eq. 17, triaxial compression)",
                 [](const Params& p, const State& s, const Sym3& sig) {
