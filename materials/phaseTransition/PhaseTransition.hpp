@@ -50,10 +50,11 @@ struct PhaseTransition {
   static ParamSpec spec() {
     ParamSpec s(type_name,
                 "Phase-transition granular model (Feng et al. 2025): SIMSAND-type frictional stress + kinetic-theory "
-                "collisional stress driven by the granular temperature, sigma = sigma_f + sigma_col (eq. 1)");
+                "collisional stress driven by the granular temperature, sigma = sigma_f + sigma_col (eq. 1). Typical "
+                "values: the paper's Table 3 (element test / column collapse / flume)");
     kt::add_collisional_spec(s);  // includes particleDensity and initialGranularTemperature
     simsand::add_frictional_spec(s);
-    s.scalar("initialVoidRatio", "-", "e0 (shared by both parts)").positive();
+    simsand::add_initial_void_ratio(s, " (shared by both parts)");
     return s;
   }
   static Params read(const ParamReader& r) {

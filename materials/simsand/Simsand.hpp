@@ -46,10 +46,11 @@ struct Simsand {
   static ParamSpec spec() {
     ParamSpec s(type_name,
                 "SIMSAND-type critical-state frictional model (Feng et al. 2025 eqs. 12-18): nonlinear elasticity, "
-                "hyperbolic hardening, stress-dilatancy, interlocking, Lode-angle dependence");
-    s.scalar("particleDensity", "kg/m^3", "grain density rho_p; bulk density is rho_p/(1+e0)").positive();
+                "hyperbolic hardening, stress-dilatancy, interlocking, Lode-angle dependence. Typical values: the "
+                "paper's Table 3 (element test / column collapse / flume) and Table 1 (Fig. 4)");
+    add_particle_density(s);
     simsand::add_frictional_spec(s);
-    s.scalar("initialVoidRatio", "-", "e0").positive();
+    simsand::add_initial_void_ratio(s, "");
     add_min_solid_fraction(s,
                            "below this solid fraction 1/(1+e) a point is dispersed (its grains out of contact): it "
                            "carries no stress and sets no wave speed, as in phaseTransition");
