@@ -1,7 +1,7 @@
 // SIMSAND-type critical-state frictional model: the stress update, integrate(), in stages.
 //
-// One update of the frictional stress over a strain increment (materials/simsand/README.md,
-// "Stress integration", steps 1-5):
+// One update of the frictional stress over a strain increment, in five stages
+// (materials/simsand/README.md, "Stress integration", says why each is as it is):
 //   1. a stress-free start: the apex branch (integrate_at_apex);
 //   2. the elastic trial, integrated exactly (elastic_trial): elastic or separating
 //      increments end here;
