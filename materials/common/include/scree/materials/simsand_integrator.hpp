@@ -93,8 +93,9 @@ SCREE_HD inline ElasticTrial elastic_trial(const Params& P, const Sym3& sig, con
 /// common path runs in a fraction of the registers.
 ///
 /// It takes the start stress as admissible (f <= kFtol) and skips integrate()'s start check,
-/// a full yield evaluation and a large part of the elastic kernel's work: every state integrate() leaves is admissible at its own (sig, e, kappa), and the next step
-/// starts from the same values up to the round-off of the co-rotation. The two paths differ
+/// a full yield evaluation and a large part of the elastic kernel's work: every state
+/// integrate() leaves is admissible at its own (sig, e, kappa), and the next step starts
+/// from the same values up to the round-off of the co-rotation. The two paths differ
 /// only for a start outside the surface whose trial ends inside; then integrate() starts the
 /// trial from the start scaled back onto the surface, this from the start itself, and both
 /// end admissible. From an integrator's own state that needs a start f within round-off
