@@ -189,7 +189,7 @@ struct PhaseTransition {
       return simsand::critical_void_ratio(p.f, pressure(s.sigf));
     });
     out.derived("elasticEnergy", "J/m^3",
-                "elastic energy of sigma_f stored per volume, an estimate (eq. 13 is hypoelastic: simsand_formulas.hpp)",
+                "elastic energy of sigma_f stored per volume, an estimate (eq. 13 is hypoelastic: simsand_model.hpp)",
                 [](const Params& p, const State& s, const Sym3&) { return simsand::elastic_energy(p.f, s.e, s.sigf); });
   }
 };

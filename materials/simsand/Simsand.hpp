@@ -121,7 +121,7 @@ struct Simsand {
       return simsand::critical_void_ratio(p.m, pressure(sig));
     });
     out.derived("elasticEnergy", "J/m^3",
-                "elastic energy stored per volume, an estimate (eq. 13 is hypoelastic: simsand_formulas.hpp)",
+                "elastic energy stored per volume, an estimate (eq. 13 is hypoelastic: simsand_model.hpp)",
                 [](const Params& p, const State& s, const Sym3& sig) { return simsand::elastic_energy(p.m, s.e, sig); });
     out.derived("peakStressRatio", "-", "M_p (eq. 17, triaxial compression)",
                 [](const Params& p, const State& s, const Sym3& sig) {
