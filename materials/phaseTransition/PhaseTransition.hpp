@@ -4,7 +4,7 @@
 //   sigma = sigma_f + sigma_col                                                     (eq. 1)
 //
 // Both parts see the same strain increment and share the void ratio e (1 + e follows the
-// volume). sigma_f is integrated incrementally (simsand_model.hpp, eqs. 12-18) and stored in
+// volume). sigma_f is integrated incrementally (simsand_integrator.hpp, eqs. 12-18) and stored in
 // the state (co-rotated here with the step's spin, Hughes-Winget); sigma_col is recomputed
 // every step from the granular temperature T and the strain rate D = deps/dt
 // (kinetic_theory.hpp, eqs. 19-28), T being integrated exactly over the step.
@@ -50,10 +50,11 @@ struct PhaseTransition {
   static ParamSpec spec() {
     ParamSpec s(type_name,
                 "Phase-transition granular model (Feng et al. 2025): SIMSAND-type frictional stress + kinetic-theory "
-                "collisional stress driven by the granular temperature, sigma = sigma_f + sigma_col (eq. 1)");
+                "collisional stress driven by the granular temperature, sigma = sigma_f + sigma_col (eq. 1). Typical "
+                "values: the paper's Table 3 (element test / column collapse / flume)");
     kt::add_collisional_spec(s);  // includes particleDensity and initialGranularTemperature
     simsand::add_frictional_spec(s);
-    s.scalar("initialVoidRatio", "-", "e0 (shared by both parts)").positive();
+    simsand::add_initial_void_ratio(s, " (shared by both parts)");
     return s;
   }
   static Params read(const ParamReader& r) {
@@ -86,7 +87,7 @@ struct PhaseTransition {
   SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     update_with<simsand::Production>(p, s, sigma, inc);
   }
-  /// update() with the frictional part evaluated under the policy Pol (simsand_model.hpp:
+  /// update() with the frictional part evaluated under the policy Pol (simsand_params.hpp:
   /// the tests compare Production with the reference evaluations).
   template <class Pol>
   SCREE_HD static void update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
@@ -119,7 +120,7 @@ struct PhaseTransition {
     s.trD = ri.tr;
     // Grains in free flight (kt::dispersed): no contact network and no collisional continuum,
     // so no stress of either kind; T is carried unchanged (no stress, no work). Selects, not
-    // a branch: the register-capped elastic kernel spilled 100 B more with an early return.
+    // a branch: an early return made the register-capped elastic kernel spill.
     const bool flying = kt::dispersed(p.c, s.e);
     const Real T = kt::update_temperature(c, s.T, ri, inc.dt);  // eq. (27)
     s.T = flying ? s.T : T;

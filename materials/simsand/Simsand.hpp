@@ -4,9 +4,9 @@
 // hardening towards the void-ratio dependent peak ratio M_p (eq. 14; M_p tends to M_c as
 // e -> e_c), stress-dilatancy (eq. 15), a curved critical-state line (eq. 16) and the
 // interlocking laws for the peak and phase-transformation friction angles (eqs. 17-18), 3D
-// with a Lode-angle dependent M. The formulas and the stress integration live in
-// materials/common (scree/materials/simsand_model.hpp, shared with phaseTransition);
-// README.md lists the parameters and every decision.
+// with a Lode-angle dependent M. The formulas (scree/materials/simsand_formulas.hpp) and the
+// stress integration (simsand_integrator.hpp) live in materials/common, shared with
+// phaseTransition; README.md lists the parameters and every decision.
 //
 // This is the purely frictional model that the paper compares with (section 4.1.3).
 //
@@ -46,10 +46,11 @@ struct Simsand {
   static ParamSpec spec() {
     ParamSpec s(type_name,
                 "SIMSAND-type critical-state frictional model (Feng et al. 2025 eqs. 12-18): nonlinear elasticity, "
-                "hyperbolic hardening, stress-dilatancy, interlocking, Lode-angle dependence");
-    s.scalar("particleDensity", "kg/m^3", "grain density rho_p; bulk density is rho_p/(1+e0)").positive();
+                "hyperbolic hardening, stress-dilatancy, interlocking, Lode-angle dependence. Typical values: the "
+                "paper's Table 3 (element test / column collapse / flume) and Table 1 (Fig. 4)");
+    add_particle_density(s);
     simsand::add_frictional_spec(s);
-    s.scalar("initialVoidRatio", "-", "e0").positive();
+    simsand::add_initial_void_ratio(s, "");
     add_min_solid_fraction(s,
                            "below this solid fraction 1/(1+e) a point is dispersed (its grains out of contact): it "
                            "carries no stress and sets no wave speed, as in phaseTransition");
@@ -96,8 +97,8 @@ struct Simsand {
   }
 
   /// The p-wave speed; none for a dispersed point (no contacts: the stiffness of eq. 13 at
-  /// p_min and a density of 1e-3 of the grains' would otherwise set the step: the flume's
-  /// frictional run at 5 mm fell to dt = 7e-7 s on one point at J = 6.9e5).
+  /// p_min and a density of 1e-3 of the grains' or less would otherwise set the step, one
+  /// stretched point slowing the whole run by orders of magnitude; README, "Dispersed points").
   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3& sigma, Real rho, Real) {
     const Real c = simsand::pwave_speed(p.m, s.e, pressure(sigma), rho);
     return dispersed(p, s.e) ? Real(0) : c;

@@ -7,12 +7,11 @@
 
 #include "kineticTheory/KineticTheory.hpp"
 #include "phaseTransition/PhaseTransition.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/material/material.hpp"
 #include "simsand/Simsand.hpp"
 
 namespace scree::materials::mtest {
-
-inline constexpr double kPi = 3.14159265358979323846;
 
 /// Table 1 (frictional element tests, Fig. 4).
 inline simsand::Params table1(bool lode = true, double stol = 1e-4) {

@@ -18,12 +18,12 @@
 #include <cmath>
 
 #include "scree/core/config.hpp"
+#include "scree/core/constants.hpp"
 #include "scree/core/tensor.hpp"
 #include "scree/materials/dispersed.hpp"
 
 namespace scree::materials::kt {
 
-inline constexpr Real kPi = 3.14159265358979323846;
 inline constexpr Real kSqrtPi = 1.77245385090551602730;
 
 /// The constants of the collisional part, by name; make_params() derives Params from them:

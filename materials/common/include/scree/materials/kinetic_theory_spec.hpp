@@ -6,35 +6,45 @@
 #include <string>
 #include <vector>
 
+#include "scree/materials/granular_spec.hpp"
 #include "scree/materials/kinetic_theory.hpp"
 #include "scree/params/spec.hpp"
 
 namespace scree::materials::kt {
 
 /// Declare the collisional parameters (eqs. 19-28 of Feng et al. 2025, Garzo & Dufty 1999).
+/// Each doc string gives the typical values (the paper's Table 3: element test / column
+/// collapse / flume; Table 2 for Fig. 5), each range what the model admits.
 inline void add_collisional_spec(ParamSpec& s) {
-  s.scalar("particleDensity", "kg/m^3", "grain density rho_p (Table 2-3); bulk density is rho_p/(1+e0)")
-      .positive();
-  s.scalar("diameter", "m", "grain diameter d (eqs. 21, 22, 28)").positive();
+  add_particle_density(s);
+  s.scalar("diameter", "m",
+           "grain diameter d (eqs. 21, 22, 28), in m; typical 1e-4-1e-2 (Table 3: 1e-3 / 1.25e-3 / 1e-3)")
+      .range(0.0, 0.1)
+      .open_min();
   s.scalar("voidRatioSd", "-",
-           "e_sd: void ratio of the densest disordered packing, V_sd = 1/(1+e_sd) (eq. 25; Table 3). "
-           "Give this or solidFractionSd")
-      .positive()
+           "e_sd: void ratio of the densest disordered packing, V_sd = 1/(1+e_sd) (eq. 25); typical 0.55-0.95 "
+           "(Table 3: 0.92 / 0.62 / 0.60). Give this or solidFractionSd")
+      .range(0.0, 2.0)
+      .open_min()
       .optional();
-  s.scalar("solidFractionSd", "-", "V_sd: solid fraction of the densest disordered packing (eq. 25; Table 2)")
+  s.scalar("solidFractionSd", "-",
+           "V_sd: solid fraction of the densest disordered packing (eq. 25); typical 0.6-0.64 (Table 2: 0.6)")
       .range(0.0, 1.0)
       .open_min()
       .open_max()
       .optional();
-  s.scalar("solidFractionM", "-", "V_m: solid fraction where the dense branch of g0 starts (eq. 26)")
+  s.scalar("solidFractionM", "-",
+           "V_m: solid fraction where the dense branch of g0 starts (eq. 26); typical 0.4 (Tables 2-3)")
       .range(0.0, 1.0)
       .open_min()
       .open_max()
       .default_value(0.4);
-  s.scalar("restitutionCoefficient", "-", "normal restitution coefficient eps_n (eq. 24)")
+  s.scalar("restitutionCoefficient", "-",
+           "normal restitution coefficient eps_n (eq. 24); typical 0.6-0.9 (Table 3: 0.7 / 0.6 / 0.6)")
       .range(0.0, 1.0)
       .open_max();
-  s.scalar("particleFriction", "-", "inter-particle friction coefficient mu_p (eq. 24), typically 0..0.5")
+  s.scalar("particleFriction", "-",
+           "inter-particle friction coefficient mu_p (eq. 24); typical 0-0.5 (Table 3: 0.1 / 0.2 / 0.2)")
       .range(0.0, 2.0)
       .default_value(0.0);
   s.scalar("maxRadialDistribution", "-",
