@@ -1,6 +1,7 @@
 // StepGraphs: CUDA graphs of two time steps, one for each starting parity, captured the
-// first time they are needed and replayed after that (a replayed kernel node costs about
-// 1 us against 5 us for a launch from the host). Captured again after clear() (when the
+// first time they are needed and replayed after that: a replayed kernel node costs a
+// fraction of a launch from the host, which small cases' steps are made of
+// (docs/performance.md, the cost model). Captured again after clear() (when the
 // kernels a step launches change, e.g. the stress split switched).
 #pragma once
 
