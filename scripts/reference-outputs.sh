@@ -28,7 +28,7 @@ run_case() {  # name, case root (copied, so the repository stays clean), case in
   mkdir -p "$work/$name"
   cp -r "$root/." "$work/$name/"  # variants #include their parent case's files
   local dir="$work/$name/$rel"
-  rm -rf "$dir/VTK" "$dir/postProcessing"
+  rm -rf "$dir/VTK" "$dir/postProcessing" "$dir/checkpoints"  # what an earlier run in the source tree left
   if [ -n "${4:-}" ]; then echo "$4" >> "$dir/system/mpmSchemes"; fi
   if [ -n "${5:-}" ]; then printf '\n#inputMode overwrite\n%s\n' "$5" >> "$dir/system/controlDict"; fi
   if [ -n "${6:-}" ]; then printf '\n#inputMode overwrite\n%s\n' "$6" >> "$dir/system/gridDict"; fi
