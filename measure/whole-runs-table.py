@@ -15,7 +15,7 @@ import json
 import os
 import sys
 
-TARGETS = {"column": (60, 15), "flume": (120, 30)}  # wall-time target and moonshot [s] (issue 22)
+TARGETS = {"column": (60, 15), "flume": (120, 30)}  # wall-time target and moonshot [s]
 REST = {"column": "column 1 mm (paper) at rest", "flume": "flume 5 mm (paper) at rest"}
 
 args = sys.argv[1:]

@@ -759,7 +759,7 @@ TEST(DictionaryInclude, FilesThatAreNotRegularFilesAreRefusedWithoutBlocking) {
 }
 
 // An #include of a symbolic link that leads back to itself said "cannot open include
-// file", as if the file were missing (issue 42 item 10): it is an include loop, and the
+// file", as if the file were missing: it is an include loop, and the
 // message names the links it goes round.
 TEST(DictionaryInclude, SymbolicLinkLoopsAreReportedAsLoopsNamingTheChain) {
   TempDir dir;

@@ -459,7 +459,7 @@ void write_stl(const TempCase& tc, const std::vector<Tri>& tris) {
   write_ascii_stl((tc.dir() / "constant/triSurface/s.stl").string(), tris);
 }
 
-// Two closed shells that overlap (issue 42 item 9): the parity rule leaves their common part
+// Two closed shells that overlap: the parity rule leaves their common part
 // empty (2,560 points where the union has 3,280), so the file is an error naming both
 // facets. The cubes cross exactly through the diagonals of each other's faces.
 TEST(ShapeErrors, StlOfTwoOverlappingShellsIsRefused) {
@@ -503,7 +503,7 @@ TEST(ShapeErrors, StlOfSeparateOrNestedShellsChecksClean) {
   }
 }
 
-// Coordinates out of a double's reach (issue 42 item 10): a cube scaled by 1e300 was
+// Coordinates out of a double's reach: a cube scaled by 1e300 was
 // reported as 12 zero-area triangles (its areas overflow); 1e400 is not a number at all.
 TEST(ShapeErrors, StlCoordinatesTooLargeOrNotFinite) {
   const std::string r = "region { type stl; file \"constant/triSurface/s.stl\"; }";

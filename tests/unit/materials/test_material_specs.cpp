@@ -1,4 +1,4 @@
-// The parameter specs of the granular materials (issue 42, a new user's first hour): the
+// The parameter specs of the granular materials: the
 // paper's parameter sets pass them, every documented range refuses a value outside it with
 // the entry's file:line, and the listing (`scree --list-plugins`) gives typical values.
 #include <gtest/gtest.h>

@@ -143,7 +143,7 @@ TEST(EndToEnd, ShippedElasticColumnCase) {
   EXPECT_NEAR(sum / n, -rho * g * (H - 0.0125), 0.02 * rho * g * H);
 }
 
-// A run in which points leave the grid (issue 42 item 13): a block thrown at 5 m/s towards
+// A run in which points leave the grid: a block thrown at 5 m/s towards
 // the grid's right edge, beside one at rest. The run-out front is that of the points still
 // on the grid, not the edge the lost ones stick at, and lostPoints.csv counts the lost ones
 // (the solver warns of them too).

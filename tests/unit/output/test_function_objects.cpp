@@ -171,7 +171,7 @@ TEST(RunOut, InputErrors) {
   }
 }
 
-// Points that left the grid (issue 42 item 13: a run where 97 of 1,600 points had left
+// Points that left the grid (a run where 97 of 1,600 points had left
 // reported 1,600 particles and a front stuck at the grid's edge). Particle 3 of "left"
 // (x = 2, the front) is lost at the second execution: every function object leaves it out,
 // and says how many were lost in lostPoints.csv, which a run without lost points never

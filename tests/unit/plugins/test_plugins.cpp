@@ -49,7 +49,7 @@ TEST(PluginRuntime, RefusesALibraryThatIsNotAPlugin) {
 
 // A file named like a plugin that is not a shared object (a text file): the dynamic
 // loader's reason, once, without the errno text that Boost.DLL's exception appends (it
-// ended with ": Bad file descriptor", issue 42 item 10).
+// ended with ": Bad file descriptor").
 TEST(PluginRuntime, AFileThatIsNotASharedObjectGetsTheLoadersReason) {
   TempCase tc("not_a_shared_object");
   const std::filesystem::path lib = tc.dir() / "libtext.so";
