@@ -11,7 +11,7 @@ p_w = 0. Measured without rain, 5 s (README, "Without rain"): with the same face
 columns the slope's stored water grew by 24.8 kg/m, as this staircase by 17.7 kg/m. The
 staircase removes that part; the rest of the spurious water is there either way.
 
-Why one body per column. The geostatic initial stress of a body (solver/particle_generation.cpp,
+Why one body per column. The geostatic initial stress of a body (case/particle_generation.cpp,
 porous/porous_media.cpp) measures every point's depth from one elevation, the body's top. One
 body for the whole slope would load the toe with the 2.4 m of soil that stands above the
 crest. As rectangles of one cell's width, each column's points take their depth from the

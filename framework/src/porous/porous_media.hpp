@@ -66,7 +66,7 @@ class PorousMedia {
   void grid_update(int set, StepControl* control, int parity, Real mass_eps, Real damping, Real damping_start,
                    Real damping_end, const GridFields<D>* solid_sets);
 
-  /// Checkpoints (solver/checkpoint.hpp): what the liquid carries from step to step beside
+  /// Checkpoints (case/checkpoint.hpp): what the liquid carries from step to step beside
   /// the points' extra columns (which the bodies save): the cumulative inflows.
   std::vector<Real> save_state() const { return totals_.to_host(); }
   /// Throws std::invalid_argument when `s` is not a state of save_state's size.

@@ -1,4 +1,4 @@
-// The memory estimate (solver/memory_estimate.hpp): its bytes per node and per point
+// The memory estimate (case/memory_estimate.hpp): its bytes per node and per point
 // against hand-computed counts of the solver's arrays, its backend total against the
 // bytes a small case really allocates (mem::bytes_in_use counts every Buffer), single-
 // and two-phase, and check_memory's error at the entry that drives the memory. (scree

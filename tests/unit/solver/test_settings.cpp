@@ -1,4 +1,4 @@
-// Typed settings of the core dictionaries (solver/settings.hpp): every key is read through
+// Typed settings of the core dictionaries (case/settings.hpp): every key is read through
 // its spec, so a case that leaves a key out gets the default the spec declares (and that
 // `scree --list-plugins case` prints), and a case that sets it gets its value.
 #include <gtest/gtest.h>

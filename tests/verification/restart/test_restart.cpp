@@ -1,4 +1,4 @@
-// Restart from a checkpoint (solver/checkpoint.hpp) reaches the state of the run that was
+// Restart from a checkpoint (case/checkpoint.hpp) reaches the state of the run that was
 // never interrupted: bit for bit on one CPU thread (the same operations on the same
 // numbers in the same order), and every file the writers and function objects wrote is
 // the same, byte for byte, as the uninterrupted run's.

@@ -1,5 +1,5 @@
 // Solid shapes for the regions of constant/bodies in 3D: their inside tests, bounding
-// boxes and volumes (solver/particle_generation.cpp fills them with particles; the memory
+// boxes and volumes (case/particle_generation.cpp fills them with particles; the memory
 // estimate counts their points from the volumes).
 //
 //   cylinder         points x with 0 <= t <= 1 and |x - p1 - t a| <= r, where a = p2 - p1 and

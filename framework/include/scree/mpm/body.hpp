@@ -87,7 +87,7 @@ class Body {
   /// Overwrite particle velocities (D values per particle, interleaved), e.g. to start
   /// from a mode shape (tests, scripted initial conditions). Only before the first step.
   virtual void set_velocities(const std::vector<Real>& v) = 0;
-  /// Checkpoints (solver/checkpoint.hpp): a host copy of every Real the body holds per
+  /// Checkpoints (case/checkpoint.hpp): a host copy of every Real the body holds per
   /// particle (its storage block: particle_storage.hpp), and the state restored from such
   /// a copy; restore_state throws std::invalid_argument when `block` has another size.
   virtual std::vector<Real> save_state() const = 0;

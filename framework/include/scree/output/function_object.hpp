@@ -6,7 +6,7 @@
 // Long runs never lose finished results: write and flush each row as it is produced
 // (or rewrite files atomically), so a killed run keeps everything up to its last row.
 // Nor does a second run: `scree` does not start over a non-empty postProcessing/<name>/
-// of the case unless given --overwrite (solver/setup_check.hpp).
+// of the case unless given --overwrite (case/setup_check.hpp).
 //
 //   struct MyFO : FunctionObject {
 //     static constexpr const char* type_name = "myFO";

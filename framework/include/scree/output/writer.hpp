@@ -9,7 +9,7 @@
 // the case directory) and names its files after itself, <name>.* and <name>_* (the vtk
 // writer: VTK/particles.pvd, VTK/particles_3.vtp). The core relies on both: it checks
 // before a run that the directory can be created, and `scree` refuses to run over the
-// files of an earlier run there unless given --overwrite (solver/setup_check.hpp).
+// files of an earlier run there unless given --overwrite (case/setup_check.hpp).
 //
 //   struct MyWriter : Writer {
 //     static constexpr const char* type_name = "myWriter";
