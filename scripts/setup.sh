@@ -11,7 +11,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(cmake ninja-build g++ libeigen3-dev libboost-dev libboost-program-options-dev
-          libvtk9-dev libgtest-dev python3-numpy python3-matplotlib python3-vtk9 xvfb xauth)
+          libvtk9-dev libgtest-dev libopenmpi-dev openmpi-bin python3-numpy python3-matplotlib python3-vtk9
+          xvfb xauth)
 if [ -z "${SCREE_NO_APT:-}" ]; then
   missing=()
   for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done

@@ -43,6 +43,7 @@
 #include "scree/case/case.hpp"
 #include "scree/case/checkpoint.hpp"
 #include "scree/case/setup_check.hpp"
+#include "scree/comm/comm.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/simulation.hpp"
@@ -91,6 +92,20 @@ int main(int argc, char** argv) {
   // otherwise fully buffered): a run killed early leaves its header and every warning.
   std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
 
+  // Under mpirun every rank runs this program on its part of the case (comm/comm.hpp);
+  // the root rank (0) speaks for the run, the others print only errors of their own.
+  scree::comm_init(&argc, &argv);
+  struct Finalize {
+    ~Finalize() { scree::comm_finalize(); }
+  } finalize;
+  const std::shared_ptr<scree::Comm> world = scree::world();
+  const int rank = world->rank(), ranks = world->size();
+  if (rank != 0) std::cout.rdbuf(nullptr);
+  std::ostream& err = rank == 0 ? std::cerr : std::cout;  // errors every rank finds alike: the root's
+  // One GPU per rank, bound before anything touches a device.
+  const int local = scree::local_rank();
+  if (ranks > 1 && local < scree::mem::cuda_device_count()) scree::mem::select_cuda_device(local);
+
   po::options_description opts("scree: GPU material point method for granular flows and soils\n\nOptions");
   opts.add_options()
       ("help,h", "print this help")
@@ -117,7 +132,7 @@ int main(int argc, char** argv) {
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
   } catch (const std::exception& e) {
-    std::cerr << "scree: " << e.what() << "\n" << opts << "\n";
+    err << "scree: " << e.what() << "\n" << opts << "\n";
     return 2;
   }
   if (vm.count("help")) {
@@ -126,7 +141,9 @@ int main(int argc, char** argv) {
   }
   if (vm.count("version")) {
     std::cout << "scree " << SCREE_VERSION << " (plugin ABI " << scree::kPluginAbiVersion << ", CUDA backend "
-              << (scree::mem::cuda_compiled() ? "compiled" : "not compiled") << ")\n";
+              << (scree::mem::cuda_compiled() ? "compiled" : "not compiled") << ", MPI "
+              << (scree::mpi_compiled() ? "compiled: mpirun -np N scree runs a case on N ranks" : "not compiled")
+              << ")\n";
     return 0;
   }
 
@@ -134,7 +151,7 @@ int main(int argc, char** argv) {
   try {
     rt.load_default_plugins();
   } catch (const scree::InputError& e) {
-    std::cerr << "scree: " << e.what() << "\n";
+    err << "scree: " << e.what() << "\n";
     return 1;
   }
   if (vm.count("list-plugins")) {
@@ -146,16 +163,19 @@ int main(int argc, char** argv) {
   scree::RunOptions opt;
   const std::string device = vm.count("device") ? vm["device"].as<std::string>() : std::string();
   if (!device.empty() && device != "cpu" && device != "cuda") {
-    std::cerr << "scree: --device: expected cpu or cuda, found '" << device << "'\n";
+    err << "scree: --device: expected cpu or cuda, found '" << device << "'\n";
     return 2;
   }
   if (device == "cuda" && !scree::mem::cuda_compiled()) {
-    std::cerr << "scree: --device cuda: this build has no CUDA backend (configure with -DSCREE_WITH_CUDA=ON)\n";
+    err << "scree: --device cuda: this build has no CUDA backend (configure with -DSCREE_WITH_CUDA=ON)\n";
     return 2;
   }
-  opt.threads = vm.count("threads") ? vm["threads"].as<int>() : omp_get_max_threads();
+  // Ranks on one node share its cores.
+  const char* local_size = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const int per_node = ranks > 1 ? std::max(1, local_size ? std::atoi(local_size) : ranks) : 1;
+  opt.threads = vm.count("threads") ? vm["threads"].as<int>() : std::max(1, omp_get_max_threads() / per_node);
   if (opt.threads < 1) {
-    std::cerr << "scree: --threads: expected a positive number\n";
+    err << "scree: --threads: expected a positive number\n";
     return 2;
   }
   opt.max_steps = vm["max-steps"].as<long long>();
@@ -182,7 +202,7 @@ int main(int argc, char** argv) {
       if (!checkpoints.empty()) {
         opt.restart = checkpoints.back();
       } else if (vm.count("restart")) {
-        std::cerr << "scree: --restart: case " << dir.string() << " has no checkpoint (" <<
+        err << "scree: --restart: case " << dir.string() << " has no checkpoint (" <<
             scree::checkpoint_dir(dir).string() << "/<time>.ckpt) to continue from; run it from its start "
             "without --restart\n";
         return 2;
@@ -202,11 +222,11 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (!results.empty() && !vm.count("overwrite")) {
-      std::cerr << "scree: case " << dir.string() << " has results of an earlier run, which this run would replace:\n";
+      err << "scree: case " << dir.string() << " has results of an earlier run, which this run would replace:\n";
       const std::size_t shown = std::min<std::size_t>(results.size(), 5);
-      for (std::size_t i = 0; i < shown; ++i) std::cerr << "    " << results[i].string() << "\n";
-      if (results.size() > shown) std::cerr << "    ... and " << results.size() - shown << " more\n";
-      std::cerr << "scree: nothing was run. To keep them, move them away (or copy the case); to replace them, run "
+      for (std::size_t i = 0; i < shown; ++i) err << "    " << results[i].string() << "\n";
+      if (results.size() > shown) err << "    ... and " << results.size() - shown << " more\n";
+      err << "scree: nothing was run. To keep them, move them away (or copy the case); to replace them, run "
                    "again with --overwrite\n";
       return 4;
     }
@@ -214,7 +234,7 @@ int main(int argc, char** argv) {
     // Backend.
     const bool gpu = scree::mem::cuda_available();
     if (device == "cuda" && !gpu) {
-      std::cerr << "scree: --device cuda: no usable CUDA GPU found\n";
+      err << "scree: --device cuda: no usable CUDA GPU found\n";
       return 2;
     }
     if (device.empty()) {
@@ -226,6 +246,18 @@ int main(int argc, char** argv) {
     } else {
       opt.device = device == "cuda" ? scree::Device::cuda : scree::Device::cpu;
     }
+    if (ranks > 1 && opt.device == scree::Device::cuda) {
+      const int gpus = scree::mem::cuda_device_count();
+      // Every rank finds this alike when the nodes are alike; the first one to say it ends the run.
+      std::uint64_t over = local >= gpus ? 1 : 0;
+      if (world->sum(over) > 0) {
+        err << "scree: " << ranks << " ranks, and a node has " << gpus
+            << " GPU(s) for its ranks: one rank per GPU (mpirun -np <GPUs per node x nodes>), or --device cpu\n";
+        return 2;
+      }
+      std::cout << "scree: rank 0 on GPU " << local << " of its node" << std::endl;
+    }
+    world->barrier();  // every rank has read the case before the root writes anything
 
     opt.check_setup = false;  // done above
     // SIGINT (Ctrl-C) and SIGTERM (a batch system's stop): the run finishes its chunk of
@@ -254,30 +286,32 @@ int main(int argc, char** argv) {
       std::cout << "scree: warning: " << st.lost_particles << " particle(s) left the grid during the run\n";
   } catch (const scree::RunInterrupted& e) {
     std::cout << std::flush;
-    std::cerr << "scree: " << e.what() << "; the state at that time was written; the run did not reach endTime "
+    err << "scree: " << e.what() << "; the state at that time was written; the run did not reach endTime "
                  "(scree --restart continues it from its newest checkpoint)\n";
     return 128 + e.signal();
   } catch (const scree::RunFailure& e) {
     // The health checks stopped a run gone wrong (non-finite fields, points leaving the
     // grid, an unstable step); its last state was written for a look.
     std::cout << std::flush;
-    std::cerr << "scree: error: " << e.what() << "\nscree: the state it stopped in was written; the run failed\n";
+    err << "scree: error: " << e.what() << "\nscree: the state it stopped in was written; the run failed\n";
     return 5;
   } catch (const scree::InputErrors& e) {
-    for (const auto& err : e.errors()) std::cerr << err.what() << "\n";
-    std::cerr << "scree: " << e.errors().size() << " error(s) in case " << dir.string() << "; nothing was run\n";
+    for (const auto& x : e.errors()) err << x.what() << "\n";
+    err << "scree: " << e.errors().size() << " error(s) in case " << dir.string() << "; nothing was run\n";
     return 1;
   } catch (const scree::InputError& e) {
-    std::cerr << e.what() << "\nscree: error in case " << dir.string() << "\n";
+    err << e.what() << "\nscree: error in case " << dir.string() << "\n";
     return 1;
   } catch (const std::bad_alloc& e) {
     // An allocation after the setup (the setup's own name their entry: InputError above).
     std::cout << std::flush;
-    std::cerr << "scree: " << e.what() << "; the run failed (the case's memory estimate is checked before the run: "
-              << "scree --check)\n";
+    std::cerr << "scree: " << (ranks > 1 ? "rank " + std::to_string(rank) + ": " : std::string()) << e.what()
+              << "; the run failed (the case's memory estimate is checked before the run: scree --check)\n";
+    if (ranks > 1) world->abort(3);  // the other ranks would wait for this one
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "scree: " << e.what() << "\n";
+    std::cerr << "scree: " << (ranks > 1 ? "rank " + std::to_string(rank) + ": " : std::string()) << e.what() << "\n";
+    if (ranks > 1) world->abort(3);
     return 3;
   }
   return 0;

@@ -201,6 +201,21 @@ void copy(void* dst, Device dst_space, const void* src, Device src_space, std::s
 #endif
 }
 
+void copy_2d(void* dst, std::size_t dst_pitch, Device dst_space, const void* src, std::size_t src_pitch,
+             Device src_space, std::size_t width, std::size_t height) {
+  if (width == 0 || height == 0) return;
+  if (dst_space == Device::cpu && src_space == Device::cpu) {
+    for (std::size_t r = 0; r < height; ++r)
+      std::memcpy(static_cast<char*>(dst) + r * dst_pitch, static_cast<const char*>(src) + r * src_pitch, width);
+    return;
+  }
+#if defined(SCREE_HAVE_CUDA)
+  check(cudaMemcpy2D(dst, dst_pitch, src, src_pitch, width, height, cudaMemcpyDefault), "cudaMemcpy2D");
+#else
+  no_cuda();
+#endif
+}
+
 void copy_async(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes, void* stream) {
   if (bytes == 0) return;
   if (dst_space == Device::cpu && src_space == Device::cpu) {
@@ -260,6 +275,28 @@ bool cuda_compiled() {
   return true;
 #else
   return false;
+#endif
+}
+
+int cuda_device_count() {
+#if defined(SCREE_HAVE_CUDA)
+  int n = 0;
+  if (cudaGetDeviceCount(&n) != cudaSuccess) {
+    cudaGetLastError();
+    return 0;
+  }
+  return n;
+#else
+  return 0;
+#endif
+}
+
+void select_cuda_device(int i) {
+#if defined(SCREE_HAVE_CUDA)
+  check(cudaSetDevice(i), "cudaSetDevice");
+#else
+  (void)i;
+  no_cuda();
 #endif
 }
 

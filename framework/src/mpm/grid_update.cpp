@@ -60,7 +60,7 @@ struct GridUpdate {
         const bool count = p.energy_walls && (p.modes & kNormalize);
         const Real e0 = count ? kinetic(m, v) : Real(0);
         apply_walls<D>(p.walls, mask, v, x, t);
-        if (count) ledger(kEnergyWalls, e0 - kinetic(m, v));
+        if (count) ledger(I, kEnergyWalls, e0 - kinetic(m, v));
       }
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
@@ -93,8 +93,8 @@ struct GridUpdate {
           w_damp += m * (v_damped[d] - v_free[d]) * vm;
           w_wall += m * (v[d] - v_damped[d]) * vm;
         }
-        ledger(kEnergyDamping, -w_damp);
-        if (p.energy_walls) ledger(kEnergyWalls, -w_wall);
+        ledger(I, kEnergyDamping, -w_damp);
+        if (p.energy_walls) ledger(I, kEnergyWalls, -w_wall);
       }
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }
@@ -108,9 +108,15 @@ struct GridUpdate {
     for (int d = 0; d < D; ++d) v2 += v[d] * v[d];
     return Real(0.5) * m * v2;
   }
-  /// Add to a term of the energy ledger (GridUpdateParams::energy); zeros are not added.
-  SCREE_INLINE void ledger(int term, Real value) const {
-    if (value != 0) atomic_add(p.control->energy + term, value, false);
+  /// Add node I's share to a term of the energy ledger (GridUpdateParams::energy); zeros,
+  /// and the shares of nodes another rank owns (ledger_axis), are not added.
+  SCREE_INLINE void ledger(Index I, int term, Real value) const {
+    if (value == 0) return;
+    if (p.ledger_axis >= 0) {
+      const Index i = (I / p.grid.stride(p.ledger_axis)) % p.grid.n[p.ledger_axis];
+      if (i < p.ledger_lo || i >= p.ledger_hi) return;
+    }
+    atomic_add(p.control->energy + term, value, false);
   }
 
   /// The sparse update of lane `lane` of tile `t` (Tiles<D>): the node it stands for,

@@ -24,6 +24,10 @@ void Solver<D>::check_health() {
       host_ctl_.failed_step = host_ctl_.step[p];
     }
   }
+  if (decomposed()) {
+    check_health_ranks();
+    return;
+  }
   if (host_ctl_.failure == 0) return;
   throw RunFailure(diagnosis());
 }
@@ -47,7 +51,7 @@ std::string where(const Dictionary& d, const char* key) {
 template <int D>
 std::string Solver<D>::diagnosis() {
   const StepControl c = host_ctl_;
-  const Snapshot s = snapshot(false);  // the state the clock stopped in (a host copy)
+  const Snapshot s = local_snapshot(false);  // the state the clock stopped in (a host copy of this rank's part)
   std::ostringstream m;
   m.precision(6);
   m << "the run went wrong and was stopped in step " << c.failed_step << " (t = " << time() << " s):";

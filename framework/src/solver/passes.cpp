@@ -49,6 +49,10 @@ void Solver<D>::setup_passes() {
   gp.energy = energy_ledger_;
   gp.energy_walls = energy_ledger_ && (sch.update_scheme == UpdateScheme::MUSL || porous_);
   gp.health = policy_.health_checks;
+  if (decomposed()) {  // the halo's nodes are updated as their owner's are, and counted by it
+    gp.ledger_axis = decomp_.axis;
+    decomp_.owned_local(gp.ledger_lo, gp.ledger_hi);
+  }
 }
 
 template <int D>

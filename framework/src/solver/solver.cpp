@@ -27,8 +27,10 @@ void Solver<D>::step() {
     phase(name, [&] {
       for (auto& b : bodies_) b->pass(pp);
     });
+    scattered_ |= pp.flags & kAnyScatter;
   };
   auto grid = [&](const char* name, unsigned modes) {
+    if (decomposed()) phase("ranks: halo sum, clock", [&] { exchange_before_grid(parity(), modes); });
     phase(name, [&] {
       grid_update<D>(exec_, grid_params(modes, parity()));
       apply_node_laws(modes, parity());
@@ -167,13 +169,14 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     const std::int64_t every = settings_.control.progress_interval;
     std::int64_t report = every > 0 ? every : static_cast<std::int64_t>(std::max(2.0, chunk_rate_ * 0.5));
     if (sort_interval_ > 0) report = std::min(report, sort_interval_ - steps_done() % sort_interval_);
-    const std::int64_t n = time_.chunk_length(host_ctl_, p, t_event, step_event, budget, report);
+    std::int64_t n = time_.chunk_length(host_ctl_, p, t_event, step_event, budget, report);
+    if (decomposed()) agree_chunk(n, t_event);
 
     if (time_.retarget(host_ctl_, p, t_event)) sync_control_to_device();
     run_chunk(n);
     if (budget > 0) budget -= n;
     after_chunk(with_output);
-    if (const int sig = stop_requested(); sig != 0) {  // SIGINT/SIGTERM (scree's handler)
+    if (const int sig = decomposed() ? agree_signal() : stop_requested(); sig != 0) {  // SIGINT/SIGTERM (scree's handler)
       std::ostringstream m;
       m << "stopped by signal " << sig << " at t = " << time() << " s (step " << step_ << ", " << steps_done()
         << " steps advanced the clock)";
@@ -206,9 +209,11 @@ void Solver<D>::after_chunk(bool with_output) {
     // Queued on the stream; a pending G2P applies to the particles in their new order.
     for (auto& b : bodies_) b->sort_by_cell(grid_);
   }
-  if (with_output) output_due(false);
+  if (with_output) output_due(false);  // a decomposed run's migrates after the flush of its output
+  if (decomposed() && !migrated_) migrate();
+  migrated_ = false;
   if (opt_.progress) progress_.report(time(), step_, false);
-  time_.watch(wall_, time(), step_, [this] { return max_signal_speed(); }, log_);
+  if (root()) time_.watch(wall_, time(), step_, [this] { return max_signal_speed(); }, log_);
   if (host_ctl_.lost > 0 && !lost_warned_) {
     log_ << "\nwarning: " << host_ctl_.lost
          << " particle(s) left the grid and are frozen: enlarge the domain in system/gridDict, or, if "
@@ -243,7 +248,7 @@ template <int D>
 RunStats Solver<D>::run() {
   progress_.start();
   log_ << "Running " << case_.dir().string() << ": " << D << "D, " << bodies_.size() << " bod"
-       << (bodies_.size() == 1 ? "y" : "ies") << ", " << stats().particles << " particles, " << grid_.num_nodes()
+       << (bodies_.size() == 1 ? "y" : "ies") << ", " << stats().particles << " particles, " << global_.num_nodes()
        << " grid nodes, backend " << to_string(exec_.device)
        << (exec_.device == Device::cpu
                ? " (" + std::to_string(exec_.threads) + (exec_.threads == 1 ? " thread)" : " threads)")
@@ -267,7 +272,7 @@ RunStats Solver<D>::run() {
     // from which a later endTime continues.
     output_due(true, CheckpointWhen::always);
     const auto t0 = std::chrono::steady_clock::now();
-    output_->finish();  // waits for the output thread: output time too
+    if (output_) output_->finish();  // waits for the output thread: output time too
     output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   if (opt_.progress) progress_.report(time(), step_, true);
@@ -279,6 +284,7 @@ template <int D>
 void Solver<D>::advance_to(double t, bool with_output) {
   advance_chunked(t, -1, with_output);
   if (with_output && output_) output_->drain();
+  if (decomposed() && with_output) comm_->barrier();  // the root's files are written when every rank returns
 }
 
 template <int D>

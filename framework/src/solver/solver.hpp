@@ -44,6 +44,8 @@
 #include "scree/case/case.hpp"
 #include "scree/case/case_model.hpp"
 #include "scree/case/checkpoint.hpp"
+#include "scree/case/decomposition.hpp"
+#include "scree/comm/comm.hpp"
 #include "scree/exec/kernel_policy.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/mpm/body.hpp"
@@ -75,7 +77,10 @@ class Solver {
   RunStats run();
   void advance_to(double t, bool with_output);
   void run_steps(std::int64_t n);
+  /// Every body (and the grid): a decomposed run's whole case, on its root rank (collective).
   Snapshot snapshot(bool with_grid);
+  /// This rank's part of it.
+  Snapshot local_snapshot(bool with_grid);
   void set_velocities(std::size_t body, const std::vector<Real>& v);
   double time() const { return host_ctl_.t[parity()]; }
   std::int64_t steps() const { return step_; }
@@ -85,6 +90,8 @@ class Solver {
   // setup (solver_setup.cpp)
   void setup_streams();
   void setup_grid();
+  /// The two grid sets (and their tile stamps) of grid_, and the plugins' context of it.
+  void allocate_grid();
   void setup_bodies();
   /// One body of constant/bodies: its particles generated, its material's body made.
   void setup_body(const Entry& e, int& id, std::int64_t& next_id, Real& min_mass);
@@ -134,12 +141,49 @@ class Solver {
   /// The checkpoint of now, queued on the output thread after the writes of now (a
   /// killed run then has the frames of a checkpoint's time written before the checkpoint).
   void write_checkpoint(const std::vector<double>& schedule);
+  /// output_due of a decomposed run: what the root found due, written on the root from
+  /// every rank's part (decomposed.cpp gathers it).
+  void output_ranks(const OutputSchedule::Due& due, bool checkpoint, const std::vector<double>& schedule);
   /// Write every writer's output of now (and a checkpoint when asked), wait for the
   /// output thread.
   void finish_output(CheckpointWhen checkpoint);
   Snapshot snapshot_header() const;  ///< time, step and the bodies' material names
   void set_split(bool on);
   Real max_signal_speed() const;
+
+  // a decomposed run (decomposed.cpp): what the ranks exchange and agree on
+  bool decomposed() const { return comm_->size() > 1; }
+  bool root() const { return comm_->rank() == 0; }
+  /// Cut the grid into boxes from the bodies' points (every rank made every body whole),
+  /// set up this rank's grid, and keep each body's points in this rank's box.
+  void decompose_bodies();
+  /// The points of `block` (a body's block of n points) that this rank's box holds.
+  std::vector<Real> keep_own(const std::vector<Real>& block, Index n, Index& kept) const;
+  /// Before a grid update of set `set`: the halo sum of what the passes since the last
+  /// one scattered (scattered_), and, before the update that advances the clock, the
+  /// reduction of the clock's inputs over the ranks.
+  void exchange_before_grid(int set, unsigned modes);
+  void halo_sum(int set, unsigned scattered);
+  void reduce_clock();
+  /// One agreement per chunk: the root's length n (its output schedule and wall clock)
+  /// and target, no longer than the points may move before they migrate again.
+  void agree_chunk(std::int64_t& n, double& t_event);
+  /// A stop requested of any rank (a signal).
+  int agree_signal();
+  /// check_health of a decomposed run: a failure of any rank (one found in a chunk's last
+  /// step is known only to its rank yet) stops every rank, with the diagnosis of the first
+  /// rank that found one.
+  void check_health_ranks();
+  /// At the end of a chunk: every point to the rank whose box holds it; the next chunk's
+  /// length limit from the fastest point (the halo's slack).
+  void migrate();
+  /// The longest chunk of steps in which no point moves more than the halo's slack.
+  std::int64_t migration_steps() const;
+  /// The whole snapshot on the root rank (each rank's points; the grid's owned nodes).
+  void gather_snapshot(Snapshot& s);
+  /// Every rank's blocks of the bodies concatenated (root), and the clock's sums.
+  void gather_checkpoint(Checkpoint& ck);
+  void gather_grid(Snapshot& s);
   void sync_control_from_device();
   void sync_control_to_device();
   int parity() const { return static_cast<int>(step_ % 2); }
@@ -156,6 +200,18 @@ class Solver {
   SolverContext ctx_;
   void* stream_ = nullptr;       // cudaStream_t of the steps
   void* copy_stream_ = nullptr;  // snapshots' transfers to the host, beside the steps
+
+  // Ranks (comm/comm.hpp) and this rank's part of the case (case/decomposition.hpp)
+  std::shared_ptr<Comm> comm_;
+  Decomposition<D> decomp_;
+  GlobalGrid<D> global_{};           // the whole grid (grid_: this rank's part, the same on one rank)
+  unsigned scattered_ = 0;           // what the passes since the last grid update scattered
+  std::uint64_t lost_stop_global_ = 0;  // StepControl::lost_stop over every rank's points
+  double vmax_ = 0;                  // the fastest point at the last migration [m/s]
+  std::int64_t migration_limit_ = 0; // the longest chunk before the next migration (0: none)
+  std::int64_t migrations_ = 0;
+  bool migrated_ = false;            // the points migrated at this chunk's end already (output_due)
+  std::vector<std::uint64_t> body_totals_;  // each body's points over every rank
 
   // Algorithm (system/mpmSchemes, constant/g)
   Vec<D> gravity_;

@@ -11,18 +11,27 @@ namespace scree {
 
 template <int D>
 void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
-  if (!output_) return;
+  if (!output_ && !decomposed()) return;
   const double t = time();
-  const OutputSchedule::Due due = output_->due(t, step_, force_all);
-  // Checkpoints at every checkpointInterval-th write time after the run's first output
-  // (the initial state, or the restart's own), and when asked (endTime, a signal).
-  const std::int64_t every = settings_.control.checkpoint_interval;
-  if (due.write_time && !first_output_) ++writes_;
-  const bool checkpoint = when != CheckpointWhen::never && every > 0 && !first_output_ && t != checkpoint_time_ &&
-                          (when == CheckpointWhen::always || (due.write_time && writes_ % every == 0));
-  first_output_ = false;
+  // A decomposed run: the root's schedule decides, and every rank takes part in the gathers.
+  OutputSchedule::Due due;
+  bool checkpoint = false;
   std::vector<double> schedule;  // before done(): a restart runs what is due now
-  if (checkpoint) schedule = output_->state();
+  if (output_) {
+    due = output_->due(t, step_, force_all);
+    // Checkpoints at every checkpointInterval-th write time after the run's first output
+    // (the initial state, or the restart's own), and when asked (endTime, a signal).
+    const std::int64_t every = settings_.control.checkpoint_interval;
+    if (due.write_time && !first_output_) ++writes_;
+    checkpoint = when != CheckpointWhen::never && every > 0 && !first_output_ && t != checkpoint_time_ &&
+                 (when == CheckpointWhen::always || (due.write_time && writes_ % every == 0));
+    if (checkpoint) schedule = output_->state();
+  }
+  first_output_ = false;
+  if (decomposed()) {
+    output_ranks(due, checkpoint, schedule);
+    return;
+  }
   if (!due.any()) {
     if (checkpoint) write_checkpoint(schedule);
     output_->done(due, t, step_);
@@ -55,6 +64,27 @@ void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
 }
 
 template <int D>
+void Solver<D>::output_ranks(const OutputSchedule::Due& due, bool checkpoint, const std::vector<double>& schedule) {
+  struct {
+    bool write, grid, checkpoint;
+  } agreed{due.any(), due.with_grid, checkpoint};
+  comm_->broadcast(&agreed, sizeof agreed, 0);
+  if (agreed.write || agreed.checkpoint) {  // the state written, every point in its owner's box
+    flush();
+    migrate();
+    migrated_ = true;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  if (agreed.write) {
+    auto snap = std::make_shared<Snapshot>(snapshot(agreed.grid));  // gathered on the root
+    if (output_) output_->submit(due, std::move(snap), {});
+  }
+  if (agreed.checkpoint) write_checkpoint(schedule);
+  output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (output_) output_->done(due, time(), step_);
+}
+
+template <int D>
 void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
   // The particles as of now (the set the next step scatters into is then all zeros); the
   // host's clock is the device's after a flush (flush reads it back).
@@ -80,6 +110,10 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
   }
   if (porous_) ck->liquid = porous_->save_state();
   checkpoint_time_ = ck->time;
+  if (decomposed()) {
+    gather_checkpoint(*ck);  // one checkpoint of the whole case, written by the root
+    if (!output_) return;
+  }
   // Written after the frames of this time (the output thread runs its jobs in order).
   const std::filesystem::path file = checkpoint_file(case_.dir(), ck->time), dir = case_.dir();
   const std::size_t keep = static_cast<std::size_t>(settings_.control.checkpoint_keep);
@@ -93,7 +127,7 @@ template <int D>
 void Solver<D>::finish_output(CheckpointWhen checkpoint) {
   if (!opt_.output) return;
   output_due(true, checkpoint);
-  output_->finish();
+  if (output_) output_->finish();
 }
 
 template <int D>
@@ -120,6 +154,13 @@ Snapshot Solver<D>::snapshot_header() const {
 
 template <int D>
 Snapshot Solver<D>::snapshot(bool with_grid) {
+  Snapshot s = local_snapshot(with_grid);
+  if (decomposed()) gather_snapshot(s);
+  return s;
+}
+
+template <int D>
+Snapshot Solver<D>::local_snapshot(bool with_grid) {
   flush();
   mem::synchronize(exec_.device);
   Snapshot s = snapshot_header();
@@ -162,11 +203,9 @@ RunStats Solver<D>::stats() const {
   r.simulated_time = time() - run_start_;
   r.wall_seconds = wall_;
   r.output_seconds = output_wall_;
-  for (auto& b : bodies_) {
-    r.particles += b->size();
-    r.bytes_per_particle = std::max(r.bytes_per_particle, b->bytes_per_particle());
-  }
-  r.nodes = grid_.num_nodes();
+  for (auto& b : bodies_) r.bytes_per_particle = std::max(r.bytes_per_particle, b->bytes_per_particle());
+  for (std::uint64_t n : body_totals_) r.particles += static_cast<std::int64_t>(n);  // over every rank
+  r.nodes = global_.num_nodes();
   r.peak_device_bytes = mem::peak_bytes(exec_.device);
   r.lost_particles = host_ctl_.lost;
   r.split_steps = split_steps_;
@@ -177,12 +216,16 @@ template RunStats Solver<2>::stats() const;
 template RunStats Solver<3>::stats() const;
 template void Solver<2>::output_due(bool, CheckpointWhen);
 template void Solver<3>::output_due(bool, CheckpointWhen);
+template void Solver<2>::output_ranks(const OutputSchedule::Due&, bool, const std::vector<double>&);
+template void Solver<3>::output_ranks(const OutputSchedule::Due&, bool, const std::vector<double>&);
 template void Solver<2>::write_checkpoint(const std::vector<double>&);
 template void Solver<3>::write_checkpoint(const std::vector<double>&);
 template void Solver<2>::finish_output(CheckpointWhen);
 template void Solver<3>::finish_output(CheckpointWhen);
 template Snapshot Solver<2>::snapshot_header() const;
 template Snapshot Solver<3>::snapshot_header() const;
+template Snapshot Solver<2>::local_snapshot(bool);
+template Snapshot Solver<3>::local_snapshot(bool);
 template Snapshot Solver<2>::snapshot(bool);
 template Snapshot Solver<3>::snapshot(bool);
 

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <iostream>
 #include <new>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -28,6 +29,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
       settings_(c.settings()),
       rt_(rt),
       opt_(o),
+      comm_(o.comm ? o.comm : world()),
       log_(o.log ? *o.log : std::cout),
       time_(c.settings().control.time, c.settings().grid.cell_size),
       progress_(log_, isatty(STDOUT_FILENO) && (!o.log || o.log == &std::cout), c.settings().control.time.start_time,
@@ -50,16 +52,24 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   ctl_.resize(1, exec_.device);
   sync_control_to_device();
   setup_bodies();
+  decompose_bodies();
+  ctx_.start_time = run_start_;
   {  // health: the run stops once more than maxLostFraction of the points left the grid
     const double f = settings_.control.max_lost_fraction;
-    const double n = static_cast<double>(stats().particles);
+    const double n = static_cast<double>(std::accumulate(body_totals_.begin(), body_totals_.end(), std::uint64_t(0)));
     host_ctl_.lost_stop = f < 1 ? static_cast<unsigned long long>(std::floor(f * n)) + 1 : 0;
+    if (decomposed()) {  // the ranks' lost points are summed at every step (reduce_clock)
+      lost_stop_global_ = host_ctl_.lost_stop;
+      host_ctl_.lost_stop = 0;
+    }
     sync_control_to_device();
   }
   setup_split();
+  if (decomposed()) tuner_.reset();  // the ranks take the same kernels: no per-rank timing decides
   setup_boundaries();
   energy_ledger_ = opt_.energy_ledger;
-  if (opt_.output) setup_output();
+  if (opt_.output && root()) setup_output();  // a decomposed run writes from its root rank
+  if (decomposed()) energy_ledger_ = comm_->max(static_cast<std::uint64_t>(energy_ledger_)) != 0;
   if (energy_ledger_ && split_ && !policy_.ledger_split) {  // the ledger's whole-pass kernel: no split to tune
     split_ = false;
     tuner_.reset();
@@ -70,8 +80,9 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
     return;
   }
   // A run from startTime: the checkpoints of an earlier run are not its own.
-  if (opt_.output) purge_checkpoints(case_.dir(), 0);
-  if (time_.start(host_ctl_, max_signal_speed(), log_)) sync_control_to_device();
+  if (opt_.output && root()) purge_checkpoints(case_.dir(), 0);
+  if (time_.start(host_ctl_, comm_->max(static_cast<double>(max_signal_speed())), log_)) sync_control_to_device();
+  if (decomposed()) migration_limit_ = migration_steps();
 }
 
 template <int D>
@@ -95,13 +106,19 @@ void Solver<D>::restore(const Checkpoint& ck) {
     if (b.material_type != bodies_[i]->material_type())
       throw mismatch("body '" + name + "' is of material type " + b.material_type + ", not " +
                      bodies_[i]->material_type());
-    const std::uint64_t n = static_cast<std::uint64_t>(bodies_[i]->size());
+    const std::uint64_t n = body_totals_[i];
     const std::uint64_t columns = bodies_[i]->bytes_per_particle() / sizeof(Real);
     if (b.particles != n || b.columns != columns)
       throw mismatch("body '" + name + "' has " + std::to_string(b.particles) + " particles of " +
                      std::to_string(b.columns) + " values, the case's " + std::to_string(n) + " of " +
                      std::to_string(columns));
-    bodies_[i]->restore_state(b.data);
+    if (decomposed()) {  // this rank's points of the whole body
+      Index kept = 0;
+      std::vector<Real> mine = keep_own(b.data, static_cast<Index>(b.particles), kept);
+      bodies_[i]->replace_state(mine, kept);
+    } else {
+      bodies_[i]->restore_state(b.data);
+    }
   }
   if (static_cast<bool>(porous_) != !ck.liquid.empty())
     throw mismatch(porous_ ? "it has no pore liquid, the case has two-phase bodies"
@@ -117,6 +134,10 @@ void Solver<D>::restore(const Checkpoint& ck) {
   c.h = host_ctl_.h;
   c.lost_stop = host_ctl_.lost_stop;
   c.stop_co = host_ctl_.stop_co;
+  if (decomposed() && !root()) {  // the checkpoint's sums over the ranks stay with the root's clock
+    c.lost = 0;
+    for (Real& e : c.energy) e = 0;
+  }
   host_ctl_ = c;
   sync_control_to_device();
   step_ = ck.step;
@@ -151,18 +172,26 @@ void Solver<D>::setup_streams() {
   stream_ = make();
   exec_.stream = stream_;
   copy_stream_ = make();
-  if (policy_.graphs && !opt_.profile) graphs_ = std::make_unique<StepGraphs>(stream_);
+  // A decomposed step waits on the host for its exchanges: no graph can hold it.
+  if (policy_.graphs && !opt_.profile && comm_->size() == 1) graphs_ = std::make_unique<StepGraphs>(stream_);
 #endif
 }
 
 template <int D>
 void Solver<D>::setup_grid() {
   const GridSettings& gs = settings_.grid;
-  grid_ = grid_geometry<D>(gs);
+  global_ = grid_ = grid_geometry<D>(gs);
   for (int d = 0; d < D; ++d)
     if (!whole_cells(gs.lower[d], gs.upper[d], gs.cell_size))
       log_ << "warning: system/gridDict: the domain's extent along axis " << d
            << " is not a whole number of cells; it is extended to " << grid_.cells[d] << " cells\n";
+  // A decomposed run allocates its part once the points are cut into boxes (decompose_bodies).
+  if (comm_->size() == 1) allocate_grid();
+  else ctx_ = plugin_context<D>(case_, grid_, exec_.device);
+}
+
+template <int D>
+void Solver<D>::allocate_grid() {
   // Two sets of nodal fields (grid.hpp), one allocation each.
   static_assert(sizeof(GridFields<D>) == kGridFieldCount<D> * sizeof(Real*), "GridFields<D> has kGridFieldCount<D> fields");
   const Index nn = grid_.num_nodes();
@@ -331,9 +360,14 @@ void Solver<D>::setup_boundaries() {
     auto bc = plugin_of(reg, PluginKind::boundaryCondition, d).boundary(d, named(ctx_, e->key()));
     const std::size_t before = set.table().size();
     bc->constrain(set);
-    for (std::size_t i = before; i < set.table().size(); ++i)
-      if (set.count(static_cast<int>(i)) == 0)
-        log_ << "warning: " << d.where().str() << ": boundary condition '" << e->key() << "' selects no grid node\n";
+    // A decomposed run: the nodes of every rank (whose wall tables may differ: one sum per condition).
+    std::uint64_t none = 0, nodes = 0;
+    for (std::size_t i = before; i < set.table().size(); ++i) {
+      none += set.count(static_cast<int>(i)) == 0;
+      nodes += static_cast<std::uint64_t>(set.count(static_cast<int>(i)));
+    }
+    if (decomposed() ? comm_->sum(nodes) == 0 : none > 0)
+      log_ << "warning: " << d.where().str() << ": boundary condition '" << e->key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
     // A condition on the pore liquid (porous/hydraulic_condition.hpp) goes to the porous media.
     if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) {
@@ -361,7 +395,7 @@ template <int D>
 void Solver<D>::set_velocities(std::size_t body, const std::vector<Real>& v) {
   if (step_ > 0) throw std::logic_error("set_velocities: only before the first step");
   bodies_.at(body)->set_velocities(v);
-  if (time_.start(host_ctl_, max_signal_speed(), log_)) sync_control_to_device();
+  if (time_.start(host_ctl_, comm_->max(static_cast<double>(max_signal_speed())), log_)) sync_control_to_device();
 }
 
 template void Solver<2>::set_velocities(std::size_t, const std::vector<Real>&);

@@ -58,6 +58,9 @@ SCREE_API std::string format_bytes(double bytes);
 SCREE_API void* allocate(std::size_t bytes, Device d);
 SCREE_API void deallocate(void* p, Device d) noexcept;
 SCREE_API void copy(void* dst, Device dst_space, const void* src, Device src_space, std::size_t bytes);
+/// `height` rows of `width` bytes, each `src_pitch` apart in src and `dst_pitch` in dst.
+SCREE_API void copy_2d(void* dst, std::size_t dst_pitch, Device dst_space, const void* src, std::size_t src_pitch,
+                       Device src_space, std::size_t width, std::size_t height);
 /// The same, ordered on `stream` (a cudaStream_t) after the work already queued there and
 /// asynchronous to the host; a plain memcpy between host buffers. Host memory must stay
 /// valid (and, for true overlap, be pinned: allocate_pinned) until the stream reaches it.
@@ -71,6 +74,10 @@ SCREE_API void fill_zero(void* p, std::size_t bytes, Device d);
 /// Whether this build has the CUDA backend and at least one usable GPU.
 SCREE_API bool cuda_compiled();
 SCREE_API bool cuda_available();
+/// The CUDA devices this process sees (0 without any, or without the CUDA backend).
+SCREE_API int cuda_device_count();
+/// Make device i this process's (before anything is allocated): one GPU per rank.
+SCREE_API void select_cuda_device(int i);
 /// Block until all work queued on the device has finished (no-op for the CPU).
 SCREE_API void synchronize(Device d);
 /// Bytes currently allocated through this module on `d` and their peak (for benchmarks).

@@ -92,6 +92,11 @@ class Body {
   /// a copy; restore_state throws std::invalid_argument when `block` has another size.
   virtual std::vector<Real> save_state() const = 0;
   virtual void restore_state(const std::vector<Real>& block) = 0;
+  /// The body's points replaced by the n points of `block` (a block as save_state gives,
+  /// of n points: column c at c n), another count allowed: the points a rank holds after
+  /// a migration between the boxes of a domain decomposition (case/decomposition.hpp).
+  /// Every value is kept as it is.
+  virtual void replace_state(const std::vector<Real>& block, Index n) = 0;
   /// Reorder particles by grid cell (locality for P2G atomics); ids move with them.
   virtual void sort_by_cell(const GridGeometry<D>& g) = 0;
   /// Whether the body's stress pass can run split (its material has update_elastic).

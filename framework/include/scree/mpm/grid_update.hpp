@@ -61,6 +61,11 @@ struct GridUpdateParams {
   /// With `energy`: whether the walls' share is measured here (MUSL) or on the points
   /// (USF, USL: PassParams::wall_ledger).
   bool energy_walls = false;
+  /// With `energy` in a decomposed run (case/decomposition.hpp): the ledger counts only the
+  /// nodes this rank owns, those with ledger_lo <= index < ledger_hi along ledger_axis (its
+  /// halo nodes hold the same sums as their owner's and are updated alike). -1: every node.
+  int ledger_axis = -1;
+  int ledger_lo = 0, ledger_hi = 0;
   /// Probe the nodal velocity and force for non-finite values (report_nonfinite_node):
   /// KernelPolicy::health_checks; off only to measure the probe's cost.
   bool health = true;

@@ -112,6 +112,7 @@ class MaterialBody final : public Body<D> {
   Real* extra_columns() const override { return store_.extra(); }
 
   void pass(const PassParams<D>& params) override {
+    if (store_.size() == 0) return;  // a rank of a decomposed run may hold none of the body's points
     PassParams<D> pp = params;
     pp.body = body_id_;  // named by a point with a non-finite field (StepControl::bad)
     const Real inv_h = 1 / pp.grid.h;
@@ -251,6 +252,18 @@ class MaterialBody final : public Body<D> {
     }
     store_.data().copy_from_host(s);  // same size: the arrays stay bound
     reset_split();
+  }
+
+  void replace_state(const std::vector<Real>& block, Index n) override {
+    if (block.size() != static_cast<std::size_t>(store_.columns()) * static_cast<std::size_t>(n))
+      throw std::invalid_argument("body '" + name_ + "': a block of " + std::to_string(block.size()) +
+                                  " values for " + std::to_string(n) + " points of " +
+                                  std::to_string(store_.columns()) + " values");
+    store_.replace(block, n, exec_.device);
+    if constexpr (material_has_elastic_path<M>()) {
+      deferred_.resize(static_cast<std::size_t>(n), exec_.device);
+      reset_split();
+    }
   }
 
   void sort_by_cell(const GridGeometry<D>& g) override { sorter_.sort(store_, exec_, g); }

@@ -21,6 +21,10 @@ template <int D>
 class ParticleStorage {
  public:
   static constexpr int kSig = kStressComponents<D>;
+  /// The columns every block starts with, whatever its material: x, v, x0, F, sigma, mass,
+  /// volume0 (negative: a point that left the grid), id.
+  static constexpr int kColX = 0, kColV = D, kColX0 = 2 * D, kColF = 3 * D, kColSigma = 3 * D + D * D,
+                       kColMass = kColSigma + kSig, kColVolume0 = kColMass + 1, kColId = kColMass + 2;
 
   /// Lay out the columns for n particles with K state Reals (and C with APIC).
   ParticleStorage(Index n, int K, Transfer transfer, int extra = 0)
@@ -58,6 +62,11 @@ class ParticleStorage {
     data_.copy_from_host(host);
     bind();
   }
+  /// Hold the n particles of a host block instead (another count allowed), on `device`.
+  void replace(const std::vector<Real>& host, Index n, Device device) {
+    n_ = n;
+    upload(host, device);
+  }
   /// A host copy of the block.
   std::vector<Real> to_host() const { return data_.to_host(); }
   Buffer<Real>& data() { return data_; }
@@ -66,20 +75,15 @@ class ParticleStorage {
 
  private:
   void layout() {
-    int c = 0;
-    c_x_ = c;
-    c += D;
-    c_v_ = c;
-    c += D;
-    c_x0_ = c;
-    c += D;
-    c_F_ = c;
-    c += D * D;
-    c_sig_ = c;
-    c += kSig;
-    c_mass_ = c++;
-    c_vol0_ = c++;
-    c_id_ = c++;
+    c_x_ = kColX;
+    c_v_ = kColV;
+    c_x0_ = kColX0;
+    c_F_ = kColF;
+    c_sig_ = kColSigma;
+    c_mass_ = kColMass;
+    c_vol0_ = kColVolume0;
+    c_id_ = kColId;
+    int c = kColId + 1;
     c_C_ = c;
     if (transfer_ == Transfer::apic) c += D * D;
     c_state_ = c;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "scree/case/case.hpp"
+#include "scree/comm/comm.hpp"
 #include "scree/exec/kernel_policy.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/output/snapshot.hpp"
@@ -70,6 +71,10 @@ struct RunOptions {
   /// A checkpoint to continue from (case/checkpoint.hpp; empty: start from the case's
   /// initial state). The writers and function objects continue their series from its time.
   std::filesystem::path restart;
+  /// The ranks the case is decomposed over (comm/comm.hpp; case/decomposition.hpp): null
+  /// takes world(), every rank of an MPI run (one rank without MPI); self() runs this
+  /// process's case alone.
+  std::shared_ptr<Comm> comm;
 };
 
 struct RunStats {

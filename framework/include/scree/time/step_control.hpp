@@ -31,6 +31,8 @@ enum StepFailure : unsigned {
   kFailLost = 1u << 1,       ///< more points left the grid than lost_stop allows
   kFailUnstable = 1u << 2,   ///< a step's Courant number dt (c + |v|)_max / h exceeded stop_co
   kFailStalled = 1u << 3,    ///< (set by the host) the adaptive step became too small to reach the end
+  kFailElsewhere = 1u << 4,  ///< (set by the host) another rank of a decomposed run stopped its clock
+  kFailHalo = 1u << 5,       ///< (set by the host) a point moved past its rank's halo between two migrations
 };
 
 /// The terms of the energy ledger (StepControl::energy): energies the kernels add up as they

@@ -1,0 +1,62 @@
+// The domain decomposition of a case over the ranks of a run (comm/comm.hpp): each rank
+// owns a box of the grid's cells and holds the points inside it.
+//
+// The boxes are slabs cut on cell boundaries along one axis: the axis along which the
+// points extend over the most cells, cut so that each slab holds about the same number of
+// points (from the histogram of the points per cell layer, which every rank has: every
+// rank generates every body). A rank's grid is its box widened by `e_lo`/`e_hi` cells and
+// the `ghost` node layers around it (GlobalGrid::sub_box): wide enough for the stencil of
+// every point that lies up to `slack` cells outside its box, since points move between
+// migrations (Solver: they migrate at the end of every chunk of steps). Neighbouring grids
+// overlap in a slab of nodes; after each particle-to-grid transfer the two ranks add each
+// other's partial sums on it (the halo sum), so that both hold the whole sum, bitwise
+// equal (a + b = b + a), and the grid update runs on every local node alike.
+//
+// Shape functions (mpm/shape_functions.hpp): a point in cell c touches nodes c - a to
+// c + b along an axis (node c: cell c's lower corner): linear a = 0, b = 1; GIMP and
+// B-spline a = 1, b = 2.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scree/case/case_model.hpp"
+
+namespace scree {
+
+template <int D>
+struct Decomposition {
+  int ranks = 1;
+  int rank = 0;
+  int axis = 0;            ///< the axis the slabs are cut across
+  std::vector<int> cuts;   ///< ranks + 1 cell indices: rank r owns cells [cuts[r], cuts[r + 1]) along axis
+  int slack = 0;           ///< cells a held point may lie outside its box between two migrations
+  /// Every rank's grid (local[r]), in the global lattice: node i of local[r] is global node
+  /// i + local[r].offset. The whole grid for one rank.
+  std::vector<GridGeometry<D>> local;
+  /// The global lattice's nodes each rank owns along axis: [owned[r], owned[r + 1]).
+  std::vector<int> owned;
+
+  bool decomposed() const { return ranks > 1; }
+  const GridGeometry<D>& grid() const { return local[static_cast<std::size_t>(rank)]; }
+  /// The rank owning a point at coordinate `x` along `axis` (outside the domain: the
+  /// nearest box).
+  int owner(Real x, const GlobalGrid<D>& g) const;
+  /// This rank's owned nodes along axis, in local node indices: [lo, hi).
+  void owned_local(int& lo, int& hi) const;
+  /// The nodes this rank's grid shares with rank `peer` (a neighbour) along axis, in local
+  /// node indices [lo, hi); empty (lo == hi) when they share none.
+  void overlap(int peer, int& lo, int& hi) const;
+};
+
+/// The decomposition of grid `g` over `ranks` ranks for points at `positions` (D per
+/// point, interleaved), for a shape function of reach a, b (above) and points `slack`
+/// cells outside their box at most. A single rank owns the whole grid. Throws
+/// std::invalid_argument, saying how many ranks the grid allows, when a slab would be
+/// too thin for its neighbours' halos not to meet.
+template <int D>
+SCREE_API Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& positions, int ranks, int rank,
+                                     int a, int b, int slack);
+
+}  // namespace scree

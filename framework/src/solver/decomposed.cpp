@@ -1,0 +1,474 @@
+// Solver<D>: what a run decomposed over several ranks adds (case/decomposition.hpp,
+// comm/comm.hpp). Each rank holds the points in its box and a grid over the box with a
+// halo; per step, after a particle-to-grid pass, neighbours add each other's partial sums
+// on the nodes they share (halo_sum), and before the grid update that advances the clock
+// the ranks reduce its inputs (reduce_clock: the largest signal speed, which sets the next
+// dt, the lost and failed points), so that every rank takes the same steps. At the end of
+// each chunk of steps the points migrate to the rank whose box holds them; a chunk is
+// short enough that no point moves past the halo within it (migration_steps). Output and
+// checkpoints gather every rank's part on the root rank, which writes them as one case.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <sstream>
+
+#include "scree/mpm/particle_storage.hpp"
+#include "solver.hpp"
+
+namespace scree {
+
+namespace {
+/// Cells a held point may lie outside its box between two migrations (the halo's slack).
+constexpr int kSlackCells = 2;
+
+/// The reach of a shape function along an axis: a point in cell c touches nodes c - a
+/// to c + b (mpm/shape_functions.hpp).
+void stencil_reach(ShapeKind s, int& a, int& b) {
+  a = s == ShapeKind::linear ? 0 : 1;
+  b = s == ShapeKind::linear ? 1 : 2;
+}
+}  // namespace
+
+template <int D>
+void Solver<D>::decompose_bodies() {
+  body_totals_.clear();
+  for (auto& b : bodies_) body_totals_.push_back(static_cast<std::uint64_t>(b->size()));
+  if (comm_->size() == 1) return;
+  if (porous_)
+    throw InputError(case_.bodies().where(),
+                     "a case with two-phase bodies runs on one rank; this run has " + std::to_string(comm_->size()) +
+                         " (run it without mpirun, or with -np 1)");
+  using S = ParticleStorage<D>;
+  std::vector<Real> positions;
+  std::vector<std::vector<Real>> blocks;
+  for (auto& b : bodies_) {
+    blocks.push_back(b->save_state());
+    const Index n = b->size();
+    const std::vector<Real>& blk = blocks.back();
+    for (Index p = 0; p < n; ++p)
+      for (int d = 0; d < D; ++d) positions.push_back(blk[static_cast<std::size_t>(S::kColX + d) * n + p]);
+  }
+  int a = 0, b = 0;
+  stencil_reach(settings_.schemes.shape, a, b);
+  try {
+    decomp_ = decompose<D>(global_, positions, comm_->size(), comm_->rank(), a, b, kSlackCells);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(case_.grid().where(), std::string("system/gridDict: cellSize: ") + e.what());
+  }
+  // This rank's grid: its box with the halo, owning its box's nodes along the cut axis.
+  static_cast<GridGeometry<D>&>(grid_) = decomp_.grid();
+  for (int d = 0; d < D; ++d) {
+    grid_.cells[d] = grid_.n[d] - 1 - 2 * grid_.ghost;
+    grid_.owned.lo[d] = 0;
+    grid_.owned.hi[d] = grid_.n[d];
+  }
+  decomp_.owned_local(grid_.owned.lo[decomp_.axis], grid_.owned.hi[decomp_.axis]);
+  allocate_grid();
+  for (int d = 0; d < D; ++d) {  // the boundary conditions' faces are the whole domain's
+    ctx_.domain_lower[static_cast<std::size_t>(d)] = global_.lower[d];
+    ctx_.domain_upper[static_cast<std::size_t>(d)] = global_.upper[d];
+  }
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Index kept = 0;
+    std::vector<Real> mine = keep_own(blocks[i], bodies_[i]->size(), kept);
+    bodies_[i]->replace_state(mine, kept);
+  }
+  std::ostringstream m;
+  m << "Decomposed over " << comm_->size() << " ranks (" << comm_->describe() << "): slabs across axis "
+    << decomp_.axis << ", cells";
+  for (int r = 0; r < comm_->size(); ++r)
+    m << " [" << decomp_.cuts[static_cast<std::size_t>(r)] << ", " << decomp_.cuts[static_cast<std::size_t>(r) + 1]
+      << ")";
+  std::uint64_t mine = 0;
+  for (auto& bd : bodies_) mine += static_cast<std::uint64_t>(bd->size());
+  std::vector<std::uint64_t> held(static_cast<std::size_t>(comm_->size()), 0);
+  held[static_cast<std::size_t>(comm_->rank())] = mine;
+  comm_->sum(held.data(), comm_->size());
+  m << ", points per rank";
+  for (auto h : held) m << " " << h;
+  log_ << m.str() << std::endl;
+}
+
+template <int D>
+std::vector<Real> Solver<D>::keep_own(const std::vector<Real>& block, Index n, Index& kept) const {
+  using S = ParticleStorage<D>;
+  const std::size_t C = n > 0 ? block.size() / static_cast<std::size_t>(n) : 0;
+  std::vector<Index> own;
+  const std::size_t xa = static_cast<std::size_t>(S::kColX + decomp_.axis) * n;
+  for (Index p = 0; p < n; ++p)
+    if (decomp_.owner(block[xa + p], global_) == comm_->rank()) own.push_back(p);
+  kept = static_cast<Index>(own.size());
+  std::vector<Real> out(C * own.size());
+  for (std::size_t c = 0; c < C; ++c)
+    for (std::size_t j = 0; j < own.size(); ++j) out[c * own.size() + j] = block[c * n + own[j]];
+  return out;
+}
+
+template <int D>
+void Solver<D>::exchange_before_grid(int set, unsigned modes) {
+  sync_control_from_device();
+  halo_sum(set, scattered_);
+  scattered_ = 0;
+  if (modes & kAdvance) reduce_clock();
+}
+
+template <int D>
+void Solver<D>::halo_sum(int set, unsigned scattered) {
+  std::vector<Real*> fields;
+  const GridFields<D>& g = sets_[set];
+  if (scattered & kScatterMassMomentum) {
+    fields.push_back(g.mass);
+    for (int d = 0; d < D; ++d) fields.push_back(g.momentum[d]);
+  }
+  if (scattered & (kScatterForce | kScatterMomentum))  // MUSL re-maps momentum into the force array
+    for (int d = 0; d < D; ++d) fields.push_back(g.force[d]);
+  if (fields.empty()) return;
+  const int ax = decomp_.axis;
+  const std::size_t stride = static_cast<std::size_t>(grid_.stride(ax));
+  const std::size_t pitch = stride * static_cast<std::size_t>(grid_.n[ax]);
+  std::size_t rows = 1;
+  for (int d = ax + 1; d < D; ++d) rows *= static_cast<std::size_t>(grid_.n[d]);
+  const int me = comm_->rank();
+  for (int peer : {me - 1, me + 1}) {  // the lower neighbour first, on every rank: the pairs meet in order
+    if (peer < 0 || peer >= comm_->size()) continue;
+    int lo = 0, hi = 0;
+    decomp_.overlap(peer, lo, hi);
+    if (hi <= lo) continue;
+    const std::size_t width = stride * static_cast<std::size_t>(hi - lo), per = width * rows;
+    std::vector<Real> mine(per * fields.size()), theirs(per * fields.size());
+    for (std::size_t f = 0; f < fields.size(); ++f)
+      mem::copy_2d(mine.data() + f * per, width * sizeof(Real), Device::cpu, fields[f] + lo * stride,
+                   pitch * sizeof(Real), exec_.device, width * sizeof(Real), rows);
+    comm_->exchange(peer, mine.data(), mine.size() * sizeof(Real), theirs.data(), theirs.size() * sizeof(Real));
+    // Both ranks add the same two partial sums: their copies of a shared node are equal bit for bit.
+    for (std::size_t i = 0; i < mine.size(); ++i) mine[i] += theirs[i];
+    for (std::size_t f = 0; f < fields.size(); ++f)
+      mem::copy_2d(fields[f] + lo * stride, pitch * sizeof(Real), exec_.device, mine.data() + f * per,
+                   width * sizeof(Real), Device::cpu, width * sizeof(Real), rows);
+    if (!policy_.sparse()) continue;
+    // The sparse grid update visits only stamped tiles: the shared slab's may hold sums
+    // that only the neighbour's points made.
+    std::vector<std::uint32_t> stamps = tile_stamps_[set].to_host();
+    const std::uint32_t stamp = tile_stamp(host_ctl_.step[parity()]);
+    Index below = 1;
+    for (int d = 0; d < ax; ++d) below *= Tiles<D>::count(grid_.n[d], d);
+    const Index along = Tiles<D>::count(grid_.n[ax], ax);
+    const Index t0 = lo / Tiles<D>::extent(ax), t1 = (hi - 1) / Tiles<D>::extent(ax);
+    for (std::size_t t = 0; t < stamps.size(); ++t) {
+      const Index ta = (static_cast<Index>(t) / below) % along;
+      if (ta >= t0 && ta <= t1) stamps[t] = stamp;
+    }
+    tile_stamps_[set].copy_from_host(stamps);
+  }
+}
+
+template <int D>
+void Solver<D>::reduce_clock() {
+  const int p = parity();
+  StepControl& c = host_ctl_;
+  double speed = c.max_speed[p];
+  comm_->max(&speed, 1);
+  // lost points, non-finite nodes, and the ranks whose clock has stopped
+  std::uint64_t counts[3] = {c.lost, c.bad.count, c.failure != 0 ? 1u : 0u};
+  comm_->sum(counts, 3);
+  c.max_speed[p] = speed;
+  unsigned fail = 0;
+  if (lost_stop_global_ > 0 && counts[0] >= lost_stop_global_) fail |= kFailLost;
+  if ((counts[1] > 0 || counts[2] > 0) && c.failure == 0 && c.bad.count == 0) fail |= kFailElsewhere;
+  if (fail != 0 && c.failure == 0) {
+    c.failure = fail;
+    c.failed_step = c.step[p];
+    c.failed_co = c.dt[p] * speed / c.h;
+  }
+  sync_control_to_device();
+}
+
+template <int D>
+void Solver<D>::agree_chunk(std::int64_t& n, double& t_event) {
+  struct {
+    std::int64_t n;
+    double t_event;
+  } agreed{std::min(n, migration_limit_), t_event};
+  comm_->broadcast(&agreed, sizeof agreed, 0);
+  n = agreed.n;
+  t_event = agreed.t_event;
+}
+
+template <int D>
+int Solver<D>::agree_signal() {
+  return static_cast<int>(comm_->max(static_cast<std::uint64_t>(stop_requested())));
+}
+
+template <int D>
+void Solver<D>::check_health_ranks() {
+  const int R = comm_->size();
+  std::vector<std::uint64_t> own(static_cast<std::size_t>(R), 0);
+  own[static_cast<std::size_t>(comm_->rank())] = host_ctl_.failure & ~static_cast<unsigned>(kFailElsewhere);
+  comm_->sum(own.data(), R);
+  int who = -1;
+  for (int r = 0; r < R && who < 0; ++r)
+    if (own[static_cast<std::size_t>(r)] != 0) who = r;
+  if (who < 0) return;
+  std::string msg = comm_->rank() == who ? diagnosis() : std::string();
+  std::uint64_t len = msg.size();
+  comm_->broadcast(&len, sizeof len, who);
+  msg.resize(len);
+  comm_->broadcast(msg.data(), len, who);
+  if (host_ctl_.failure == 0) host_ctl_.failure = kFailElsewhere;
+  throw RunFailure("rank " + std::to_string(who) + " of " + std::to_string(R) + ": " + msg);
+}
+
+template <int D>
+std::int64_t Solver<D>::migration_steps() const {
+  // No point moves more than half the slack within a chunk: in M steps of dt a point at
+  // speed v under gravity g moves at most v M dt + g (M dt)^2 / 2 (v of the last
+  // migration, doubled for what it gains in between), and with an adaptive step at most
+  // maxCo cells a step.
+  const double s = 0.5 * kSlackCells * grid_.h;
+  const double dt = host_ctl_.dt[parity()] > 0 ? host_ctl_.dt[parity()] : host_ctl_.dt_max;
+  double g = 0;
+  for (int d = 0; d < D; ++d) g += gravity_[d] * gravity_[d];
+  g = std::sqrt(g);
+  const double v = 2 * vmax_;
+  double m = 1e6;
+  if (dt > 0) {
+    // v T + g T^2 / 2 = s for T = M dt
+    const double T = g > 0 ? (-v + std::sqrt(v * v + 2 * g * s)) / g : (v > 0 ? s / v : 1e300);
+    m = std::min(m, T / dt);
+  }
+  if (host_ctl_.cfl > 0) m = std::max(m, s / (host_ctl_.cfl * grid_.h));
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(m)));
+}
+
+template <int D>
+void Solver<D>::migrate() {
+  using S = ParticleStorage<D>;
+  mem::synchronize(exec_.device);
+  const int R = comm_->size(), me = comm_->rank(), ax = decomp_.axis;
+  int a = 0, b = 0;
+  stencil_reach(settings_.schemes.shape, a, b);
+  double vmax = 0;
+  std::uint64_t past = 0;  // points frozen inside the domain: they left this rank's grid, not the case's
+  for (auto& body : bodies_) {
+    const Index n = body->size();
+    const std::size_t C = body->bytes_per_particle() / sizeof(Real);
+    std::vector<Real> block = body->save_state();
+    auto at = [&](int col, Index p) { return block[static_cast<std::size_t>(col) * n + p]; };
+    std::vector<std::vector<Real>> out(static_cast<std::size_t>(R));
+    std::vector<Index> stay;
+    stay.reserve(static_cast<std::size_t>(n));
+    for (Index p = 0; p < n; ++p) {
+      if (at(S::kColVolume0, p) < 0) {  // frozen where it left this rank's grid
+        const double c = std::floor((at(S::kColX + ax, p) - global_.origin[ax]) / global_.h);
+        if (c - a >= 0 && c + b <= global_.n[ax] - 1) ++past;
+        stay.push_back(p);
+        continue;
+      }
+      double v2 = 0;
+      for (int d = 0; d < D; ++d) v2 += at(S::kColV + d, p) * at(S::kColV + d, p);
+      vmax = std::max(vmax, std::sqrt(v2));
+      const int dest = decomp_.owner(at(S::kColX + ax, p), global_);
+      if (dest == me) {
+        stay.push_back(p);
+        continue;
+      }
+      auto& o = out[static_cast<std::size_t>(dest)];
+      for (std::size_t c = 0; c < C; ++c) o.push_back(block[c * n + p]);
+    }
+    std::vector<char> send;
+    std::vector<std::size_t> counts(static_cast<std::size_t>(R), 0);
+    for (int r = 0; r < R; ++r) {
+      const auto& o = out[static_cast<std::size_t>(r)];
+      counts[static_cast<std::size_t>(r)] = o.size() * sizeof(Real);
+      send.insert(send.end(), reinterpret_cast<const char*>(o.data()),
+                  reinterpret_cast<const char*>(o.data() + o.size()));
+    }
+    std::vector<char> recv;
+    comm_->all_to_all(send, counts, recv);
+    const std::size_t arrived = C > 0 ? recv.size() / (C * sizeof(Real)) : 0;
+    if (arrived == 0 && stay.size() == static_cast<std::size_t>(n)) continue;  // nothing moved
+    // The points that stay, in their order, then the arrivals in the senders' rank order.
+    const std::size_t m = stay.size() + arrived;
+    std::vector<Real> next(C * m);
+    std::vector<Real> in(arrived * C);
+    if (!recv.empty()) std::memcpy(in.data(), recv.data(), recv.size());
+    for (std::size_t c = 0; c < C; ++c) {
+      Real* dst = next.data() + c * m;
+      for (std::size_t j = 0; j < stay.size(); ++j) dst[j] = block[c * n + stay[j]];
+      for (std::size_t k = 0; k < arrived; ++k) dst[stay.size() + k] = in[k * C + c];
+    }
+    body->replace_state(next, static_cast<Index>(m));
+  }
+  vmax_ = comm_->max(vmax);
+  past = comm_->sum(past);
+  ++migrations_;
+  if (past > 0) {
+    std::ostringstream m;
+    m << past << " point(s) moved more than " << kSlackCells
+      << " cells past the box of the rank that held them between two migrations of points (a chunk of at most "
+      << migration_limit_ << " steps, from the fastest point of the last migration, " << vmax_
+      << " m/s, and gravity) at t = " << time()
+      << " s: the flow accelerated faster than the migration interval assumed. Run on fewer ranks, or with a "
+         "smaller deltaT (maxCo)";
+    host_ctl_.failure |= kFailHalo;
+    throw RunFailure(m.str());
+  }
+  migration_limit_ = migration_steps();
+}
+
+template <int D>
+void Solver<D>::gather_snapshot(Snapshot& s) {
+  double e[5] = {s.energy.stress_work, s.energy.collisional, s.energy.pic, s.energy.damping, s.energy.walls};
+  comm_->sum(e, 5);
+  s.energy.stress_work = e[0];
+  s.energy.collisional = e[1];
+  s.energy.pic = e[2];
+  s.energy.damping = e[3];
+  s.energy.walls = e[4];
+  for (BodySnapshot& b : s.bodies) {
+    std::vector<std::int64_t> ids = comm_->gather_vector(b.id, 0);
+    std::vector<Real> pos = comm_->gather_vector(b.position, 0);
+    std::vector<std::uint8_t> lost = comm_->gather_vector(b.lost, 0);
+    std::vector<std::vector<Real>> values;
+    for (FieldData& f : b.fields) values.push_back(comm_->gather_vector(f.values, 0));
+    if (!root()) {
+      b.n = 0;
+      b.id.clear();
+      b.position.clear();
+      b.lost.clear();
+      for (FieldData& f : b.fields) f.values.clear();
+      continue;
+    }
+    // In the order of the ids: the output of a decomposed run does not depend on which
+    // rank held which point.
+    const std::size_t n = ids.size();
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return ids[i] < ids[j]; });
+    b.n = static_cast<Index>(n);
+    b.id.resize(n);
+    b.position.resize(3 * n);
+    b.lost.resize(lost.empty() ? 0 : n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = order[k];
+      b.id[k] = ids[i];
+      for (int d = 0; d < 3; ++d) b.position[3 * k + d] = pos[3 * i + d];
+      if (!lost.empty()) b.lost[k] = lost[i];
+    }
+    for (std::size_t f = 0; f < b.fields.size(); ++f) {
+      const int comps = b.fields[f].components;
+      auto& v = b.fields[f].values;
+      v.resize(static_cast<std::size_t>(comps) * n);
+      for (std::size_t k = 0; k < n; ++k)
+        for (int c = 0; c < comps; ++c) v[comps * k + c] = values[f][comps * order[k] + c];
+    }
+  }
+  if (s.has_grid) gather_grid(s);
+}
+
+template <int D>
+void Solver<D>::gather_grid(Snapshot& s) {
+  // Each rank's owned node layers (along the cut axis; every node along the others), in
+  // its local order, placed into the global grid by the root.
+  const int ax = decomp_.axis;
+  int lo = 0, hi = 0;
+  decomp_.owned_local(lo, hi);
+  auto in_owned = [&](const GridGeometry<D>& g, int olo, int ohi, Index f) {
+    const Index i = (f / g.stride(ax)) % g.n[ax];
+    return i >= olo && i < ohi;
+  };
+  for (FieldData& fd : s.grid.fields) {
+    std::vector<Real> mine;
+    const Index nn = grid_.num_nodes();
+    for (Index f = 0; f < nn; ++f)
+      if (in_owned(grid_, lo, hi, f))
+        for (int c = 0; c < fd.components; ++c) mine.push_back(fd.values[static_cast<std::size_t>(fd.components * f + c)]);
+    std::vector<std::size_t> counts;
+    std::vector<Real> all = comm_->gather_vector(mine, 0, &counts);
+    if (!root()) {
+      fd.values.clear();
+      continue;
+    }
+    const Index gn = global_.num_nodes();
+    fd.values.assign(static_cast<std::size_t>(gn * fd.components), 0.0);
+    std::size_t k = 0;
+    for (int r = 0; r < comm_->size(); ++r) {
+      const GridGeometry<D>& g = decomp_.local[static_cast<std::size_t>(r)];
+      const int olo = decomp_.owned[static_cast<std::size_t>(r)] - g.offset[ax];
+      const int ohi = decomp_.owned[static_cast<std::size_t>(r) + 1] - g.offset[ax];
+      for (Index f = 0; f < g.num_nodes(); ++f) {
+        if (!in_owned(g, olo, ohi, f)) continue;
+        int idx[D];
+        g.unflat(f, idx);
+        for (int d = 0; d < D; ++d) idx[d] += g.offset[d];
+        const Index gf = global_.flat(idx);
+        for (int c = 0; c < fd.components; ++c) fd.values[static_cast<std::size_t>(fd.components * gf + c)] = all[k++];
+      }
+    }
+  }
+  if (root())
+    for (int d = 0; d < D; ++d) {
+      s.grid.n[d] = global_.n[d];
+      s.grid.origin[d] = global_.origin[d];
+    }
+}
+
+template <int D>
+void Solver<D>::gather_checkpoint(Checkpoint& ck) {
+  for (Checkpoint::Body& b : ck.bodies) {
+    std::vector<std::size_t> counts;
+    std::vector<Real> all = comm_->gather_vector(b.data, 0, &counts);
+    if (!root()) continue;
+    // Column by column: every rank's points of the column, in rank order.
+    const std::size_t C = static_cast<std::size_t>(b.columns);
+    std::uint64_t total = 0;
+    for (std::size_t c : counts) total += c / C;
+    std::vector<Real> block(static_cast<std::size_t>(total) * C);
+    std::size_t at = 0, first = 0;
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      const std::size_t n = counts[r] / C;
+      for (std::size_t c = 0; c < C; ++c)
+        std::memcpy(block.data() + c * total + first, all.data() + at + c * n, n * sizeof(Real));
+      at += counts[r];
+      first += n;
+    }
+    b.data = std::move(block);
+    b.particles = total;
+  }
+  // The clock's per-rank counts summed: the lost points and the energy ledger.
+  StepControl c{};
+  std::memcpy(&c, ck.clock.data(), sizeof c);
+  c.lost = comm_->sum(static_cast<std::uint64_t>(c.lost));
+  comm_->sum(c.energy, kEnergyTerms);
+  std::memcpy(ck.clock.data(), &c, sizeof c);
+}
+
+template void Solver<2>::decompose_bodies();
+template void Solver<3>::decompose_bodies();
+template std::vector<Real> Solver<2>::keep_own(const std::vector<Real>&, Index, Index&) const;
+template std::vector<Real> Solver<3>::keep_own(const std::vector<Real>&, Index, Index&) const;
+template void Solver<2>::exchange_before_grid(int, unsigned);
+template void Solver<3>::exchange_before_grid(int, unsigned);
+template void Solver<2>::halo_sum(int, unsigned);
+template void Solver<3>::halo_sum(int, unsigned);
+template void Solver<2>::agree_chunk(std::int64_t&, double&);
+template void Solver<3>::agree_chunk(std::int64_t&, double&);
+template int Solver<2>::agree_signal();
+template int Solver<3>::agree_signal();
+template void Solver<2>::check_health_ranks();
+template void Solver<3>::check_health_ranks();
+template void Solver<2>::reduce_clock();
+template void Solver<3>::reduce_clock();
+template std::int64_t Solver<2>::migration_steps() const;
+template std::int64_t Solver<3>::migration_steps() const;
+template void Solver<2>::migrate();
+template void Solver<3>::migrate();
+template void Solver<2>::gather_snapshot(Snapshot&);
+template void Solver<3>::gather_snapshot(Snapshot&);
+template void Solver<2>::gather_grid(Snapshot&);
+template void Solver<3>::gather_grid(Snapshot&);
+template void Solver<2>::gather_checkpoint(Checkpoint&);
+template void Solver<3>::gather_checkpoint(Checkpoint&);
+
+}  // namespace scree

@@ -1,0 +1,348 @@
+// One case decomposed over the ranks of `mpirun -np N` (case/decomposition.hpp,
+// solver/decomposed.cpp) against the same case run by one process. Every rank runs the
+// decomposed case; the root rank also runs it alone (RunOptions::comm = self()) and
+// compares, point by point through the ids:
+//
+// - Migration is a copy: after points crossed the cuts many times every id is present
+//   exactly once, and each point's mass and initial volume are the very same numbers.
+// - The decomposed run follows the undecomposed one within round-off: it adds the same
+//   contributions to a shared node in another grouping (each rank's partial sum, then the
+//   two partials), a relative 1e-16 per node and step. On an elastic block that stays
+//   elastic such differences do not grow (no bifurcation), so after a few hundred steps
+//   positions agree to 1e-12 of the block's size and velocities and stresses to 1e-9 of
+//   their largest magnitude (the stress of a point sums the gradients of a few nodes each
+//   step: the looser bound of the two; the observed differences are listed in the test's
+//   output).
+// - A decomposed run restarted from its own checkpoint ends in the uninterrupted
+//   decomposed run's state bit for bit (one thread per rank: the same operations in the
+//   same order), and its files are one case's: one .pvd, one CSV per function object.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <unistd.h>
+
+#include "scree/case/checkpoint.hpp"
+#include "scree/comm/comm.hpp"
+#include "scree_test.hpp"
+
+namespace fs = std::filesystem;
+
+namespace scree::test {
+namespace {
+
+Comm& world_comm() {
+  static std::shared_ptr<Comm> w = world();
+  return *w;
+}
+bool is_root() { return world_comm().rank() == 0; }
+
+/// One case directory every rank sees (the root names it), removed at the end.
+class SharedCase {
+ public:
+  explicit SharedCase(const std::string& tag) {
+    std::string name = "scree_mpi_" + tag + "_" + std::to_string(::getpid());
+    std::uint64_t len = name.size();
+    world_comm().broadcast(&len, sizeof len, 0);
+    name.resize(len);
+    world_comm().broadcast(name.data(), len, 0);
+    dir_ = fs::temp_directory_path() / name;
+    if (is_root()) {
+      fs::remove_all(dir_);
+      fs::create_directories(dir_ / "system");
+      fs::create_directories(dir_ / "constant");
+    }
+    world_comm().barrier();
+  }
+  ~SharedCase() {
+    world_comm().barrier();
+    if (is_root() && !std::getenv("SCREE_KEEP_TEST_CASES")) fs::remove_all(dir_);
+  }
+  void write(const std::string& rel, const std::string& text) const {
+    if (is_root()) std::ofstream(dir_ / rel) << text;
+    world_comm().barrier();
+  }
+  const fs::path& dir() const { return dir_; }
+
+ private:
+  fs::path dir_;
+};
+
+struct Variant {
+  std::string name, control, schemes, grid, materials, bodies, boundaries, g = "value (0 -9.81);";
+  /// The bounds on the differences (position, of the block's length; velocity and stress,
+  /// of their largest magnitude). Linear shape functions: their gradient jumps when a point
+  /// crosses a cell face, so a round-off difference in a position decides on which side a
+  /// point's force is taken that step, and differences grow a hundredfold more than with
+  /// the smooth shapes (measured: 1.2e-12, 5.9e-11, 1.5e-9 after 1000 steps on 2 ranks).
+  double tol_x = 1e-12, tol_v = 1e-9, tol_s = 1e-9;
+};
+
+void PrintTo(const Variant& v, std::ostream* os) { *os << v.name; }
+
+void write_case(const SharedCase& c, const Variant& s) {
+  c.write("system/controlDict", s.control);
+  c.write("system/mpmSchemes", s.schemes);
+  c.write("system/gridDict", s.grid);
+  c.write("constant/g", s.g);
+  c.write("constant/materialProperties", s.materials);
+  c.write("constant/bodies", s.bodies);
+  c.write("constant/boundaryConditions", s.boundaries);
+}
+
+RunOptions opts(std::shared_ptr<Comm> comm, bool output = false) {
+  RunOptions o = options(1);  // one thread per rank: every run is deterministic
+  o.comm = std::move(comm);
+  o.output = output;
+  return o;
+}
+
+/// The case run to time t: decomposed over every rank (comm = world()) or alone (self()).
+Snapshot run_to(const fs::path& dir, std::shared_ptr<Comm> comm, double t, std::int64_t* migrations = nullptr) {
+  Case c = Case::read(dir, runtime());
+  Simulation sim(c, runtime(), opts(std::move(comm)));
+  sim.advance_to(t);
+  (void)migrations;
+  return sim.snapshot();
+}
+
+/// Point p's row of a snapshot field, found through the ids.
+struct ById {
+  explicit ById(const BodySnapshot& b) : b(b) {
+    for (Index p = 0; p < b.n; ++p) at[b.id[static_cast<std::size_t>(p)]] = p;
+  }
+  const BodySnapshot& b;
+  std::map<std::int64_t, Index> at;
+};
+
+/// The largest difference of field `name` between the runs over the common ids, relative
+/// to the field's largest magnitude (or absolute when `scale` is given).
+double difference(const BodySnapshot& a, const BodySnapshot& b, const std::string& name, double scale = 0) {
+  const ById ia(a), ib(b);
+  const FieldData& fa = field(a, name.c_str());
+  const FieldData& fb = field(b, name.c_str());
+  double big = 0, worst = 0;
+  for (double v : fa.values) big = std::max(big, std::fabs(v));
+  for (const auto& [id, p] : ia.at) {
+    const auto it = ib.at.find(id);
+    if (it == ib.at.end()) return INFINITY;
+    for (int c = 0; c < fa.components; ++c)
+      worst = std::max(worst, std::fabs(fa.values[static_cast<std::size_t>(fa.components * p + c)] -
+                                        fb.values[static_cast<std::size_t>(fb.components * it->second + c)]));
+  }
+  return worst / (scale > 0 ? scale : (big > 0 ? big : 1));
+}
+
+double position_difference(const BodySnapshot& a, const BodySnapshot& b) {
+  const ById ia(a), ib(b);
+  double worst = 0;
+  for (const auto& [id, p] : ia.at) {
+    const auto it = ib.at.find(id);
+    if (it == ib.at.end()) return INFINITY;
+    for (int d = 0; d < 3; ++d)
+      worst = std::max(worst, std::fabs(a.position[3 * static_cast<std::size_t>(p) + d] -
+                                        b.position[3 * static_cast<std::size_t>(it->second) + d]));
+  }
+  return worst;
+}
+
+/// Every id of `b` once, the same set as `ref`, and the same mass and volume per id, bit for bit.
+void expect_same_points(const BodySnapshot& b, const BodySnapshot& ref) {
+  ASSERT_EQ(b.n, ref.n) << "points of body " << b.name;
+  std::vector<std::int64_t> ids = b.id, rids = ref.id;
+  std::sort(ids.begin(), ids.end());
+  std::sort(rids.begin(), rids.end());
+  EXPECT_TRUE(std::adjacent_find(ids.begin(), ids.end()) == ids.end()) << "an id twice in body " << b.name;
+  EXPECT_EQ(ids, rids);
+  const ById ia(b), ib(ref);
+  const FieldData &m = field(b, "mass"), &mr = field(ref, "mass");
+  double total = 0, total_ref = 0;
+  for (const auto& [id, p] : ia.at) {
+    const Index q = ib.at.at(id);
+    EXPECT_EQ(0, std::memcmp(&m.values[static_cast<std::size_t>(p)], &mr.values[static_cast<std::size_t>(q)], sizeof(Real)))
+        << "mass of point " << id;
+    total += m.values[static_cast<std::size_t>(p)];
+    total_ref += mr.values[static_cast<std::size_t>(q)];
+  }
+  EXPECT_EQ(total, total_ref);
+}
+
+const char* kElastic = "m { type linearElastic; E 2e5; nu 0.3; rho 1000; }";
+
+std::vector<Variant> setups() {
+  return {
+      // A block sliding across the domain at 3 m/s on a frictional floor: its points
+      // cross the cuts (along x, the longest extent) many times.
+      {"slidingUSLlinear", "endTime 0.2; deltaT 2e-4; writeInterval 1;", "updateScheme USL; sortInterval 7;",
+       "dimension 2; lower (0 0); upper (1.2 0.3); cellSize 0.02;", kElastic,
+       "b { material m; velocity (3 0); region { type rectangle; lower (0.1 0); upper (0.4 0.06); } }",
+       "floor { type slip; face yMin; }", "value (0 -9.81);", 1e-10, 1e-8, 1e-7},
+      {"slidingUSFgimp", "endTime 0.2; deltaT 2e-4; writeInterval 1;", "updateScheme USF; shapeFunction gimp; sortInterval 5;",
+       "dimension 2; lower (0 0); upper (1.2 0.3); cellSize 0.02;", kElastic,
+       "b { material m; velocity (3 0); region { type rectangle; lower (0.1 0); upper (0.4 0.06); } }",
+       "floor { type slip; face yMin; }"},
+      {"slidingMUSLbsplineAPIC", "endTime 0.2; deltaT 1e-3; adjustTimeStep yes; maxCo 0.4; writeInterval 1;",
+       "updateScheme MUSL; shapeFunction bspline2; transfer APIC; sortInterval 11;",
+       "dimension 2; lower (0 0); upper (1.2 0.3); cellSize 0.02;", kElastic,
+       "b { material m; velocity (3 0); region { type rectangle; lower (0.1 0); upper (0.4 0.06); } }",
+       "floor { type slip; face yMin; } left { type slip; face xMin; } right { type slip; face xMax; }"},
+      // An elastic column settling under gravity on a fixed floor (cut along y).
+      {"columnUSLbspline", "endTime 0.1; deltaT 2e-4; writeInterval 1;", "updateScheme USL; shapeFunction bspline2;",
+       "dimension 2; lower (0 0); upper (0.2 1.0); cellSize 0.02;", "m { type linearElastic; E 1e6; nu 0.3; rho 1000; }",
+       "b { material m; region { type rectangle; lower (0.04 0); upper (0.16 0.8); } }",
+       "floor { type fixed; face yMin; }"},
+      // 3D: a box thrown along x over a slip floor, B-spline.
+      {"box3D", "endTime 0.08; deltaT 5e-4; writeInterval 1;", "updateScheme USL; shapeFunction bspline2;",
+       "dimension 3; lower (0 0 0); upper (0.8 0.12 0.12); cellSize 0.02;", kElastic,
+       "b { material m; velocity (2 0 0); region { type box; lower (0.06 0.02 0); upper (0.3 0.1 0.06); } }",
+       "floor { type slip; face zMin; }", "value (0 0 -9.81);"},
+  };
+}
+
+class Decomposed : public ::testing::TestWithParam<Variant> {};
+
+TEST_P(Decomposed, FollowsTheUndecomposedRunAndKeepsEveryPoint) {
+  const Variant& s = GetParam();
+  SharedCase c(s.name);
+  write_case(c, s);
+  Case cs = Case::read(c.dir(), runtime());
+  const double t_end = cs.settings().control.time.end_time;
+  const Snapshot dec = run_to(c.dir(), world(), t_end);
+  if (!is_root()) return;
+  const Snapshot one = run_to(c.dir(), self(), t_end);
+  ASSERT_EQ(dec.bodies.size(), one.bodies.size());
+  for (std::size_t k = 0; k < one.bodies.size(); ++k) {
+    const BodySnapshot &a = dec.bodies[k], &b = one.bodies[k];
+    expect_same_points(a, b);
+    // the block's extent: the scale of the positions
+    double lo = INFINITY, hi = -INFINITY;
+    for (Index p = 0; p < b.n; ++p) {
+      lo = std::min(lo, b.position[3 * static_cast<std::size_t>(p)]);
+      hi = std::max(hi, b.position[3 * static_cast<std::size_t>(p)]);
+    }
+    if (s.name.rfind("sliding", 0) == 0)  // every point crossed the cuts, which start inside the block
+      EXPECT_GT(lo, 0.4) << "the block did not slide past where it started";
+    const double dx = position_difference(a, b) / (hi - lo);
+    const double dv = difference(a, b, "velocity"), ds = difference(a, b, "stress");
+    std::cout << "[ " << s.name << " ] " << world_comm().size() << " ranks against one: position " << dx
+              << " of the block's length, velocity " << dv << ", stress " << ds << " of the largest\n";
+    EXPECT_LT(dx, s.tol_x);
+    EXPECT_LT(dv, s.tol_v);
+    EXPECT_LT(ds, s.tol_s);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, Decomposed, ::testing::ValuesIn(setups()),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
+  Variant s = setups()[0];
+  s.control =
+      "endTime 0.2; deltaT 2e-4; writeInterval 0.05; checkpointKeep 10; writers { particles { type vtk; } } "
+      "functions { front { type runOut; } }";
+  SharedCase c("restart");
+  write_case(c, s);
+  auto run = [&](const fs::path& restart) {
+    Case cs = Case::read(c.dir(), runtime());
+    RunOptions o = opts(world(), true);
+    o.restart = restart;
+    Simulation sim(cs, runtime(), o);
+    sim.run();
+    return sim.snapshot();
+  };
+  const Snapshot whole = run({});
+  std::string front_whole;
+  if (is_root()) {
+    std::ifstream in(c.dir() / "postProcessing/front/runOut.csv");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    front_whole = ss.str();
+    EXPECT_TRUE(fs::exists(c.dir() / "VTK/particles.pvd"));
+    EXPECT_FALSE(front_whole.empty());
+  }
+  world_comm().barrier();
+  const Snapshot again = run(checkpoint_file(c.dir(), 0.1));
+  if (!is_root()) return;
+  ASSERT_EQ(whole.bodies.size(), again.bodies.size());
+  const BodySnapshot &a = whole.bodies[0], &b = again.bodies[0];
+  ASSERT_EQ(a.id, b.id);
+  EXPECT_EQ(0, std::memcmp(a.position.data(), b.position.data(), a.position.size() * sizeof(Real)));
+  for (const FieldData& f : a.fields) {
+    const FieldData& g = field(b, f.name.c_str());
+    EXPECT_EQ(0, std::memcmp(f.values.data(), g.values.data(), f.values.size() * sizeof(Real))) << f.name;
+  }
+  std::ifstream in(c.dir() / "postProcessing/front/runOut.csv");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_EQ(ss.str(), front_whole) << "the run-out CSV after the restart";
+}
+
+TEST(DecomposedRestart, ContinuesOnOneRankWithinRoundOff) {
+  // The checkpoint of a decomposed run is the whole case: one process continues it, and
+  // ends where the decomposed run ends, within the bounds of the comparison above.
+  Variant s = setups()[1];
+  s.control = "endTime 0.2; deltaT 2e-4; writeInterval 0.1; checkpointKeep 10; writers { particles { type vtk; } }";
+  SharedCase c("restartOne");
+  write_case(c, s);
+  Snapshot whole;
+  {
+    Case cs = Case::read(c.dir(), runtime());
+    Simulation sim(cs, runtime(), opts(world(), true));
+    sim.run();
+    whole = sim.snapshot();
+  }
+  if (!is_root()) return;
+  Case cs = Case::read(c.dir(), runtime());
+  RunOptions o = opts(self(), true);
+  o.restart = checkpoint_file(c.dir(), 0.1);
+  Simulation sim(cs, runtime(), o);
+  sim.run();
+  const Snapshot one = sim.snapshot();
+  expect_same_points(one.bodies[0], whole.bodies[0]);
+  EXPECT_LT(difference(one.bodies[0], whole.bodies[0], "velocity"), s.tol_v);
+  EXPECT_LT(difference(one.bodies[0], whole.bodies[0], "stress"), s.tol_s);
+}
+
+TEST(DecomposedFailure, StopsEveryRankWithOneDiagnosis) {
+  // A fixed step four times the stable one: the Courant check (stopCo), or the non-finite
+  // values that follow, stop the run. Every rank throws the same RunFailure, which names
+  // the rank that diagnosed it (no rank waits for another that has stopped).
+  Variant s = setups()[3];
+  s.control = "endTime 0.1; deltaT 2e-3; writeInterval 1;";
+  SharedCase c("failure");
+  write_case(c, s);
+  Case cs = Case::read(c.dir(), runtime());
+  Simulation sim(cs, runtime(), opts(world()));
+  std::string what;
+  try {
+    sim.advance_to(0.1);
+  } catch (const RunFailure& e) {
+    what = e.what();
+  }
+  EXPECT_EQ(what.rfind("rank ", 0), 0u) << what;
+  EXPECT_NE(what.find(" of " + std::to_string(world_comm().size()) + ": "), std::string::npos) << what;
+}
+
+}  // namespace
+}  // namespace scree::test
+
+int main(int argc, char** argv) {
+  scree::comm_init(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  scree::test::parse_device_flag(argc, argv);
+  if (scree::test::world_comm().rank() != 0) {  // the root reports
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  const int rc = RUN_ALL_TESTS();
+  std::uint64_t failed = rc != 0 ? 1 : 0;
+  failed = scree::test::world_comm().sum(failed);
+  scree::comm_finalize();
+  return failed != 0 ? 1 : 0;
+}
