@@ -87,13 +87,7 @@ struct Variant {
 void PrintTo(const Variant& v, std::ostream* os) { *os << v.name; }
 
 void write_case(const SharedCase& c, const Variant& s) {
-  c.write("system/controlDict", s.control);
-  c.write("system/mpmSchemes", s.schemes);
-  c.write("system/gridDict", s.grid);
-  c.write("constant/g", s.g);
-  c.write("constant/materialProperties", s.materials);
-  c.write("constant/bodies", s.bodies);
-  c.write("constant/boundaryConditions", s.boundaries);
+  write_case_files(c, CaseFiles{s.control, s.schemes, s.grid, s.g, s.materials, s.bodies, s.boundaries});
 }
 
 RunOptions opts(std::shared_ptr<Comm> comm, bool output = false) {

@@ -108,6 +108,24 @@ class TempCase {
   std::filesystem::path dir_;
 };
 
+/// The dictionaries of a small case, as text.
+struct CaseFiles {
+  std::string control, schemes, grid, gravity = "value (0 -9.81);", materials, bodies, boundaries;
+};
+
+/// Write `f` into a case directory through `dir.write(relative path, text)` (a TempCase,
+/// or any directory object with that member).
+template <class Dir>
+void write_case_files(const Dir& dir, const CaseFiles& f) {
+  dir.write("system/controlDict", f.control);
+  dir.write("system/mpmSchemes", f.schemes);
+  dir.write("system/gridDict", f.grid);
+  dir.write("constant/g", f.gravity);
+  dir.write("constant/materialProperties", f.materials);
+  dir.write("constant/bodies", f.bodies);
+  dir.write("constant/boundaryConditions", f.boundaries);
+}
+
 inline RunOptions options(int threads = 2) {
   RunOptions o;
   o.device = test_device();

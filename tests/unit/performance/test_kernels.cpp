@@ -27,13 +27,7 @@ struct RunSetup {
 
 Snapshot run(const RunSetup& s, bool reference, long steps, StressSplit split = StressSplit::automatic) {
   TempCase tc(reference ? "reference" : "fast");
-  tc.write("system/controlDict", s.control);
-  tc.write("system/gridDict", s.grid);
-  tc.write("system/mpmSchemes", s.schemes);
-  tc.write("constant/g", s.gravity);
-  tc.write("constant/materialProperties", s.materials);
-  tc.write("constant/bodies", s.bodies);
-  tc.write("constant/boundaryConditions", s.boundaries);
+  write_case_files(tc, CaseFiles{s.control, s.schemes, s.grid, s.gravity, s.materials, s.bodies, s.boundaries});
   Case cs = Case::read(tc.dir(), runtime());
   RunOptions o = options(1);  // one CPU thread: these runs are small
   if (reference) o.kernels = KernelPolicy::reference_kernels();

@@ -76,13 +76,7 @@ std::vector<Variant> variants() {
 }
 
 void write_case(const TempCase& tc, const Variant& v, const std::string& control = kControl) {
-  tc.write("system/controlDict", control);
-  tc.write("system/mpmSchemes", v.schemes);
-  tc.write("system/gridDict", v.grid);
-  tc.write("constant/g", "value (0 -9.81);");
-  tc.write("constant/materialProperties", v.materials);
-  tc.write("constant/bodies", v.bodies);
-  tc.write("constant/boundaryConditions", v.boundaries);
+  write_case_files(tc, CaseFiles{control, v.schemes, v.grid, "value (0 -9.81);", v.materials, v.bodies, v.boundaries});
 }
 
 RunOptions with_output() {
