@@ -13,6 +13,8 @@
 //   their largest magnitude (the stress of a point sums the gradients of a few nodes each
 //   step: the looser bound of the two; the observed differences are listed in the test's
 //   output).
+// - The cuts move with the mass: a block sliding off its first ranks makes them cut anew
+//   (RunStats::rebalances), with the same bounds.
 // - A decomposed run restarted from its own checkpoint ends in the uninterrupted
 //   decomposed run's state bit for bit (one thread per rank: the same operations in the
 //   same order), and its files are one case's: one .pvd, one CSV per function object.
@@ -98,11 +100,11 @@ RunOptions opts(std::shared_ptr<Comm> comm, bool output = false) {
 }
 
 /// The case run to time t: decomposed over every rank (comm = world()) or alone (self()).
-Snapshot run_to(const fs::path& dir, std::shared_ptr<Comm> comm, double t, std::int64_t* migrations = nullptr) {
+Snapshot run_to(const fs::path& dir, std::shared_ptr<Comm> comm, double t, RunStats* stats = nullptr) {
   Case c = Case::read(dir, runtime());
   Simulation sim(c, runtime(), opts(std::move(comm)));
   sim.advance_to(t);
-  (void)migrations;
+  if (stats) *stats = sim.stats();
   return sim.snapshot();
 }
 
@@ -207,7 +209,8 @@ TEST_P(Decomposed, FollowsTheUndecomposedRunAndKeepsEveryPoint) {
   write_case(c, s);
   Case cs = Case::read(c.dir(), runtime());
   const double t_end = cs.settings().control.time.end_time;
-  const Snapshot dec = run_to(c.dir(), world(), t_end);
+  RunStats st;
+  const Snapshot dec = run_to(c.dir(), world(), t_end, &st);
   if (!is_root()) return;
   const Snapshot one = run_to(c.dir(), self(), t_end);
   ASSERT_EQ(dec.bodies.size(), one.bodies.size());
@@ -220,11 +223,15 @@ TEST_P(Decomposed, FollowsTheUndecomposedRunAndKeepsEveryPoint) {
       lo = std::min(lo, b.position[3 * static_cast<std::size_t>(p)]);
       hi = std::max(hi, b.position[3 * static_cast<std::size_t>(p)]);
     }
-    if (s.name.rfind("sliding", 0) == 0)  // every point crossed the cuts, which start inside the block
+    if (s.name.rfind("sliding", 0) == 0) {  // every point crossed the cuts, which start inside the block
       EXPECT_GT(lo, 0.4) << "the block did not slide past where it started";
+      // and the mass left its first ranks: the cuts moved with it
+      EXPECT_GT(st.rebalances, 0) << "no rebalance";
+    }
     const double dx = position_difference(a, b) / (hi - lo);
     const double dv = difference(a, b, "velocity"), ds = difference(a, b, "stress");
-    std::cout << "[ " << s.name << " ] " << world_comm().size() << " ranks against one: position " << dx
+    std::cout << "[ " << s.name << " ] " << world_comm().size() << " ranks (" << st.rebalances
+              << " rebalances) against one: position " << dx
               << " of the block's length, velocity " << dv << ", stress " << ds << " of the largest\n";
     EXPECT_LT(dx, s.tol_x);
     EXPECT_LT(dv, s.tol_v);

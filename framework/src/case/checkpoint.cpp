@@ -145,6 +145,8 @@ void Checkpoint::write(const fs::path& file) const {
     o.array(b.data);
   }
   o.array(liquid);
+  o.pod(cut_axis);
+  o.array(cuts);
   Fnv sum;
   sum.add(o.buffer().data(), o.buffer().size());
   o.pod(sum.h);
@@ -197,8 +199,9 @@ Checkpoint Checkpoint::read(const fs::path& file) {
     if (stored != sum.h) in.fail("its checksum does not match (the file was altered or cut)");
   }
   const auto version = in.pod<std::uint32_t>();
-  if (version != kVersion)
-    in.fail("format version " + std::to_string(version) + ", this scree reads version " + std::to_string(kVersion));
+  if (version != kVersion && version != 1)
+    in.fail("format version " + std::to_string(version) + ", this scree reads versions 1 to " +
+            std::to_string(kVersion));
   if (in.pod<std::uint32_t>() != sizeof(Real)) in.fail("written with another size of Real");
   if (in.pod<std::uint32_t>() != sizeof(StepControl))
     in.fail("written by a scree with another clock layout (StepControl): restart with the scree that wrote it");
@@ -226,6 +229,10 @@ Checkpoint Checkpoint::read(const fs::path& file) {
     c.bodies.push_back(std::move(b));
   }
   c.liquid = in.array<Real>();
+  if (version >= 2) {
+    c.cut_axis = in.pod<std::int32_t>();
+    c.cuts = in.array<std::int32_t>();
+  }
   return c;
 }
 

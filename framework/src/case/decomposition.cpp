@@ -74,6 +74,19 @@ Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& posi
       dc.axis = d;
     }
   }
+  return cut_slabs<D>(g, hist[dc.axis], dc.axis, ranks, rank, a, b, slack);
+}
+
+template <int D>
+Decomposition<D> cut_slabs(const GlobalGrid<D>& g, const std::vector<std::uint64_t>& h, int axis, int ranks, int rank,
+                           int a, int b, int slack) {
+  Decomposition<D> dc;
+  dc.ranks = ranks;
+  dc.rank = rank;
+  dc.slack = slack;
+  dc.axis = axis;
+  std::uint64_t n = 0;
+  for (auto c : h) n += c;
   const int ax = dc.axis, cells = g.cells[ax];
   // The widening of a box: its grid covers the nodes of every point up to `slack` cells
   // outside it (cells c0 - slack .. c1 + slack - 1, nodes c0 - slack - a .. c1 + slack + b - 1),
@@ -88,7 +101,6 @@ Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& posi
                                 " (the halo of its neighbours): run on at most " + std::to_string(cells / min_width) +
                                 " ranks, or refine cellSize");
   // Equal counts: cut r where the cumulative count first reaches r/ranks of the points.
-  const auto& h = hist[ax];
   dc.cuts.assign(static_cast<std::size_t>(ranks) + 1, 0);
   dc.cuts[static_cast<std::size_t>(ranks)] = cells;
   std::uint64_t cum = 0;
@@ -103,6 +115,27 @@ Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& posi
     dc.cuts[static_cast<std::size_t>(r)] = std::max(dc.cuts[static_cast<std::size_t>(r)], dc.cuts[static_cast<std::size_t>(r) - 1] + min_width);
   for (int r = ranks - 1; r >= 1; --r)
     dc.cuts[static_cast<std::size_t>(r)] = std::min(dc.cuts[static_cast<std::size_t>(r)], dc.cuts[static_cast<std::size_t>(r) + 1] - min_width);
+  return slabs_from_cuts<D>(g, ax, dc.cuts, rank, a, b, slack);
+}
+
+template <int D>
+Decomposition<D> slabs_from_cuts(const GlobalGrid<D>& g, int axis, const std::vector<int>& cuts, int rank, int a,
+                                 int b, int slack) {
+  Decomposition<D> dc;
+  dc.ranks = static_cast<int>(cuts.size()) - 1;
+  dc.rank = rank;
+  dc.slack = slack;
+  dc.axis = axis;
+  dc.cuts = cuts;
+  const int ranks = dc.ranks, ax = axis;
+  if (ranks < 1 || axis < 0 || axis >= D || cuts.front() != 0 || cuts.back() != g.cells[ax])
+    throw std::invalid_argument("the cuts do not span the grid's " + std::to_string(g.cells[std::max(0, std::min(axis, D - 1))]) + " cells");
+  const int cells = g.cells[ax];
+  const int e_lo = std::max(0, slack + a - g.ghost), e_hi = std::max(0, slack + b - 1 - g.ghost);
+  const int min_width = e_lo + e_hi + 2 * g.ghost + 1;
+  for (int r = 0; r < ranks; ++r)
+    if (ranks > 1 && cuts[static_cast<std::size_t>(r) + 1] - cuts[static_cast<std::size_t>(r)] < min_width)
+      throw std::invalid_argument("a slab of the cuts is thinner than " + std::to_string(min_width) + " cells");
   for (int r = 0; r < ranks; ++r) {
     int lo[D], hi[D];
     for (int d = 0; d < D; ++d) {
@@ -123,5 +156,11 @@ template struct Decomposition<2>;
 template struct Decomposition<3>;
 template Decomposition<2> decompose<2>(const GlobalGrid<2>&, const std::vector<Real>&, int, int, int, int, int);
 template Decomposition<3> decompose<3>(const GlobalGrid<3>&, const std::vector<Real>&, int, int, int, int, int);
+template Decomposition<2> slabs_from_cuts<2>(const GlobalGrid<2>&, int, const std::vector<int>&, int, int, int, int);
+template Decomposition<3> slabs_from_cuts<3>(const GlobalGrid<3>&, int, const std::vector<int>&, int, int, int, int);
+template Decomposition<2> cut_slabs<2>(const GlobalGrid<2>&, const std::vector<std::uint64_t>&, int, int, int, int, int,
+                                       int);
+template Decomposition<3> cut_slabs<3>(const GlobalGrid<3>&, const std::vector<std::uint64_t>&, int, int, int, int, int,
+                                       int);
 
 }  // namespace scree

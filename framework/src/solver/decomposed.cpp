@@ -22,12 +22,6 @@ namespace {
 /// Cells a held point may lie outside its box between two migrations (the halo's slack).
 constexpr int kSlackCells = 2;
 
-/// The reach of a shape function along an axis: a point in cell c touches nodes c - a
-/// to c + b (mpm/shape_functions.hpp).
-void stencil_reach(ShapeKind s, int& a, int& b) {
-  a = s == ShapeKind::linear ? 0 : 1;
-  b = s == ShapeKind::linear ? 1 : 2;
-}
 }  // namespace
 
 template <int D>
@@ -56,19 +50,7 @@ void Solver<D>::decompose_bodies() {
   } catch (const std::invalid_argument& e) {
     throw InputError(case_.grid().where(), std::string("system/gridDict: cellSize: ") + e.what());
   }
-  // This rank's grid: its box with the halo, owning its box's nodes along the cut axis.
-  static_cast<GridGeometry<D>&>(grid_) = decomp_.grid();
-  for (int d = 0; d < D; ++d) {
-    grid_.cells[d] = grid_.n[d] - 1 - 2 * grid_.ghost;
-    grid_.owned.lo[d] = 0;
-    grid_.owned.hi[d] = grid_.n[d];
-  }
-  decomp_.owned_local(grid_.owned.lo[decomp_.axis], grid_.owned.hi[decomp_.axis]);
-  allocate_grid();
-  for (int d = 0; d < D; ++d) {  // the boundary conditions' faces are the whole domain's
-    ctx_.domain_lower[static_cast<std::size_t>(d)] = global_.lower[d];
-    ctx_.domain_upper[static_cast<std::size_t>(d)] = global_.upper[d];
-  }
+  set_local_grid();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Index kept = 0;
     std::vector<Real> mine = keep_own(blocks[i], bodies_[i]->size(), kept);
@@ -88,6 +70,42 @@ void Solver<D>::decompose_bodies() {
   m << ", points per rank";
   for (auto h : held) m << " " << h;
   log_ << m.str() << std::endl;
+}
+
+template <int D>
+void Solver<D>::set_local_grid() {
+  // This rank's grid: its box with the halo, owning its box's nodes along the cut axis.
+  static_cast<GridGeometry<D>&>(grid_) = decomp_.grid();
+  for (int d = 0; d < D; ++d) {
+    grid_.cells[d] = grid_.n[d] - 1 - 2 * grid_.ghost;
+    grid_.owned.lo[d] = 0;
+    grid_.owned.hi[d] = grid_.n[d];
+  }
+  decomp_.owned_local(grid_.owned.lo[decomp_.axis], grid_.owned.hi[decomp_.axis]);
+  allocate_grid();
+  for (int d = 0; d < D; ++d) {  // the boundary conditions' faces are the whole domain's
+    ctx_.domain_lower[static_cast<std::size_t>(d)] = global_.lower[d];
+    ctx_.domain_upper[static_cast<std::size_t>(d)] = global_.upper[d];
+  }
+  ctx_.start_time = run_start_;
+}
+
+template <int D>
+void Solver<D>::apply_recut() {
+  flush();  // the pending G2P reads the grid sets, which are about to be made anew
+  mem::synchronize(exec_.device);
+  decomp_ = std::move(*recut_);
+  recut_.reset();
+  set_local_grid();
+  setup_boundaries(false);
+  setup_passes();
+  ++rebalances_;
+  std::ostringstream m;
+  m << "rebalanced at t = " << time() << " s: cells";
+  for (int r = 0; r < comm_->size(); ++r)
+    m << " [" << decomp_.cuts[static_cast<std::size_t>(r)] << ", " << decomp_.cuts[static_cast<std::size_t>(r) + 1]
+      << ")";
+  log_ << m.str() << "\n";
 }
 
 template <int D>
@@ -189,7 +207,7 @@ void Solver<D>::agree_chunk(std::int64_t& n, double& t_event) {
   struct {
     std::int64_t n;
     double t_event;
-  } agreed{std::min(n, migration_limit_), t_event};
+  } agreed{std::min(n, std::max<std::int64_t>(1, next_migration_ - steps_done())), t_event};
   comm_->broadcast(&agreed, sizeof agreed, 0);
   n = agreed.n;
   t_event = agreed.t_event;
@@ -242,14 +260,16 @@ std::int64_t Solver<D>::migration_steps() const {
 }
 
 template <int D>
-void Solver<D>::migrate() {
+void Solver<D>::migrate(bool scheduled) {
   using S = ParticleStorage<D>;
+  if (recut_ && scheduled) apply_recut();
   mem::synchronize(exec_.device);
   const int R = comm_->size(), me = comm_->rank(), ax = decomp_.axis;
   int a = 0, b = 0;
   stencil_reach(settings_.schemes.shape, a, b);
   double vmax = 0;
   std::uint64_t past = 0;  // points frozen inside the domain: they left this rank's grid, not the case's
+  std::vector<std::uint64_t> layers(static_cast<std::size_t>(global_.cells[ax]), 0);  // points per cell layer
   for (auto& body : bodies_) {
     const Index n = body->size();
     const std::size_t C = body->bytes_per_particle() / sizeof(Real);
@@ -268,7 +288,10 @@ void Solver<D>::migrate() {
       double v2 = 0;
       for (int d = 0; d < D; ++d) v2 += at(S::kColV + d, p) * at(S::kColV + d, p);
       vmax = std::max(vmax, std::sqrt(v2));
-      const int dest = decomp_.owner(at(S::kColX + ax, p), global_);
+      const Real xa = at(S::kColX + ax, p);
+      ++layers[static_cast<std::size_t>(
+          std::clamp(static_cast<int>(std::floor((xa - global_.lower[ax]) / global_.h)), 0, global_.cells[ax] - 1))];
+      const int dest = decomp_.owner(xa, global_);
       if (dest == me) {
         stay.push_back(p);
         continue;
@@ -315,6 +338,21 @@ void Solver<D>::migrate() {
     throw RunFailure(m.str());
   }
   migration_limit_ = migration_steps();
+  next_migration_ = steps_done() + migration_limit_;
+  // Load balance: the points per rank from the global histogram; cut anew above the ratio.
+  comm_->sum(layers.data(), static_cast<int>(layers.size()));
+  std::uint64_t most = 0, all = 0;
+  for (int r = 0; r < R; ++r) {
+    std::uint64_t held = 0;
+    for (int c = decomp_.cuts[static_cast<std::size_t>(r)]; c < decomp_.cuts[static_cast<std::size_t>(r) + 1]; ++c)
+      held += layers[static_cast<std::size_t>(c)];
+    most = std::max(most, held);
+    all += held;
+  }
+  if (all > 0 && static_cast<double>(most) * R > kRebalanceRatio * static_cast<double>(all)) {
+    Decomposition<D> next = cut_slabs<D>(global_, layers, ax, R, me, a, b, decomp_.slack);
+    if (next.cuts != decomp_.cuts) recut_ = std::move(next);
+  }
 }
 
 template <int D>
@@ -436,14 +474,20 @@ void Solver<D>::gather_checkpoint(Checkpoint& ck) {
     b.data = std::move(block);
     b.particles = total;
   }
-  // The clock's per-rank counts summed: the lost points and the energy ledger.
+  // The clock's per-rank counts summed: the lost points and the energy ledger; its speed the largest.
   StepControl c{};
   std::memcpy(&c, ck.clock.data(), sizeof c);
   c.lost = comm_->sum(static_cast<std::uint64_t>(c.lost));
   comm_->sum(c.energy, kEnergyTerms);
+  // The signal speed each rank's flush measured (the next step's dt takes the largest).
+  comm_->max(c.max_speed, 2);
   std::memcpy(ck.clock.data(), &c, sizeof c);
 }
 
+template void Solver<2>::set_local_grid();
+template void Solver<3>::set_local_grid();
+template void Solver<2>::apply_recut();
+template void Solver<3>::apply_recut();
 template void Solver<2>::decompose_bodies();
 template void Solver<3>::decompose_bodies();
 template std::vector<Real> Solver<2>::keep_own(const std::vector<Real>&, Index, Index&) const;
@@ -462,8 +506,8 @@ template void Solver<2>::reduce_clock();
 template void Solver<3>::reduce_clock();
 template std::int64_t Solver<2>::migration_steps() const;
 template std::int64_t Solver<3>::migration_steps() const;
-template void Solver<2>::migrate();
-template void Solver<3>::migrate();
+template void Solver<2>::migrate(bool);
+template void Solver<3>::migrate(bool);
 template void Solver<2>::gather_snapshot(Snapshot&);
 template void Solver<3>::gather_snapshot(Snapshot&);
 template void Solver<2>::gather_grid(Snapshot&);

@@ -210,7 +210,7 @@ void Solver<D>::after_chunk(bool with_output) {
     for (auto& b : bodies_) b->sort_by_cell(grid_);
   }
   if (with_output) output_due(false);  // a decomposed run's migrates after the flush of its output
-  if (decomposed() && !migrated_) migrate();
+  if (decomposed() && !migrated_ && steps_done() >= next_migration_) migrate();
   migrated_ = false;
   if (opt_.progress) progress_.report(time(), step_, false);
   if (root()) time_.watch(wall_, time(), step_, [this] { return max_signal_speed(); }, log_);

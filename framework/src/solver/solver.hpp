@@ -98,7 +98,7 @@ class Solver {
   /// The error for an allocation of part `part` of the memory estimate (0: the grid, then
   /// the bodies) that failed: its entry, its size (memory_estimate.hpp) and `e`.
   InputError out_of_memory(std::size_t part, const std::bad_alloc& e) const;
-  void setup_boundaries();
+  void setup_boundaries(bool warn = true);
   void setup_split();
   void setup_output();
   /// What every particle pass and grid update of the run shares (the physics of the case
@@ -157,6 +157,11 @@ class Solver {
   /// Cut the grid into boxes from the bodies' points (every rank made every body whole),
   /// set up this rank's grid, and keep each body's points in this rank's box.
   void decompose_bodies();
+  /// Make decomp_'s box this rank's grid: its geometry, its grid sets, the plugins' context.
+  void set_local_grid();
+  /// Move to the cuts of recut_ (a rebalance): the pending G2P applied, this rank's grid
+  /// and the boundary conditions' nodes set up anew; the points then migrate.
+  void apply_recut();
   /// The points of `block` (a body's block of n points) that this rank's box holds.
   std::vector<Real> keep_own(const std::vector<Real>& block, Index n, Index& kept) const;
   /// Before a grid update of set `set`: the halo sum of what the passes since the last
@@ -174,9 +179,12 @@ class Solver {
   /// step is known only to its rank yet) stops every rank, with the diagnosis of the first
   /// rank that found one.
   void check_health_ranks();
-  /// At the end of a chunk: every point to the rank whose box holds it; the next chunk's
-  /// length limit from the fastest point (the halo's slack).
-  void migrate();
+  /// Every point to the rank whose box holds it; the step of the next migration from the
+  /// fastest point (the halo's slack); whether the cuts should move. A `scheduled` one (at
+  /// its step, not at a write time or a restart, whose times do not depend on the cuts)
+  /// first moves the cuts a migration before decided (recut_), so that a restarted run
+  /// moves them at the steps the uninterrupted one did.
+  void migrate(bool scheduled = true);
   /// The longest chunk of steps in which no point moves more than the halo's slack.
   std::int64_t migration_steps() const;
   /// The whole snapshot on the root rank (each rank's points; the grid's owned nodes).
@@ -208,10 +216,13 @@ class Solver {
   unsigned scattered_ = 0;           // what the passes since the last grid update scattered
   std::uint64_t lost_stop_global_ = 0;  // StepControl::lost_stop over every rank's points
   double vmax_ = 0;                  // the fastest point at the last migration [m/s]
-  std::int64_t migration_limit_ = 0; // the longest chunk before the next migration (0: none)
+  std::int64_t migration_limit_ = 0; // the steps from one migration to the next
+  std::int64_t next_migration_ = 0;  // steps_done() at which the points migrate next (as sorts, not on wall time)
   std::int64_t migrations_ = 0;
   bool migrated_ = false;            // the points migrated at this chunk's end already (output_due)
   std::vector<std::uint64_t> body_totals_;  // each body's points over every rank
+  std::optional<Decomposition<D>> recut_;   // the cuts the next migration moves to (a rebalance)
+  std::int64_t rebalances_ = 0;
 
   // Algorithm (system/mpmSchemes, constant/g)
   Vec<D> gravity_;

@@ -71,7 +71,7 @@ void Solver<D>::output_ranks(const OutputSchedule::Due& due, bool checkpoint, co
   comm_->broadcast(&agreed, sizeof agreed, 0);
   if (agreed.write || agreed.checkpoint) {  // the state written, every point in its owner's box
     flush();
-    migrate();
+    migrate(false);
     migrated_ = true;
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -111,6 +111,8 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
   if (porous_) ck->liquid = porous_->save_state();
   checkpoint_time_ = ck->time;
   if (decomposed()) {
+    ck->cut_axis = decomp_.axis;
+    ck->cuts.assign(decomp_.cuts.begin(), decomp_.cuts.end());
     gather_checkpoint(*ck);  // one checkpoint of the whole case, written by the root
     if (!output_) return;
   }
@@ -209,6 +211,7 @@ RunStats Solver<D>::stats() const {
   r.peak_device_bytes = mem::peak_bytes(exec_.device);
   r.lost_particles = host_ctl_.lost;
   r.split_steps = split_steps_;
+  r.rebalances = rebalances_;
   return r;
 }
 

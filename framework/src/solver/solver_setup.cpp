@@ -82,7 +82,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   // A run from startTime: the checkpoints of an earlier run are not its own.
   if (opt_.output && root()) purge_checkpoints(case_.dir(), 0);
   if (time_.start(host_ctl_, comm_->max(static_cast<double>(max_signal_speed())), log_)) sync_control_to_device();
-  if (decomposed()) migration_limit_ = migration_steps();
+  if (decomposed()) migrate();  // the points are in their boxes: this measures the fastest, which sets the next
 }
 
 template <int D>
@@ -99,6 +99,20 @@ void Solver<D>::restore(const Checkpoint& ck) {
   if (ck.bodies.size() != bodies_.size())
     throw mismatch("it has " + std::to_string(ck.bodies.size()) + " bodies, the case " +
                    std::to_string(bodies_.size()));
+  if (decomposed() && ck.cuts.size() == static_cast<std::size_t>(comm_->size()) + 1 && ck.cut_axis == decomp_.axis) {
+    // The slabs the run had (it may have rebalanced): on as many ranks, the points return to
+    // the ranks that held them, in their order.
+    try {
+      int a = 0, b = 0;
+      stencil_reach(settings_.schemes.shape, a, b);
+      decomp_ = slabs_from_cuts<D>(global_, ck.cut_axis, std::vector<int>(ck.cuts.begin(), ck.cuts.end()),
+                                   comm_->rank(), a, b, decomp_.slack);
+      set_local_grid();
+      setup_boundaries(false);
+      setup_passes();
+    } catch (const std::invalid_argument&) {  // the grid changed: the case's own cuts stay
+    }
+  }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Checkpoint::Body& b = ck.bodies[i];
     const std::string name = ctx_.body_names[i];
@@ -147,6 +161,7 @@ void Solver<D>::restore(const Checkpoint& ck) {
     log_ << "note: the function objects differ from those of the checkpoint; they start on their schedules at t = "
          << ck.time << " s\n";
   log_ << "Restarting from " << file << ": t = " << ck.time << " s, " << c.steps_done << " steps" << std::endl;
+  if (decomposed()) migrate(false);  // what the run did at this write time: the next migration's step, a rebalance due
 }
 
 template <int D>
@@ -352,7 +367,9 @@ void Solver<D>::setup_output() {
 }
 
 template <int D>
-void Solver<D>::setup_boundaries() {
+void Solver<D>::setup_boundaries(bool warn) {
+  boundaries_.clear();
+  node_laws_.clear();
   WallSet set(NodeLattice::of(ctx_));
   const Registry& reg = rt_.registry();
   for (const Entry* e : case_.boundary_entries()) {
@@ -366,7 +383,7 @@ void Solver<D>::setup_boundaries() {
       none += set.count(static_cast<int>(i)) == 0;
       nodes += static_cast<std::uint64_t>(set.count(static_cast<int>(i)));
     }
-    if (decomposed() ? comm_->sum(nodes) == 0 : none > 0)
+    if ((decomposed() ? comm_->sum(nodes) == 0 : none > 0) && warn)
       log_ << "warning: " << d.where().str() << ": boundary condition '" << e->key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
     // A condition on the pore liquid (porous/hydraulic_condition.hpp) goes to the porous media.

@@ -35,7 +35,8 @@
 namespace scree {
 
 struct SCREE_API Checkpoint {
-  static constexpr std::uint32_t kVersion = 1;
+  /// 2: the decomposition's cuts (version 1, without them, is read too).
+  static constexpr std::uint32_t kVersion = 2;
 
   int dimension = 0;
   double time = 0;              ///< the clock [s]
@@ -53,6 +54,10 @@ struct SCREE_API Checkpoint {
   };
   std::vector<Body> bodies;
   std::vector<Real> liquid;     ///< the pore liquid's state (PorousMedia::save_state; empty: none)
+  /// A decomposed run's slabs (case/decomposition.hpp): the axis cut and the ranks + 1 cell
+  /// indices of the cuts, which a restart on as many ranks takes up; -1 and empty: one rank.
+  std::int32_t cut_axis = -1;
+  std::vector<std::int32_t> cuts;
 
   /// Write atomically (temporary, fsync, rename). Throws std::runtime_error naming the file
   /// on an I/O failure (disk full, not writable).

@@ -7,7 +7,10 @@
 // rank generates every body). A rank's grid is its box widened by `e_lo`/`e_hi` cells and
 // the `ghost` node layers around it (GlobalGrid::sub_box): wide enough for the stencil of
 // every point that lies up to `slack` cells outside its box, since points move between
-// migrations (Solver: they migrate at the end of every chunk of steps). Neighbouring grids
+// migrations (Solver: they migrate at the end of every chunk of steps). As the mass moves
+// (a flume's down the chute) the cuts move with it: when the rank holding the most points
+// holds more than kRebalanceRatio times the mean, the slabs are cut anew from the
+// points' histogram (cut_slabs) and the points migrate to them. Neighbouring grids
 // overlap in a slab of nodes; after each particle-to-grid transfer the two ranks add each
 // other's partial sums on it (the halo sum), so that both hold the whole sum, bitwise
 // equal (a + b = b + a), and the grid update runs on every local node alike.
@@ -22,8 +25,19 @@
 #include <vector>
 
 #include "scree/case/case_model.hpp"
+#include "scree/mpm/schemes.hpp"
 
 namespace scree {
+
+/// The reach of a shape function along an axis (above): a point in cell c touches nodes
+/// c - a to c + b.
+inline void stencil_reach(ShapeKind s, int& a, int& b) {
+  a = s == ShapeKind::linear ? 0 : 1;
+  b = s == ShapeKind::linear ? 1 : 2;
+}
+
+/// The imbalance (most points on one rank over the mean) above which the cuts move.
+inline constexpr double kRebalanceRatio = 1.15;
 
 template <int D>
 struct Decomposition {
@@ -42,12 +56,12 @@ struct Decomposition {
   const GridGeometry<D>& grid() const { return local[static_cast<std::size_t>(rank)]; }
   /// The rank owning a point at coordinate `x` along `axis` (outside the domain: the
   /// nearest box).
-  int owner(Real x, const GlobalGrid<D>& g) const;
+  SCREE_API int owner(Real x, const GlobalGrid<D>& g) const;
   /// This rank's owned nodes along axis, in local node indices: [lo, hi).
-  void owned_local(int& lo, int& hi) const;
+  SCREE_API void owned_local(int& lo, int& hi) const;
   /// The nodes this rank's grid shares with rank `peer` (a neighbour) along axis, in local
   /// node indices [lo, hi); empty (lo == hi) when they share none.
-  void overlap(int peer, int& lo, int& hi) const;
+  SCREE_API void overlap(int peer, int& lo, int& hi) const;
 };
 
 /// The decomposition of grid `g` over `ranks` ranks for points at `positions` (D per
@@ -58,5 +72,18 @@ struct Decomposition {
 template <int D>
 SCREE_API Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& positions, int ranks, int rank,
                                      int a, int b, int slack);
+
+/// The slabs across `axis` for the points per cell layer `layers` along it (a rebalance
+/// keeps the axis and moves the cuts), as decompose() cuts them.
+template <int D>
+SCREE_API Decomposition<D> cut_slabs(const GlobalGrid<D>& g, const std::vector<std::uint64_t>& layers, int axis,
+                                     int ranks, int rank, int a, int b, int slack);
+
+/// The slabs of the given cuts (ranks + 1 cell indices along `axis`): a restart takes up
+/// its checkpoint's. Throws std::invalid_argument when they do not span the grid or a slab
+/// is too thin for its halo.
+template <int D>
+SCREE_API Decomposition<D> slabs_from_cuts(const GlobalGrid<D>& g, int axis, const std::vector<int>& cuts, int rank,
+                                           int a, int b, int slack);
 
 }  // namespace scree

@@ -89,6 +89,7 @@ struct RunStats {
   std::size_t bytes_per_particle = 0;
   std::size_t peak_device_bytes = 0;
   std::uint64_t lost_particles = 0;
+  std::int64_t rebalances = 0;   ///< a decomposed run: the times its cuts moved with the mass
 };
 
 class SCREE_API Simulation {
