@@ -6,7 +6,8 @@
 
 A variant is a directory under variants/ holding
   variant.json   what to run and what to expect (below);
-  prepare.sh     optional: run with bash -e in the copied case directory (mkfifo, sed, ...);
+  prepare.sh     optional: run with bash -e in the copied case directory (mkfifo, sed, ...;
+                 $SCREE is the scree under test, to run the case first);
   any other file copied over the case at its relative path (e.g. constant/bodies).
 
 variant.json:
@@ -90,7 +91,7 @@ def snapshot(root):
     return files
 
 
-def prepare_case(variant_dir, case, base=None):
+def prepare_case(variant_dir, case, base=None, scree=None):
     src = os.path.join(ROOT, base) if base else os.path.join(HERE, "base")
     copy_case(src, case)
     for dirpath, _, filenames in os.walk(variant_dir):
@@ -104,7 +105,10 @@ def prepare_case(variant_dir, case, base=None):
             shutil.copyfile(src, dst)
     script = os.path.join(variant_dir, "prepare.sh")
     if os.path.exists(script):
-        subprocess.run(["bash", "-e", script], cwd=case, check=True)
+        env = dict(os.environ)
+        if scree:
+            env["SCREE"] = scree  # a prepare.sh may run the case first (a restart's checkpoint)
+        subprocess.run(["bash", "-e", script], cwd=case, check=True, env=env)
 
 
 def run_scree(scree, case, spec, out_path, err_path):
@@ -152,7 +156,7 @@ def check_variant(scree, variant_dir):
     work = tempfile.mkdtemp(prefix="scree-broken-%s-" % name)
     try:
         case = os.path.join(work, "case")
-        prepare_case(variant_dir, case, spec.get("base"))
+        prepare_case(variant_dir, case, spec.get("base"), os.path.abspath(scree))
         if spec.get("results", "planted") == "planted":
             for rel, text in PLANTED.items():
                 path = os.path.join(case, rel)

@@ -2,7 +2,7 @@
 //
 //   scree [--case DIR] [--device cpu|cuda] [--threads N]    run a case
 //   scree --case DIR --overwrite                              run it again, replacing its results
-//   scree --case DIR --restart                                continue it from its newest checkpoint
+//   scree --case DIR --restart[=TIME]                         continue it from its newest checkpoint (or TIME's)
 //   scree --case DIR --check                                  validate a case and exit
 //   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
 //   scree --version | --help
@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -47,6 +48,7 @@
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/simulation.hpp"
+#include "scree/time/time_control.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -117,8 +119,10 @@ int main(int argc, char** argv) {
                 "conditions, output directories) and exit")
       ("overwrite", "run even though the case has results of an earlier run (the writers' files, postProcessing/): "
                     "they are replaced. Without it scree refuses to start, so that finished results are not lost")
-      ("restart", "continue the case from its newest checkpoint (checkpoints/<time>.ckpt), appending to its results "
-                  "(the same as `startFrom latestTime;` in system/controlDict)")
+      ("restart", po::value<std::string>()->implicit_value(""),
+       "continue the case from its newest checkpoint (checkpoints/<time>.ckpt), or with --restart=TIME from the one "
+       "at that time (newer ones are then removed), appending to its results (the same as `startFrom latestTime;` in "
+       "system/controlDict)")
       ("list-plugins", po::value<std::string>()->implicit_value(""),
        "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
@@ -196,10 +200,36 @@ int main(int argc, char** argv) {
     scree::SetupReport setup = scree::check_setup(c, rt, opt.output, memory_backend);
     for (const auto& w : setup.warnings) std::cout << "warning: " << w.what() << "\n";
     if (!setup.errors.empty()) throw scree::InputErrors(std::move(setup.errors));
-    // Restart: from the newest checkpoint (--restart, or startFrom latestTime).
+    // Restart: from the newest checkpoint (--restart, or startFrom latestTime), or the one at TIME.
+    std::vector<fs::path> newer;  // checkpoints after the one a --restart=TIME picked
     if (vm.count("restart") || c.settings().control.start_from_latest) {
       const auto checkpoints = scree::list_checkpoints(dir);
-      if (!checkpoints.empty()) {
+      const std::string at = vm.count("restart") ? vm["restart"].as<std::string>() : std::string();
+      auto times = [&] {
+        std::string list;
+        for (const auto& f : checkpoints) list += (list.empty() ? "" : ", ") + f.stem().string();
+        return list;
+      };
+      if (!at.empty()) {
+        char* end = nullptr;
+        const double want = std::strtod(at.c_str(), &end);
+        if (end == at.c_str() || *end != '\0') {
+          err << "scree: --restart=" << at << ": expected a time in seconds (a checkpoint's, as in checkpoints/<time>.ckpt)\n";
+          return 2;
+        }
+        for (std::size_t i = 0; i < checkpoints.size(); ++i) {
+          double t = 0;
+          if (scree::checkpoint_time(checkpoints[i], t) && std::fabs(t - want) <= 1e-9 * std::max(1.0, std::fabs(want))) {
+            opt.restart = checkpoints[i];
+            newer.assign(checkpoints.begin() + static_cast<std::ptrdiff_t>(i) + 1, checkpoints.end());
+          }
+        }
+        if (opt.restart.empty()) {
+          err << "scree: --restart=" << at << ": case " << dir.string() << " has no checkpoint at t = " << at << " s; "
+              << (checkpoints.empty() ? std::string("it has none") : "it has checkpoints at t = " + times() + " s") << "\n";
+          return 2;
+        }
+      } else if (!checkpoints.empty()) {
         opt.restart = checkpoints.back();
       } else if (vm.count("restart")) {
         err << "scree: --restart: case " << dir.string() << " has no checkpoint (" <<
@@ -208,6 +238,26 @@ int main(int argc, char** argv) {
         return 2;
       } else {
         std::cout << "scree: startFrom latestTime: no checkpoint yet; the run starts from startTime" << std::endl;
+      }
+      double t_ck = 0;
+      const double t_end = c.settings().control.time.end_time;
+      if (!opt.restart.empty() && scree::checkpoint_time(opt.restart, t_ck) && scree::TimeControl::reached(t_ck, t_end) &&
+          scree::TimeControl::reached(t_end, t_ck) && !vm.count("check")) {
+        // The run it continues reached endTime already: nothing to run, nothing to write.
+        std::cout << "scree: the run already reached endTime " << t_end << " s (checkpoint " << opt.restart.string()
+                  << "); nothing to run. Raise endTime in system/controlDict to run on from it" << std::endl;
+        return 0;
+      }
+      if (!opt.restart.empty() && scree::checkpoint_time(opt.restart, t_ck) && scree::TimeControl::reached(t_ck, t_end)) {
+        const scree::Entry* e = c.control().find("endTime");
+        err << (e ? e->where().str() + ": " : std::string()) << "endTime " << t_end
+            << " s is not after the time of the checkpoint to continue from, " << opt.restart.string()
+            << ": the run would do nothing. Raise endTime to run on from it"
+            << (checkpoints.size() > 1 ? ", or continue from an older one with --restart=TIME (checkpoints at t = " +
+                                             times() + " s)"
+                                       : std::string())
+            << "; nothing was run\n";
+        return 1;
       }
     }
     const auto results = opt.output && opt.restart.empty() ? scree::existing_results(c, rt.registry())
@@ -227,7 +277,11 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < shown; ++i) err << "    " << results[i].string() << "\n";
       if (results.size() > shown) err << "    ... and " << results.size() - shown << " more\n";
       err << "scree: nothing was run. To keep them, move them away (or copy the case); to replace them, run "
-                   "again with --overwrite\n";
+                   "again with --overwrite";
+      if (!scree::list_checkpoints(dir).empty())
+        err << "; to continue the earlier run from its newest checkpoint, run with --restart (--restart=TIME: "
+               "from an older one)";
+      err << "\n";
       return 4;
     }
 
@@ -258,6 +312,12 @@ int main(int argc, char** argv) {
       std::cout << "scree: rank 0 on GPU " << local << " of its node" << std::endl;
     }
     world->barrier();  // every rank has read the case before the root writes anything
+    if (!newer.empty() && rank == 0) {
+      // Going back to an older checkpoint: the newer ones belong to the run being replaced.
+      std::cout << "scree: continuing from " << opt.restart.string() << "; removing the " << newer.size()
+                << " newer checkpoint(s) of the run it replaces" << std::endl;
+      for (const auto& f : newer) fs::remove(f);
+    }
 
     opt.check_setup = false;  // done above
     // SIGINT (Ctrl-C) and SIGTERM (a batch system's stop): the run finishes its chunk of

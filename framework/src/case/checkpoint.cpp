@@ -109,7 +109,9 @@ std::string time_text(double t) {
   return buf;
 }
 
-/// The time of a checkpoint file from its name, or false when it is not one.
+
+}  // namespace
+
 bool checkpoint_time(const fs::path& file, double& t) {
   const std::string name = file.filename().string();
   if (name.size() <= std::strlen(kSuffix) || name[0] == '.' ||
@@ -120,8 +122,6 @@ bool checkpoint_time(const fs::path& file, double& t) {
   t = std::strtod(stem.c_str(), &end);
   return end && *end == '\0' && end != stem.c_str();
 }
-
-}  // namespace
 
 void Checkpoint::write(const fs::path& file) const {
   Out o;

@@ -71,6 +71,8 @@ struct SCREE_API Checkpoint {
 SCREE_API std::filesystem::path checkpoint_dir(const std::filesystem::path& case_dir);
 /// The file of a checkpoint at time t: <case>/checkpoints/<t as %.12g>.ckpt
 SCREE_API std::filesystem::path checkpoint_file(const std::filesystem::path& case_dir, double t);
+/// The time of a checkpoint file from its name (<time>.ckpt), or false when it is not one.
+SCREE_API bool checkpoint_time(const std::filesystem::path& file, double& t);
 /// The checkpoints of a case (files named <time>.ckpt), oldest first by their time.
 SCREE_API std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& case_dir);
 /// Remove all but the newest `keep` checkpoints of a case (keep 0: every one; a run from
