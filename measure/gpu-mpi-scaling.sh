@@ -12,7 +12,8 @@
 # is one `mpirun -np G scree --no-output --max-steps STEPS`; the figures come from its last
 # line (steps/s over the chunks of steps, setup excluded). Writes OUT_DIR/<run>.log and
 # OUT_DIR/scaling.csv (run, gpus, points, steps_per_s, particle_steps_per_s_per_gpu).
-# SCREE_DEVICE=cpu runs it on CPU ranks (a check of the script anywhere).
+# SCREE_DEVICE=cpu runs it on CPU ranks (a check of the script anywhere); SCREE_RUN_TIMEOUT
+# (seconds, default 280) bounds each run.
 set -euo pipefail
 bin=$(cd "$1" && pwd); out=$2; per=${3:-10000000}; steps=${4:-300}; gpus=${5:-"1 2"}
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -43,7 +44,7 @@ PY
 run() {  # name, gpus, cells along x, extra args
   local name=$1 g=$2 lx=$3; shift 3
   make_case "$out/case-$name" "$lx"
-  timeout 280 mpirun --allow-run-as-root -np "$g" --bind-to none "$bin/scree" --case "$out/case-$name" --device "${SCREE_DEVICE:-cuda}" \
+  timeout "${SCREE_RUN_TIMEOUT:-280}" mpirun --allow-run-as-root -np "$g" --bind-to none "$bin/scree" --case "$out/case-$name" --device "${SCREE_DEVICE:-cuda}" \
     --no-output --max-steps "$steps" "$@" > "$out/$name.log" 2>&1 || echo "gpu-mpi-scaling: $name failed (see $out/$name.log)"
   local pts sps
   pts=$(grep -o '[0-9]* particles, ' "$out/$name.log" | head -1 | awk '{print $1}')
