@@ -13,6 +13,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "scree/mpm/halo_slab.hpp"
 #include "scree/mpm/particle_storage.hpp"
 #include "solver.hpp"
 
@@ -133,18 +134,17 @@ void Solver<D>::exchange_before_grid(int set, unsigned modes) {
 
 template <int D>
 void Solver<D>::halo_sum(int set, unsigned scattered) {
-  std::vector<Real*> fields;
+  SlabFields fields;
   const GridFields<D>& g = sets_[set];
   if (scattered & kScatterMassMomentum) {
-    fields.push_back(g.mass);
-    for (int d = 0; d < D; ++d) fields.push_back(g.momentum[d]);
+    fields.field[fields.count++] = g.mass;
+    for (int d = 0; d < D; ++d) fields.field[fields.count++] = g.momentum[d];
   }
   if (scattered & (kScatterForce | kScatterMomentum))  // MUSL re-maps momentum into the force array
-    for (int d = 0; d < D; ++d) fields.push_back(g.force[d]);
-  if (fields.empty()) return;
+    for (int d = 0; d < D; ++d) fields.field[fields.count++] = g.force[d];
+  if (fields.count == 0) return;
   const int ax = decomp_.axis;
   const std::size_t stride = static_cast<std::size_t>(grid_.stride(ax));
-  const std::size_t pitch = stride * static_cast<std::size_t>(grid_.n[ax]);
   std::size_t rows = 1;
   for (int d = ax + 1; d < D; ++d) rows *= static_cast<std::size_t>(grid_.n[d]);
   const int me = comm_->rank();
@@ -153,17 +153,19 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
     int lo = 0, hi = 0;
     decomp_.overlap(peer, lo, hi);
     if (hi <= lo) continue;
-    const std::size_t width = stride * static_cast<std::size_t>(hi - lo), per = width * rows;
-    std::vector<Real> mine(per * fields.size()), theirs(per * fields.size());
-    for (std::size_t f = 0; f < fields.size(); ++f)
-      mem::copy_2d(mine.data() + f * per, width * sizeof(Real), Device::cpu, fields[f] + lo * stride,
-                   pitch * sizeof(Real), exec_.device, width * sizeof(Real), rows);
-    comm_->exchange(peer, mine.data(), mine.size() * sizeof(Real), theirs.data(), theirs.size() * sizeof(Real));
+    // One contiguous block per neighbour: packed on the backend, sent through the host.
+    const std::size_t n = stride * static_cast<std::size_t>(hi - lo) * rows * static_cast<std::size_t>(fields.count);
+    if (halo_buffer_.size() < n) halo_buffer_.resize(n, exec_.device);
+    halo_send_.resize(n);
+    halo_recv_.resize(n);
+    pack_slab<D>(exec_, grid_, ax, lo, hi, fields, halo_buffer_.data());
+    mem::synchronize(exec_.device);
+    mem::copy(halo_send_.data(), Device::cpu, halo_buffer_.data(), exec_.device, n * sizeof(Real));
+    comm_->exchange(peer, halo_send_.data(), n * sizeof(Real), halo_recv_.data(), n * sizeof(Real));
+    mem::copy(halo_buffer_.data(), exec_.device, halo_recv_.data(), Device::cpu, n * sizeof(Real));
+    mem::synchronize(exec_.device);  // the copy landed before the stream's kernel reads it
     // Both ranks add the same two partial sums: their copies of a shared node are equal bit for bit.
-    for (std::size_t i = 0; i < mine.size(); ++i) mine[i] += theirs[i];
-    for (std::size_t f = 0; f < fields.size(); ++f)
-      mem::copy_2d(fields[f] + lo * stride, pitch * sizeof(Real), exec_.device, mine.data() + f * per,
-                   width * sizeof(Real), Device::cpu, width * sizeof(Real), rows);
+    add_slab<D>(exec_, grid_, ax, lo, hi, fields, halo_buffer_.data());
     if (!policy_.sparse()) continue;
     // The sparse grid update visits only stamped tiles: the shared slab's may hold sums
     // that only the neighbour's points made.
@@ -178,6 +180,7 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
       if (ta >= t0 && ta <= t1) stamps[t] = stamp;
     }
     tile_stamps_[set].copy_from_host(stamps);
+    mem::synchronize(exec_.device);
   }
 }
 

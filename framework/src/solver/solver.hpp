@@ -223,6 +223,8 @@ class Solver {
   std::vector<std::uint64_t> body_totals_;  // each body's points over every rank
   std::optional<Decomposition<D>> recut_;   // the cuts the next migration moves to (a rebalance)
   std::int64_t rebalances_ = 0;
+  Buffer<Real> halo_buffer_;             // a halo slab packed on the backend
+  std::vector<Real> halo_send_, halo_recv_;  // ... and its host copies, sent and received
 
   // Algorithm (system/mpmSchemes, constant/g)
   Vec<D> gravity_;
