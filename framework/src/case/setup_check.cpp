@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/porous/hydraulic_condition.hpp"
 #include "scree/case/case_model.hpp"
 #include "scree/case/checkpoint.hpp"
 #include "scree/case/memory_estimate.hpp"
@@ -63,10 +64,14 @@ void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
   const SolverContext ctx = plugin_context<D>(c, grid, Device::cpu);
   WallSet walls(NodeLattice::of(ctx));
   const Registry& reg = rt.registry();
+  bool two_phase = false;
+  for (const Entry* b : c.body_entries()) two_phase = two_phase || b->dict().has("twoPhase");
   for (const Entry* e : c.boundary_entries()) {
     const Dictionary& d = e->dict();
     try {
-      plugin_of(reg, PluginKind::boundaryCondition, d).boundary(d, named(ctx, e->key()))->constrain(walls);
+      auto bc = plugin_of(reg, PluginKind::boundaryCondition, d).boundary(d, named(ctx, e->key()));
+      bc->constrain(walls);
+      for (InputError& err : needs_two_phase(*e, *bc, two_phase)) report.errors.push_back(std::move(err));
     } catch (const InputError& err) {
       report.errors.push_back(err);
     } catch (const std::exception& err) {
@@ -74,6 +79,25 @@ void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
     }
   }
 }
+
+}  // namespace
+
+std::vector<InputError> needs_two_phase(const Entry& e, const BoundaryCondition& made, bool two_phase) {
+  std::vector<InputError> errors;
+  if (two_phase) return errors;
+  const Dictionary& d = e.dict();
+  const std::string none = "no body of this case is two-phase (a body with a twoPhase { ... } block in constant/bodies)";
+  if (dynamic_cast<const HydraulicCondition*>(&made))
+    errors.emplace_back(d.at("type").where(),
+                        "type " + d.get_word("type") + ": '" + e.key() + "' acts on the pore liquid, and " + none);
+  else if (const Entry* dr = d.find("drained"); dr && dr->as_bool())
+    errors.emplace_back(dr->where(), "drained: '" + e.key() +
+                                         "' lets the pore liquid of two-phase bodies through, and " + none +
+                                         "; leave drained out");
+  return errors;
+}
+
+namespace {
 
 void check_output(const Case& c, const Registry& reg, SetupReport& report) {
   for (const OutputPlace& place : output_places(c, reg)) {

@@ -15,6 +15,7 @@
 #include "scree/case/case_model.hpp"
 #include "scree/case/memory_estimate.hpp"
 #include "scree/case/particle_generation.hpp"
+#include "scree/case/setup_check.hpp"
 #include "solver.hpp"
 
 #if defined(SCREE_HAVE_CUDA)
@@ -387,13 +388,8 @@ void Solver<D>::setup_boundaries(bool warn) {
       log_ << "warning: " << d.where().str() << ": boundary condition '" << e->key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
     // A condition on the pore liquid (porous/hydraulic_condition.hpp) goes to the porous media.
-    if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) {
-      if (!porous_)
-        throw InputError(d.at("type").where(), "type " + d.get_word("type") + ": '" + e->key() +
-                                           "' acts on the pore liquid, and no body of this case is two-phase (a "
-                                           "body with a twoPhase { ... } block in constant/bodies)");
-      porous_->add_condition(hc);
-    }
+    if (auto errors = needs_two_phase(*e, *bc, porous_ != nullptr); !errors.empty()) throw errors.front();
+    if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) porous_->add_condition(hc);
     boundaries_.push_back(std::move(bc));
   }
   has_walls_ = !set.table().empty();

@@ -26,6 +26,8 @@
 
 namespace scree {
 
+class BoundaryCondition;
+
 struct SetupReport {
   std::vector<InputError> errors;    ///< what the run would reject (file:line each)
   std::vector<InputError> warnings;  ///< what the run accepts but is probably a mistake
@@ -62,6 +64,11 @@ struct OutputPlace {
 /// The places of the writers (those whose plugin declares a `directory` parameter) and
 /// of the function objects (postProcessing/<name>/) of a validated case.
 SCREE_API std::vector<OutputPlace> output_places(const Case& c, const Registry& reg);
+
+/// The error of boundary condition `e` (made as `made`) that acts on the pore liquid (a
+/// hydraulic condition, or a wall with `drained yes`) in a case without a two-phase body;
+/// empty when it has none. The setup check and the run say the same.
+SCREE_API std::vector<InputError> needs_two_phase(const Entry& e, const BoundaryCondition& made, bool two_phase);
 
 /// The results an earlier run left where this case's writers and function objects
 /// write (hidden temporaries aside), which a run from t = 0 replaces: their files, in
