@@ -101,9 +101,13 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
     Real len = 0;
     for (Real c : dir) len += c * c;
     len = std::sqrt(len);
-    if (!(len > 0))
-      throw InputError(r.has("direction") ? r.entry("direction").where() : r.dict().where(),
-                       "direction: the rain needs a direction (gravity is zero and no direction is given)");
+    if (!(len > 0)) {
+      if (r.has("direction"))
+        throw InputError(r.entry("direction").where(),
+                         "direction: the zero vector gives the rain no direction; expected the direction in which "
+                         "it falls, e.g. (0 -1) (or leave it out: along gravity)");
+      throw InputError(r.dict().where(), "direction: the rain needs a direction (gravity is zero and no direction is given)");
+    }
     for (int d = 0; d < ctx.dimension; ++d) w_[d] = I * dir[d] / len;
     t_start_ = r.scalar("startTime");
     t_end_ = r.scalar("endTime");
