@@ -7,22 +7,23 @@
 
 namespace scree {
 
-namespace {
-/// The domain cell holding coordinate x along axis d, clamped into the domain.
 template <int D>
-int cell_of(const GlobalGrid<D>& g, int d, Real x) {
+int domain_cell(const GlobalGrid<D>& g, int d, Real x) {
   const Real c = std::floor((x - g.lower[d]) / g.h);
   if (!(c >= 0)) return 0;  // below the domain, or NaN
   return c >= g.cells[d] ? g.cells[d] - 1 : static_cast<int>(c);
 }
-}  // namespace
+
+template <int D>
+int Decomposition<D>::owner_of_cell(int c) const {
+  if (ranks == 1) return 0;
+  const auto it = std::upper_bound(cuts.begin(), cuts.end(), c);
+  return std::clamp(static_cast<int>(it - cuts.begin()) - 1, 0, ranks - 1);
+}
 
 template <int D>
 int Decomposition<D>::owner(Real x, const GlobalGrid<D>& g) const {
-  if (ranks == 1) return 0;
-  const int c = cell_of(g, axis, x);
-  const auto it = std::upper_bound(cuts.begin(), cuts.end(), c);
-  return std::clamp(static_cast<int>(it - cuts.begin()) - 1, 0, ranks - 1);
+  return owner_of_cell(domain_cell(g, axis, x));
 }
 
 template <int D>
@@ -62,7 +63,7 @@ Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& posi
   std::vector<std::vector<std::uint64_t>> hist(D);
   for (int d = 0; d < D; ++d) hist[d].assign(static_cast<std::size_t>(g.cells[d]), 0);
   for (std::size_t p = 0; p < n; ++p)
-    for (int d = 0; d < D; ++d) ++hist[d][static_cast<std::size_t>(cell_of(g, d, positions[p * D + d]))];
+    for (int d = 0; d < D; ++d) ++hist[d][static_cast<std::size_t>(domain_cell(g, d, positions[p * D + d]))];
   int best = -1;
   for (int d = 0; d < D; ++d) {
     const auto& h = hist[d];
@@ -152,6 +153,8 @@ Decomposition<D> slabs_from_cuts(const GlobalGrid<D>& g, int axis, const std::ve
   return dc;
 }
 
+template int domain_cell<2>(const GlobalGrid<2>&, int, Real);
+template int domain_cell<3>(const GlobalGrid<3>&, int, Real);
 template struct Decomposition<2>;
 template struct Decomposition<3>;
 template Decomposition<2> decompose<2>(const GlobalGrid<2>&, const std::vector<Real>&, int, int, int, int, int);

@@ -92,14 +92,19 @@ void Solver<D>::set_local_grid() {
 }
 
 template <int D>
-void Solver<D>::apply_recut() {
-  flush();  // the pending G2P reads the grid sets, which are about to be made anew
-  mem::synchronize(exec_.device);
-  decomp_ = std::move(*recut_);
-  recut_.reset();
+void Solver<D>::adopt(Decomposition<D> d) {
+  decomp_ = std::move(d);
   set_local_grid();
   setup_boundaries(false);
   setup_passes();
+}
+
+template <int D>
+void Solver<D>::apply_recut() {
+  flush();  // the pending G2P reads the grid sets, which are about to be made anew
+  mem::synchronize(exec_.device);
+  adopt(std::move(*recut_));
+  recut_.reset();
   ++rebalances_;
   std::ostringstream m;
   m << "rebalanced at t = " << time() << " s: cells";
@@ -144,9 +149,6 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
     for (int d = 0; d < D; ++d) fields.field[fields.count++] = g.force[d];
   if (fields.count == 0) return;
   const int ax = decomp_.axis;
-  const std::size_t stride = static_cast<std::size_t>(grid_.stride(ax));
-  std::size_t rows = 1;
-  for (int d = ax + 1; d < D; ++d) rows *= static_cast<std::size_t>(grid_.n[d]);
   const int me = comm_->rank();
   for (int peer : {me - 1, me + 1}) {  // the lower neighbour first, on every rank: the pairs meet in order
     if (peer < 0 || peer >= comm_->size()) continue;
@@ -154,7 +156,7 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
     decomp_.overlap(peer, lo, hi);
     if (hi <= lo) continue;
     // One contiguous block per neighbour: packed on the backend, sent through the host.
-    const std::size_t n = stride * static_cast<std::size_t>(hi - lo) * rows * static_cast<std::size_t>(fields.count);
+    const std::size_t n = static_cast<std::size_t>(slab_size<D>(grid_, ax, lo, hi) * fields.count);
     if (halo_buffer_.size() < n) halo_buffer_.resize(n, exec_.device);
     halo_send_.resize(n);
     halo_recv_.resize(n);
@@ -169,18 +171,7 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
     if (!policy_.sparse()) continue;
     // The sparse grid update visits only stamped tiles: the shared slab's may hold sums
     // that only the neighbour's points made.
-    std::vector<std::uint32_t> stamps = tile_stamps_[set].to_host();
-    const std::uint32_t stamp = tile_stamp(host_ctl_.step[parity()]);
-    Index below = 1;
-    for (int d = 0; d < ax; ++d) below *= Tiles<D>::count(grid_.n[d], d);
-    const Index along = Tiles<D>::count(grid_.n[ax], ax);
-    const Index t0 = lo / Tiles<D>::extent(ax), t1 = (hi - 1) / Tiles<D>::extent(ax);
-    for (std::size_t t = 0; t < stamps.size(); ++t) {
-      const Index ta = (static_cast<Index>(t) / below) % along;
-      if (ta >= t0 && ta <= t1) stamps[t] = stamp;
-    }
-    tile_stamps_[set].copy_from_host(stamps);
-    mem::synchronize(exec_.device);
+    stamp_slab_tiles<D>(exec_, grid_, ax, lo, hi, tile_stamps_[set].data(), tile_stamp(host_ctl_.step[parity()]));
   }
 }
 
@@ -291,10 +282,9 @@ void Solver<D>::migrate(bool scheduled) {
       double v2 = 0;
       for (int d = 0; d < D; ++d) v2 += at(S::kColV + d, p) * at(S::kColV + d, p);
       vmax = std::max(vmax, std::sqrt(v2));
-      const Real xa = at(S::kColX + ax, p);
-      ++layers[static_cast<std::size_t>(
-          std::clamp(static_cast<int>(std::floor((xa - global_.lower[ax]) / global_.h)), 0, global_.cells[ax] - 1))];
-      const int dest = decomp_.owner(xa, global_);
+      const int cell = domain_cell(global_, ax, at(S::kColX + ax, p));
+      ++layers[static_cast<std::size_t>(cell)];
+      const int dest = decomp_.owner_of_cell(cell);
       if (dest == me) {
         stay.push_back(p);
         continue;
@@ -489,6 +479,8 @@ void Solver<D>::gather_checkpoint(Checkpoint& ck) {
 
 template void Solver<2>::set_local_grid();
 template void Solver<3>::set_local_grid();
+template void Solver<2>::adopt(Decomposition<2>);
+template void Solver<3>::adopt(Decomposition<3>);
 template void Solver<2>::apply_recut();
 template void Solver<3>::apply_recut();
 template void Solver<2>::decompose_bodies();

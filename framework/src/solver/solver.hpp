@@ -159,6 +159,9 @@ class Solver {
   void decompose_bodies();
   /// Make decomp_'s box this rank's grid: its geometry, its grid sets, the plugins' context.
   void set_local_grid();
+  /// Take up the slabs `d` (a rebalance, a restart's): this rank's grid, the boundary
+  /// conditions' nodes on it and the passes' parameters set up anew.
+  void adopt(Decomposition<D> d);
   /// Move to the cuts of recut_ (a rebalance): the pending G2P applied, this rank's grid
   /// and the boundary conditions' nodes set up anew; the points then migrate.
   void apply_recut();

@@ -106,11 +106,8 @@ void Solver<D>::restore(const Checkpoint& ck) {
     try {
       int a = 0, b = 0;
       stencil_reach(settings_.schemes.shape, a, b);
-      decomp_ = slabs_from_cuts<D>(global_, ck.cut_axis, std::vector<int>(ck.cuts.begin(), ck.cuts.end()),
-                                   comm_->rank(), a, b, decomp_.slack);
-      set_local_grid();
-      setup_boundaries(false);
-      setup_passes();
+      adopt(slabs_from_cuts<D>(global_, ck.cut_axis, std::vector<int>(ck.cuts.begin(), ck.cuts.end()),
+                               comm_->rank(), a, b, decomp_.slack));
     } catch (const std::invalid_argument&) {  // the grid changed: the case's own cuts stay
     }
   }

@@ -36,6 +36,10 @@ inline void stencil_reach(ShapeKind s, int& a, int& b) {
   b = s == ShapeKind::linear ? 1 : 2;
 }
 
+/// The domain cell holding coordinate x along axis d, clamped into the domain (NaN: 0).
+template <int D>
+SCREE_API int domain_cell(const GlobalGrid<D>& g, int d, Real x);
+
 /// The imbalance (most points on one rank over the mean) above which the cuts move.
 inline constexpr double kRebalanceRatio = 1.15;
 
@@ -57,6 +61,8 @@ struct Decomposition {
   /// The rank owning a point at coordinate `x` along `axis` (outside the domain: the
   /// nearest box).
   SCREE_API int owner(Real x, const GlobalGrid<D>& g) const;
+  /// The rank owning domain cell c along `axis` (domain_cell).
+  SCREE_API int owner_of_cell(int c) const;
   /// This rank's owned nodes along axis, in local node indices: [lo, hi).
   SCREE_API void owned_local(int& lo, int& hi) const;
   /// The nodes this rank's grid shares with rank `peer` (a neighbour) along axis, in local

@@ -20,6 +20,10 @@ struct SlabFields {
   int count = 0;
 };
 
+/// The nodes of the slab lo <= i < hi along `axis` (of one field).
+template <int D>
+SCREE_API Index slab_size(const GridGeometry<D>& g, int axis, int lo, int hi);
+
 /// buf <- the nodes lo <= i < hi along `axis` of every field (buf: count x slab size Reals).
 template <int D>
 SCREE_API void pack_slab(const Exec& ex, const GridGeometry<D>& g, int axis, int lo, int hi, const SlabFields& f,
@@ -28,5 +32,11 @@ SCREE_API void pack_slab(const Exec& ex, const GridGeometry<D>& g, int axis, int
 template <int D>
 SCREE_API void add_slab(const Exec& ex, const GridGeometry<D>& g, int axis, int lo, int hi, const SlabFields& f,
                         const Real* buf);
+
+/// Stamp every tile (Tiles<D>) that holds a node of the slab with `stamp`: the sparse grid
+/// update then visits the sums the neighbour's points added there.
+template <int D>
+SCREE_API void stamp_slab_tiles(const Exec& ex, const GridGeometry<D>& g, int axis, int lo, int hi,
+                                std::uint32_t* stamps, std::uint32_t stamp);
 
 }  // namespace scree
