@@ -30,8 +30,8 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
       settings_(c.settings()),
       rt_(rt),
       opt_(o),
-      comm_(o.comm ? o.comm : world()),
       log_(o.log ? *o.log : std::cout),
+      comm_(o.comm ? o.comm : world()),
       time_(c.settings().control.time, c.settings().grid.cell_size),
       progress_(log_, isatty(STDOUT_FILENO) && (!o.log || o.log == &std::cout), c.settings().control.time.start_time,
                 c.settings().control.time.end_time) {
