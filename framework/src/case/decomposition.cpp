@@ -7,6 +7,19 @@
 
 namespace scree {
 
+namespace {
+/// The widening of a box: its grid covers the nodes of every point up to `slack` cells
+/// outside it (cells c0 - slack .. c1 + slack - 1, nodes c0 - slack - a .. c1 + slack + b - 1),
+/// of which the ghost layers of sub_box give `ghost` on each side; and the narrowest box, so
+/// that no node lies in three grids (a box between two others is wider than both
+/// neighbours' reach).
+struct Widening {
+  int lo, hi, min_width;
+  Widening(int ghost, int a, int b, int slack)
+      : lo(std::max(0, slack + a - ghost)), hi(std::max(0, slack + b - 1 - ghost)), min_width(lo + hi + 2 * ghost + 1) {}
+};
+}  // namespace
+
 template <int D>
 int domain_cell(const GlobalGrid<D>& g, int d, Real x) {
   const Real c = std::floor((x - g.lower[d]) / g.h);
@@ -89,12 +102,8 @@ Decomposition<D> cut_slabs(const GlobalGrid<D>& g, const std::vector<std::uint64
   std::uint64_t n = 0;
   for (auto c : h) n += c;
   const int ax = dc.axis, cells = g.cells[ax];
-  // The widening of a box: its grid covers the nodes of every point up to `slack` cells
-  // outside it (cells c0 - slack .. c1 + slack - 1, nodes c0 - slack - a .. c1 + slack + b - 1),
-  // of which the ghost layers of sub_box give `ghost` on each side.
-  const int e_lo = std::max(0, slack + a - g.ghost), e_hi = std::max(0, slack + b - 1 - g.ghost);
-  // No node in three grids: a box between two others is wider than both neighbours' reach.
-  const int min_width = e_lo + e_hi + 2 * g.ghost + 1;
+  const Widening w(g.ghost, a, b, slack);
+  const int min_width = w.min_width;
   if (cells < ranks * min_width)
     throw std::invalid_argument("the grid has " + std::to_string(cells) + " cells along its longest axis of points (" +
                                 std::to_string(ax) + "), and each of " + std::to_string(ranks) +
@@ -132,8 +141,8 @@ Decomposition<D> slabs_from_cuts(const GlobalGrid<D>& g, int axis, const std::ve
   if (ranks < 1 || axis < 0 || axis >= D || cuts.front() != 0 || cuts.back() != g.cells[ax])
     throw std::invalid_argument("the cuts do not span the grid's " + std::to_string(g.cells[std::max(0, std::min(axis, D - 1))]) + " cells");
   const int cells = g.cells[ax];
-  const int e_lo = std::max(0, slack + a - g.ghost), e_hi = std::max(0, slack + b - 1 - g.ghost);
-  const int min_width = e_lo + e_hi + 2 * g.ghost + 1;
+  const Widening w(g.ghost, a, b, slack);
+  const int e_lo = w.lo, e_hi = w.hi, min_width = w.min_width;
   for (int r = 0; r < ranks; ++r)
     if (ranks > 1 && cuts[static_cast<std::size_t>(r) + 1] - cuts[static_cast<std::size_t>(r)] < min_width)
       throw std::invalid_argument("a slab of the cuts is thinner than " + std::to_string(min_width) + " cells");
