@@ -8,10 +8,18 @@
 namespace scree::fo {
 
 namespace {
-// The columns of the budget, after time, kinetic, potential, total (Energies.hpp says what each is).
-const std::vector<std::string> kBudgetColumns{"elastic",     "granular", "stressWork",  "plastic",
-                                              "collisional", "picLoss",  "dampingLoss", "wallLoss",
-                                              "residual"};
+/// The budget's columns after time, kinetic, potential, total (Energies.hpp says what each
+/// is): the stored energies, the ledger's terms in its order (output/energy_ledger.hpp) with
+/// the derived plastic dissipation after the stress work, and the residual.
+std::vector<std::string> budget_columns() {
+  std::vector<std::string> c{"elastic", "granular"};
+  for (int t = 0; t < kEnergyTerms; ++t) {
+    c.push_back(kEnergyTermInfo[t].name);
+    if (t == kEnergyStressWork) c.push_back("plastic");
+  }
+  c.push_back("residual");
+  return c;
+}
 }  // namespace
 
 ParamSpec Energies::spec() {
@@ -43,7 +51,7 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
   const std::string unit = ctx.dimension == 3 ? " [J]" : " [J/m]";
   std::vector<std::string> header{"time [s]", "kinetic" + unit, "potential" + unit, "total" + unit};
   if (budget_) {
-    for (const auto& c : kBudgetColumns) header.push_back(c + unit);
+    for (const auto& c : budget_columns()) header.push_back(c + unit);
     header.push_back("residualFraction [-]");
   }
   const auto file = ctx.post_processing_dir() / "energies.csv";
@@ -54,15 +62,20 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
     if (std::getline(in, line) && std::getline(in, line)) {
       const auto c = csv_split(line);
       if (c.size() == header.size()) {
-        auto at = [&](std::size_t i) { return std::strtod(c[i].c_str(), nullptr); };
+        auto at = [&](const std::string& name) {
+          for (std::size_t i = 0; i < header.size(); ++i)
+            if (header[i] == name + unit) return std::strtod(c[i].c_str(), nullptr);
+          return 0.0;
+        };
         Result f;
-        f.kinetic = at(1);
-        f.potential = at(2);
-        f.elastic = at(4);
-        f.granular = at(5);
+        f.kinetic = at("kinetic");
+        f.potential = at("potential");
+        f.elastic = at("elastic");
+        f.granular = at("granular");
         first_ = f;
-        // balance = kinetic + potential + W + pic + damping + walls (columns 6, 9, 10, 11)
-        first_balance_ = f.kinetic + f.potential + at(6) + at(9) + at(10) + at(11);
+        EnergyLedger ledger;
+        for (int t = 0; t < kEnergyTerms; ++t) ledger.term[t] = at(kEnergyTermInfo[t].name);
+        first_balance_ = ledger.balance(f.kinetic, f.potential);
       }
     }
   }
@@ -94,18 +107,19 @@ Energies::Result Energies::evaluate(const Snapshot& s) const {
   return res;
 }
 
-Energies::Budget Energies::budget(const Result& r, const EnergyLedger& e, const Result& first, double first_balance) {
-  Budget b;
-  b.stress_work = e.stress_work;
-  b.collisional = e.collisional;
-  b.plastic = e.stress_work - (r.elastic - first.elastic) - (r.granular - first.granular) - e.collisional;
-  b.pic = e.pic;
-  b.damping = e.damping;
-  b.walls = e.walls;
-  b.balance = r.kinetic + r.potential + e.stress_work + e.pic + e.damping + e.walls;
-  b.residual = b.balance - first_balance;
-  b.fraction = first.potential != 0 ? b.residual / std::fabs(first.potential) : 0.0;
-  return b;
+std::vector<double> Energies::budget(const Result& r, const EnergyLedger& e, const Result& first,
+                                     double first_balance) {
+  std::vector<double> row{r.elastic, r.granular};
+  for (int t = 0; t < kEnergyTerms; ++t) {
+    row.push_back(e.term[t]);
+    if (t == kEnergyStressWork)  // D_p = W - (elastic - elastic_0) - (granular - granular_0) - D_col
+      row.push_back(e[kEnergyStressWork] - (r.elastic - first.elastic) - (r.granular - first.granular) -
+                    e[kEnergyCollisional]);
+  }
+  const double residual = e.balance(r.kinetic, r.potential) - first_balance;
+  row.push_back(residual);
+  row.push_back(first.potential != 0 ? residual / std::fabs(first.potential) : 0.0);
+  return row;
 }
 
 void Energies::execute(const Snapshot& s) {
@@ -119,12 +133,10 @@ void Energies::execute(const Snapshot& s) {
       throw std::runtime_error(who_ + ": the snapshot carries no energy ledger (the solver did not keep it)");
     if (!first_) {
       first_ = r;
-      first_balance_ = r.kinetic + r.potential + s.energy.stress_work + s.energy.pic + s.energy.damping +
-                       s.energy.walls;
+      first_balance_ = s.energy.balance(r.kinetic, r.potential);
     }
-    const Budget b = budget(r, s.energy, *first_, first_balance_);
-    row.insert(row.end(), {r.elastic, r.granular, b.stress_work, b.plastic, b.collisional, b.pic, b.damping,
-                           b.walls, b.residual, b.fraction});
+    const std::vector<double> b = budget(r, s.energy, *first_, first_balance_);
+    row.insert(row.end(), b.begin(), b.end());
   }
   csv_.row(row);
 }

@@ -49,6 +49,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "FoCommon.hpp"
 #include "scree/output/function_object.hpp"
@@ -70,15 +71,10 @@ class Energies final : public FunctionObject {
   };
   Result evaluate(const Snapshot& s) const;
 
-  /// One row of the budget (budget yes): the values written, in the header's order after time.
-  struct Budget {
-    double stress_work = 0, collisional = 0, plastic = 0, pic = 0, damping = 0, walls = 0;
-    double balance = 0;   ///< kinetic + potential + W + losses
-    double residual = 0;  ///< balance - its first value
-    double fraction = 0;  ///< residual / |potential at the first row|
-  };
-  /// The budget of a snapshot, against the first row `first` (Result and balance).
-  static Budget budget(const Result& r, const EnergyLedger& e, const Result& first, double first_balance);
+  /// The budget's columns of a snapshot's row (budget yes), in the header's order after
+  /// total: against the first row `first` (Result and balance).
+  static std::vector<double> budget(const Result& r, const EnergyLedger& e, const Result& first,
+                                    double first_balance);
 
  private:
   std::string who_;

@@ -46,7 +46,7 @@ template <int D>
 void stamp_slab_tiles(const Exec& ex, const GridGeometry<D>& g, int axis, int lo, int hi, std::uint32_t* stamps,
                       std::uint32_t stamp) {
   Index below = 1;
-  for (int d = 0; d < axis; ++d) below *= Tiles<D>::count(g.n[d], d);
+  for (int d = 0; d < axis && d < D; ++d) below *= Tiles<D>::count(g.n[d], d);
   const Index along = Tiles<D>::count(g.n[axis], axis);
   const Index t0 = lo / Tiles<D>::extent(axis), t1 = (hi - 1) / Tiles<D>::extent(axis);
   parallel_for(ex, Tiles<D>::total(g), [=] SCREE_HD(Index t) {

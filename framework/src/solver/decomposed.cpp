@@ -350,13 +350,7 @@ void Solver<D>::migrate(bool scheduled) {
 
 template <int D>
 void Solver<D>::gather_snapshot(Snapshot& s) {
-  double e[5] = {s.energy.stress_work, s.energy.collisional, s.energy.pic, s.energy.damping, s.energy.walls};
-  comm_->sum(e, 5);
-  s.energy.stress_work = e[0];
-  s.energy.collisional = e[1];
-  s.energy.pic = e[2];
-  s.energy.damping = e[3];
-  s.energy.walls = e[4];
+  comm_->sum(s.energy.term, kEnergyTerms);
   for (BodySnapshot& b : s.bodies) {
     std::vector<std::int64_t> ids = comm_->gather_vector(b.id, 0);
     std::vector<Real> pos = comm_->gather_vector(b.position, 0);

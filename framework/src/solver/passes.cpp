@@ -1,8 +1,9 @@
 // Solver<D>: the parameters of the particle passes and grid updates. What every pass of
-// the run shares (the physics of the case: gravity, the FLIP/PIC blend, the volume cap,
-// the damping, the light-node mass; and the kernel policy) is built once, at setup
-// (setup_passes); a pass adds its phases, the grid sets it reads and writes and the
-// parity of the step it gathers from.
+// the run shares is built once, at setup (setup_passes): the physics of the case (gravity,
+// the FLIP/PIC blend, the volume cap, the damping, the light-node mass: PassPhysics) and
+// the kernel policy (PassPolicy). A launch adds its per-step state: its phases, the grid
+// sets it reads and writes, the parity of the step it gathers from, and the split tuner's
+// current choice.
 #include "solver.hpp"
 
 namespace scree {
@@ -11,31 +12,31 @@ template <int D>
 void Solver<D>::setup_passes() {
   const SchemeSettings& sch = settings_.schemes;
   const DampingSettings& damping = sch.damping;
-  PassParams<D>& pp = pass_base_;
-  pp.grid = grid_;
-  pp.control = ctl_.data();
-  pp.gravity = gravity_;
-  pp.pic_fraction = sch.pic_fraction;
-  pp.pic_rate = sch.pic_rate;
-  pp.max_volume_ratio = sch.max_volume_ratio;
-  pp.transfer = sch.transfer;
-  pp.serial = exec_.device == Device::cpu && exec_.threads == 1;
-  pp.reference = policy_.reference;
+  PassPhysics<D>& ph = pass_physics_;
+  ph.gravity = gravity_;
+  ph.pic_fraction = sch.pic_fraction;
+  ph.pic_rate = sch.pic_rate;
+  ph.max_volume_ratio = sch.max_volume_ratio;
+  ph.transfer = sch.transfer;
+  ph.mass_eps = mass_eps_;
+  ph.damping = damping.coefficient;
+  ph.damping_start = damping.start_time;
+  ph.damping_end = damping.end_time;
+
+  PassPolicy& po = pass_policy_;
+  po.serial = exec_.device == Device::cpu && exec_.threads == 1;
+  po.reference = policy_.reference;
   // The signal speed: for the adaptive step, and for the health check of a fixed one (stopCo).
-  pp.need_speed = time_.adaptive() || policy_.reference || (host_ctl_.stop_co > 0 && policy_.health_checks);
-  // A fixed step wants the speed for the stopCo check alone: sampled (PassParams::speed_mask).
-  pp.speed_mask = time_.adaptive() || policy_.reference ? 0u : static_cast<unsigned>(policy_.speed_every - 1);
-  pp.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
-  pp.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
-  pp.energy = energy_ledger_;
-  pp.ledger_light_transfer = policy_.ledger_light_transfer;
+  po.need_speed = time_.adaptive() || policy_.reference || (host_ctl_.stop_co > 0 && policy_.health_checks);
+  // A fixed step wants the speed for the stopCo check alone: sampled (PassPolicy::speed_mask).
+  po.speed_mask = time_.adaptive() || policy_.reference ? 0u : static_cast<unsigned>(policy_.speed_every - 1);
+  po.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
+  po.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
+  po.energy = energy_ledger_;
+  po.ledger_light_transfer = policy_.ledger_light_transfer;
   // The walls' share on the points where the gather still sees the step's force (USF, USL;
-  // MUSL re-maps momentum into the force array first): PassParams::wall_ledger.
-  pp.wall_ledger = energy_ledger_ && sch.update_scheme != UpdateScheme::MUSL && !porous_;
-  pp.mass_eps = mass_eps_;
-  pp.damping = damping.coefficient;
-  pp.damping_start = damping.start_time;
-  pp.damping_end = damping.end_time;
+  // MUSL re-maps momentum into the force array first): PassPolicy::wall_ledger.
+  po.wall_ledger = energy_ledger_ && sch.update_scheme != UpdateScheme::MUSL && !porous_;
 
   GridUpdateParams<D>& gp = grid_base_;
   gp.grid = grid_;
@@ -72,14 +73,18 @@ PassParams<D> Solver<D>::this_step_pass(unsigned phases) const {
 
 template <int D>
 PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const {
-  PassParams<D> pp = pass_base_;
+  PassParams<D> pp;
+  pp.physics = pass_physics_;
+  pp.policy = pass_policy_;
   pp.flags = flags;
   pp.parity = parity();
   pp.gather_parity = gather_parity;
   pp.gather = sets_[gather_set];
   pp.scatter = sets_[scatter_set];
+  pp.grid = grid_;
+  pp.control = ctl_.data();
   pp.tile_stamps = policy_.sparse() ? tile_stamps_[scatter_set].data() : nullptr;
-  pp.split_elastic = split_;
+  pp.policy.split_elastic = split_;
   return pp;
 }
 

@@ -118,7 +118,7 @@ class Solver {
   PassParams<D> fused_pass(unsigned p2g) const;
   /// A pass that gathers from and scatters into this step's grid set.
   PassParams<D> this_step_pass(unsigned phases) const;
-  /// pass_base_ with the phases `flags`, the grid sets and the parity of the step gathered from.
+  /// pass_physics_ and pass_policy_ with the phases `flags`, the grid sets and the parity of the step gathered from.
   PassParams<D> pass_params(unsigned flags, int gather_set, int scatter_set, int gather_parity) const;
   GridUpdateParams<D> grid_params(unsigned modes, int set) const;
   void apply_node_laws(unsigned modes, int set) const;
@@ -265,7 +265,8 @@ class Solver {
   std::optional<SplitTuner> tuner_;  // KernelPolicy::split automatic, on CUDA
   std::int64_t split_steps_ = 0;     // steps run split
   std::unique_ptr<StepGraphs> graphs_;
-  PassParams<D> pass_base_{};         // every pass's physics and policy (setup_passes)
+  PassPhysics<D> pass_physics_{};    // every pass's physics (setup_passes)
+  PassPolicy pass_policy_{};          // every pass's kernel policy (setup_passes, set_split)
   GridUpdateParams<D> grid_base_{};   // every grid update's (setup_passes)
 
   // Output, progress and statistics

@@ -140,14 +140,8 @@ Snapshot Solver<D>::snapshot_header() const {
   s.dimension = D;
   // The ledger as of the last sync with the device: flush() has just read the clock back.
   s.energy.kept = energy_ledger_;
-  if (energy_ledger_) {
-    const Real* e = host_ctl_.energy;
-    s.energy.stress_work = e[kEnergyStressWork];
-    s.energy.collisional = e[kEnergyCollisional];
-    s.energy.pic = e[kEnergyPic];
-    s.energy.damping = e[kEnergyDamping];
-    s.energy.walls = e[kEnergyWalls];
-  }
+  if (energy_ledger_)
+    for (int t = 0; t < kEnergyTerms; ++t) s.energy.term[t] = host_ctl_.energy[t];
   s.bodies.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     s.bodies[i].material = material_names_[i];

@@ -127,7 +127,7 @@ PassParams<2> pass_params_of(Cloud<2>& c) {
   PassParams<2> pp;
   pp.grid = c.grid;
   pp.control = c.ctl.data();
-  pp.gravity = Vec<2>::zero();
+  pp.physics.gravity = Vec<2>::zero();
   return pp;
 }
 
@@ -196,9 +196,9 @@ void conservation(ShapeKind shape, Transfer transfer, Real pic) {
   pp.gather = c.sets[1];
   pp.scatter = c.sets[0];
   pp.control = c.ctl.data();
-  pp.gravity = g;
-  pp.pic_fraction = pic;
-  pp.transfer = transfer;
+  pp.physics.gravity = g;
+  pp.physics.pic_fraction = pic;
+  pp.physics.transfer = transfer;
   c.body->pass(pp);
   mem::synchronize(ex.device);
 
@@ -265,8 +265,8 @@ double invisible_mode_left(double dt, double T, double pic_fraction, double pic_
     }
   c.body = make_material_body<2, LinearElastic>(elastic_params(), s);
   PassParams<2> pp = pass_params_of(c);
-  pp.pic_fraction = pic_fraction;
-  pp.pic_rate = pic_rate;
+  pp.physics.pic_fraction = pic_fraction;
+  pp.physics.pic_rate = pic_rate;
   GridUpdateParams<2> gp;
   gp.modes = kNormalize | kIntegrate;
   gp.grid = c.grid;

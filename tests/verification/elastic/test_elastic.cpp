@@ -97,7 +97,7 @@ BarResult vibrating_bar(const std::string& scheme, const std::string& shape, con
     sim.advance_to(end * k / samples);
     Snapshot s = sim.snapshot();
     const BodySnapshot& b = s.bodies[0];
-    if (k == samples && ledger) work_not_stored = (s.energy.stress_work - (elastic(b) - el0)) / e0;
+    if (k == samples && ledger) work_not_stored = (s.energy[kEnergyStressWork] - (elastic(b) - el0)) / e0;
     for (Index p = 0; p < b.n; ++p)
       if (b.id[p] == tip_id) {
         ts.push_back(s.time);

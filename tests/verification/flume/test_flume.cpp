@@ -54,7 +54,7 @@ struct State {
   /// The energy balance: kinetic + potential + the work done on the material + what the PIC
   /// blend, the damping and the walls removed. Conserved but for the discretisation's error.
   double balance() const {
-    return kinetic + potential + ledger.stress_work + ledger.pic + ledger.damping + ledger.walls;
+    return kinetic + potential + ledger[kEnergyStressWork] + ledger[kEnergyPic] + ledger[kEnergyDamping] + ledger[kEnergyWalls];
   }
 };
 
@@ -142,7 +142,7 @@ TEST(Flume, CoarseRunCreatesNoEnergyAndDissipates) {
     const double released = start.potential - last.potential, residual = last.balance() - start.balance();
     std::printf("  budget: released %.4g J/m, work on the material %.4g, walls %.4g, damping %.4g, PIC %.4g, "
                 "residual %+.4g J/m (%.2f%% of PE0, %.1f%% of released)\n",
-                released, last.ledger.stress_work, last.ledger.walls, last.ledger.damping, last.ledger.pic, residual,
+                released, last.ledger[kEnergyStressWork], last.ledger[kEnergyWalls], last.ledger[kEnergyDamping], last.ledger[kEnergyPic], residual,
                 100 * residual / start.potential, 100 * residual / released);
     EXPECT_LE(std::fabs(residual), 0.02 * start.potential) << "the energy budget does not close at " << t;
     // What is left is the discretisation's own error (the explicit step's 1/2 f.dv dt, the
@@ -154,13 +154,13 @@ TEST(Flume, CoarseRunCreatesNoEnergyAndDissipates) {
   // on the material neither stored (elastic, granular) nor dissipated by collisions, and the
   // collisional dissipation itself; the elastic estimate's error (eq. 13 is hypoelastic) is a
   // few J/m at most here (its whole value is below 16 J/m: the tolerance above).
-  const double plastic = last.ledger.stress_work - (last.elastic - start.elastic) -
-                         (last.granular - start.granular) - last.ledger.collisional;
+  const double plastic = last.ledger[kEnergyStressWork] - (last.elastic - start.elastic) -
+                         (last.granular - start.granular) - last.ledger[kEnergyCollisional];
   std::printf("  plastic dissipation %.4g J/m, collisional %.4g J/m, elastic now %.4g J/m, granular %.4g J/m\n",
-              plastic, last.ledger.collisional, last.elastic, last.granular);
+              plastic, last.ledger[kEnergyCollisional], last.elastic, last.granular);
   EXPECT_GT(plastic, 0);
-  EXPECT_GE(last.ledger.collisional, -1e-6 * start.potential);
-  EXPECT_GE(last.ledger.walls, 0);
+  EXPECT_GE(last.ledger[kEnergyCollisional], -1e-6 * start.potential);
+  EXPECT_GE(last.ledger[kEnergyWalls], 0);
   // Measured: -192 J/m by 0.4 s (2026-11-25), from -3 J/m at 0.05 s, falling at every check.
   EXPECT_LT(last.kinetic + last.potential, e0) << "the flow must dissipate";
   EXPECT_GT(last.kinetic, 0.01 * (e0 - last.potential)) << "still flowing 0.4 s after the release";
@@ -193,16 +193,16 @@ TEST(Flume, LedgerKernelsAgree) {
   split.split = StressSplit::on;  // the CPU's default is unsplit
   const LedgerRun a = ledger_run(cs, light), b = ledger_run(cs, whole), c = ledger_run(cs, split);
   const EnergyLedger &la = a.state.ledger, &lb = b.state.ledger, &lc = c.state.ledger;
-  EXPECT_GT(std::fabs(la.pic), 0);
-  EXPECT_GT(std::fabs(la.walls), 0);
-  EXPECT_GT(std::fabs(la.stress_work), 0);
-  EXPECT_GT(std::fabs(la.collisional), 0);
+  EXPECT_GT(std::fabs(la[kEnergyPic]), 0);
+  EXPECT_GT(std::fabs(la[kEnergyWalls]), 0);
+  EXPECT_GT(std::fabs(la[kEnergyStressWork]), 0);
+  EXPECT_GT(std::fabs(la[kEnergyCollisional]), 0);
   // The light transfer kernel: the same sums in the same order, to the last bit.
-  EXPECT_EQ(la.pic, lb.pic);
-  EXPECT_EQ(la.walls, lb.walls);
-  EXPECT_EQ(la.damping, lb.damping);
-  EXPECT_EQ(la.stress_work, lb.stress_work);
-  EXPECT_EQ(la.collisional, lb.collisional);
+  EXPECT_EQ(la[kEnergyPic], lb[kEnergyPic]);
+  EXPECT_EQ(la[kEnergyWalls], lb[kEnergyWalls]);
+  EXPECT_EQ(la[kEnergyDamping], lb[kEnergyDamping]);
+  EXPECT_EQ(la[kEnergyStressWork], lb[kEnergyStressWork]);
+  EXPECT_EQ(la[kEnergyCollisional], lb[kEnergyCollisional]);
   EXPECT_TRUE(a.velocity == b.velocity) << "the two ledger transfer kernels moved the points differently";
   // The split stress pass (KernelPolicy::ledger_split): each point's terms booked once, by the
   // elastic-only kernel or by the deferred points' one. Not to the bit: the elastic-only path
@@ -213,11 +213,11 @@ TEST(Flume, LedgerKernelsAgree) {
   // and so deferred: a share booked twice or not at all moves a term by tens of per cent.
   std::printf("ledger split against unsplit: stress work %.17g / %.17g, pic %.17g / %.17g, walls %.17g / %.17g, "
               "collisional %.17g / %.17g\n",
-              lc.stress_work, la.stress_work, lc.pic, la.pic, lc.walls, la.walls, lc.collisional, la.collisional);
-  EXPECT_NEAR(lc.stress_work, la.stress_work, 1e-3 * std::fabs(la.stress_work));
-  EXPECT_NEAR(lc.pic, la.pic, 1e-2 * std::fabs(la.pic));
-  EXPECT_NEAR(lc.walls, la.walls, 1e-2 * std::fabs(la.walls));
-  EXPECT_NEAR(lc.collisional, la.collisional, 1e-2 * std::fabs(la.collisional));
+              lc[kEnergyStressWork], la[kEnergyStressWork], lc[kEnergyPic], la[kEnergyPic], lc[kEnergyWalls], la[kEnergyWalls], lc[kEnergyCollisional], la[kEnergyCollisional]);
+  EXPECT_NEAR(lc[kEnergyStressWork], la[kEnergyStressWork], 1e-3 * std::fabs(la[kEnergyStressWork]));
+  EXPECT_NEAR(lc[kEnergyPic], la[kEnergyPic], 1e-2 * std::fabs(la[kEnergyPic]));
+  EXPECT_NEAR(lc[kEnergyWalls], la[kEnergyWalls], 1e-2 * std::fabs(la[kEnergyWalls]));
+  EXPECT_NEAR(lc[kEnergyCollisional], la[kEnergyCollisional], 1e-2 * std::fabs(la[kEnergyCollisional]));
 }
 
 }  // namespace

@@ -22,7 +22,7 @@
 //       // the model's cheap common case alone (an elastic step of an elastoplastic model):
 //       // when it applies, the same result as update() and true; otherwise false with s
 //       // and sigma untouched. The GPU kernels then run it over all points in a kernel
-//       // without the expensive branch, and update() over the others (PassParams::
+//       // without the expensive branch, and update() over the others (PassPolicy::
 //       // split_elastic), so the common case runs at a higher occupancy.
 //   SCREE_HD static Real wave_speed(const Params& p, const State& s, const Sym3& sigma,
 //                                   Real density, Real cell_size);

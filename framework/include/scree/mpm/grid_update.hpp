@@ -59,7 +59,7 @@ struct GridUpdateParams {
   /// that carries no kinetic energy of its own); one atomic add per node where not zero.
   bool energy = false;
   /// With `energy`: whether the walls' share is measured here (MUSL) or on the points
-  /// (USF, USL: PassParams::wall_ledger).
+  /// (USF, USL: PassPolicy::wall_ledger).
   bool energy_walls = false;
   /// With `energy` in a decomposed run (case/decomposition.hpp): the ledger counts only the
   /// nodes this rank owns, those with ledger_lo <= index < ledger_hi along ledger_axis (its

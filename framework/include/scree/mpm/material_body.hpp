@@ -12,7 +12,7 @@
 // (kTransferPhases: no material code, a fraction of the registers) in blocks of 256; a
 // pass with it the full one in blocks of 64 (its occupancy is set by the material's
 // registers, and small blocks let the SMs fill in behind warps that take longer, e.g. a
-// point that needs many substeps). PassParams::reference runs the full one everywhere.
+// point that needs many substeps). PassPolicy::reference runs the full one everywhere.
 #pragma once
 
 #include <cmath>
@@ -280,9 +280,9 @@ class MaterialBody final : public Body<D> {
 
   template <class Shape>
   void launch(const PassParams<D>& pp, const Shape& shape) {
-    // The energy ledger (PassParams::energy) runs kernels of its own (ParticlePass's Ledger),
+    // The energy ledger (PassPolicy::energy) runs kernels of its own (ParticlePass's Ledger),
     // dispatched as the fast ones are
-    if (pp.energy) launch_pass<true>(pp, shape);
+    if (pp.policy.energy) launch_pass<true>(pp, shape);
     else launch_pass<false>(pp, shape);
   }
 
@@ -291,30 +291,30 @@ class MaterialBody final : public Body<D> {
     // The transfer pass alone: compiled without the stress update (for the ledger, which books
     // the PIC blend's and the walls' shares there, its whole pass needs every register and a
     // stack frame, the light one a fraction and none: ledger_light_transfer)
-    if (!pp.reference && (!Ledger || pp.ledger_light_transfer) && (pp.flags & ~kTransferPhases) == 0) {
+    if (!pp.policy.reference && (!Ledger || pp.policy.ledger_light_transfer) && (pp.flags & ~kTransferPhases) == 0) {
       ParticlePass<D, Shape, M, kTransferPhases, false, Ledger> k{pp, store_.arrays(), shape, params_};
       parallel_for_warps(exec_, store_.size(), k, kTransferBlock);
       return;
     }
     if constexpr (material_has_elastic_path<M>())
-      if (!pp.reference && pp.split_elastic && (pp.flags & kStressPhases)) {
+      if (!pp.policy.reference && pp.policy.split_elastic && (pp.flags & kStressPhases)) {
         launch_elastic_first<Ledger>(pp, shape);
         return;
       }
     ParticlePass<D, Shape, M, kAllPhases, false, Ledger> k{pp, store_.arrays(), shape, params_};
     if constexpr (D == 2 && !Ledger)  // the ledger's whole pass runs uncapped
-      if (!pp.reference && pp.stress_blocks_per_sm == KernelPolicy::kStressCap) {
+      if (!pp.policy.reference && pp.policy.stress_blocks_per_sm == KernelPolicy::kStressCap) {
         parallel_for_warps_bounded<kStressBlock, KernelPolicy::kStressCap>(exec_, store_.size(), k);
         return;
       }
-    parallel_for_warps(exec_, store_.size(), k, pp.reference ? kCudaBlockSize : kStressBlock);
+    parallel_for_warps(exec_, store_.size(), k, pp.policy.reference ? kCudaBlockSize : kStressBlock);
   }
 
-  /// The elastic-first split (PassParams::split_elastic): every point through the
+  /// The elastic-first split (PassPolicy::split_elastic): every point through the
   /// elastic-only kernel, then the whole pass over the points it deferred, read from the
   /// device-side list (no host round trip; CUDA-graph safe). The second kernel clears the
   /// other parity's counter, which the next step's first kernel fills.
-  /// Ledger: both kernels keep the energy ledger (PassParams::energy).
+  /// Ledger: both kernels keep the energy ledger (PassPolicy::energy).
   template <bool Ledger, class Shape>
   void launch_elastic_first(const PassParams<D>& pp, const Shape& shape) {
     PassParams<D> first = pp;
@@ -323,7 +323,7 @@ class MaterialBody final : public Body<D> {
     ParticlePass<D, Shape, M, kAllPhases, true, Ledger> elastic{first, store_.arrays(), shape, params_};
     bool capped = false;
     if constexpr (D == 2)  // the capped kernel exists only in 2D (no unused 3D instance to compile)
-      if (pp.elastic_blocks_per_sm == KernelPolicy::kElasticCap) {
+      if (pp.policy.elastic_blocks_per_sm == KernelPolicy::kElasticCap) {
         parallel_for_warps_bounded<kStressBlock, KernelPolicy::kElasticCap>(exec_, store_.size(), elastic);
         capped = true;
       }

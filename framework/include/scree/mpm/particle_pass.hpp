@@ -75,23 +75,25 @@ struct ParticleArrays {
   Real* state;             ///< material state, component k of particle i at state[k n + i]
 };
 
-/// Per-pass parameters (passed by value to the kernel).
+/// The physics of the case that every particle pass shares: built once, at setup
+/// (Solver::setup_passes), from the case's mpmSchemes and gravity.
 template <int D>
-struct PassParams {
-  unsigned flags = 0;
-  int parity = 0;         ///< parity of the current step (its StepControl slot)
-  int gather_parity = 0;  ///< parity of the step whose grid set G is gathered from: its dt
-                          ///< drives the gather phases; dt = 0 makes them a no-op
-  GridGeometry<D> grid;
-  GridFields<D> gather;   ///< the set G read by gather phases
-  GridFields<D> scatter;  ///< the set S written by scatter phases (zeroed beforehand)
-  StepControl* control = nullptr;
+struct PassPhysics {
   Vec<D> gravity;
   Real pic_fraction = 0;  ///< FLIP/PIC blend per step: 0 = pure FLIP (the paper's eq. 10), 1 = PIC
   Real pic_rate = 0;      ///< FLIP/PIC blend per unit time [1/s] (mpmSchemes picRate); 0: pic_fraction
   /// Largest det F (mpmSchemes maxVolumeRatio); infinite: no limit (one comparison per point)
   Real max_volume_ratio = kNoVolumeLimit;
   Transfer transfer = Transfer::flip;
+  Real mass_eps = 0;  ///< nodes lighter than this are not accelerated (the grid update's)
+  Real damping = 0, damping_start = 0, damping_end = 0;  ///< the grid update's local damping
+};
+
+/// How the particle kernels run (exec/kernel_policy.hpp and what the case needs of them):
+/// built once, at setup, except split_elastic, which each launch takes from the split
+/// tuner's current choice (solver/split_tuner.hpp).
+/// None of it changes what a pass computes beyond the order of its additions.
+struct PassPolicy {
   bool serial = false;    ///< CPU loop on one thread: plain adds instead of atomics
   bool need_speed = true;  ///< compute the largest signal speed (the adaptive step, the stopCo check)
   /// With need_speed: 0, every step; else only on steps whose index & speed_mask is 0. The
@@ -100,36 +102,30 @@ struct PassParams {
   /// unstable step is caught a few steps later all the same.
   unsigned speed_mask = 0;
   bool reference = false;  ///< the straightforward kernel (see the top of this file)
-  std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
   /// CUDA, 2D: run the stress kernel with a register cap (launch bounds of 64 threads and
   /// this many blocks per SM, 6: 170 registers, 12 warps per SM; the solver's default)
   /// instead of the compiler's choice (0; 254 registers for phaseTransition, 8 warps).
   int stress_blocks_per_sm = 0;
-  /// Elastic first (fast kernels; materials with update_elastic, material.hpp): the stress
-  /// pass updates the points whose increment is elastic, in a kernel compiled without the
-  /// plastic integration (a fraction of its registers: more warps per SM), and appends the
-  /// others to `deferred`, counted in deferred_count[parity]; a second launch runs the whole
-  /// pass over those (MaterialBody::launch). One stress pass per step, so the counters of
-  /// the two parities alternate. False (the default; the solver decides, RunOptions::
-  /// split_elastic): one kernel with the whole update.
-  bool split_elastic = false;
-  /// With `energy`: the transfer pass in the ledger's light kernel (KernelPolicy::
-  /// ledger_light_transfer), not its whole-pass one.
-  bool ledger_light_transfer = true;
   /// CUDA, 2D: the elastic-only kernel's register cap (10 blocks of 64 per SM: 96
   /// registers, 20 warps per SM; the solver's default) or 0 (the compiler's choice).
   int elastic_blocks_per_sm = 0;
-  Index* deferred = nullptr;
-  unsigned* deferred_count = nullptr;
-  /// Body::body_id of the body the pass runs over (MaterialBody::launch sets it): a point
-  /// with a non-finite field records it in StepControl::bad.
-  int body = 0;
+  /// Elastic first (fast kernels; materials with update_elastic, material.hpp): the stress
+  /// pass updates the points whose increment is elastic, in a kernel compiled without the
+  /// plastic integration (a fraction of its registers: more warps per SM), and appends the
+  /// others to PassParams::deferred, counted in deferred_count[parity]; a second launch runs
+  /// the whole pass over those (MaterialBody::launch). One stress pass per step, so the
+  /// counters of the two parities alternate. False (the default; the solver decides,
+  /// KernelPolicy::split): one kernel with the whole update.
+  bool split_elastic = false;
   /// Keep the energy ledger (StepControl::energy): the stress work, the collisional
   /// dissipation and what the PIC blend removes, summed per warp and added once per warp.
   /// On, MaterialBody::launch runs every pass in the ledger's own kernels (ParticlePass's
   /// Ledger: the transfer pass alone, the stress pass split elastic-first as the fast one's
   /// where split_elastic says so, else whole); off (the default) the kernels carry none of it.
   bool energy = false;
+  /// With `energy`: the transfer pass in the ledger's light kernel (KernelPolicy::
+  /// ledger_light_transfer), not its whole-pass one.
+  bool ledger_light_transfer = true;
   /// With `energy`: the walls' share measured on the points (USF, USL; the grid update then
   /// leaves it out): the work of the velocity change the walls made at the point's nodes,
   /// m sum N (v^{k+1} - v^{k+1} without walls) . (v_old + v_new)/2. The grid's own measure
@@ -137,8 +133,30 @@ struct PassParams {
   /// the budget's residual, 0.9 times the grid's figure in the flume and the column at 5-20
   /// mm. MUSL re-maps momentum into the force array before its gather: measured on the grid.
   bool wall_ledger = false;
-  Real mass_eps = 0;  ///< nodes lighter than this are not accelerated (the grid update's)
-  Real damping = 0, damping_start = 0, damping_end = 0;  ///< the grid update's local damping
+};
+
+/// One launch of a particle pass (passed by value to the kernel): the case's physics and
+/// the kernel policy, both built once, and what this pass of this step does: its phases,
+/// the grid sets it reads and writes, the clock slots and the body it runs over.
+template <int D>
+struct PassParams {
+  PassPhysics<D> physics;
+  PassPolicy policy;
+
+  unsigned flags = 0;
+  int parity = 0;         ///< parity of the current step (its StepControl slot)
+  int gather_parity = 0;  ///< parity of the step whose grid set G is gathered from: its dt
+                          ///< drives the gather phases; dt = 0 makes them a no-op
+  GridGeometry<D> grid;   ///< the (sub-)grid the sets cover
+  GridFields<D> gather;   ///< the set G read by gather phases
+  GridFields<D> scatter;  ///< the set S written by scatter phases (zeroed beforehand)
+  StepControl* control = nullptr;
+  std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
+  Index* deferred = nullptr;             ///< PassPolicy::split_elastic's list (MaterialBody's)
+  unsigned* deferred_count = nullptr;
+  /// Body::body_id of the body the pass runs over (MaterialBody::launch sets it): a point
+  /// with a non-finite field records it in StepControl::bad.
+  int body = 0;
 };
 
 /// The PIC share a of a step of length dt in the FLIP/PIC blend v <- a v_PIC + (1 - a) v_FLIP.
@@ -146,9 +164,9 @@ struct PassParams {
 /// decay at a rate a/dt, which doubles when dt is halved. picRate fixes the rate instead:
 /// a = 1 - exp(-picRate dt), so that n steps covering a time t remove exactly
 /// 1 - exp(-picRate t) of them whatever the step.
-template <class PP>
-SCREE_INLINE Real pic_share(const PP& pp, Real dt) {
-  return pp.pic_rate > 0 ? -expm1(-pp.pic_rate * dt) : pp.pic_fraction;
+template <int D>
+SCREE_INLINE Real pic_share(const PassPhysics<D>& ph, Real dt) {
+  return ph.pic_rate > 0 ? -expm1(-ph.pic_rate * dt) : ph.pic_fraction;
 }
 
 /// The sum of v over the warp, valid in every lane (CUDA); v itself on the CPU.
@@ -167,10 +185,10 @@ inline constexpr bool material_has_collisional_dissipation() {
   };
 }
 
-/// Whether this step computes the largest signal speed (PassParams::speed_mask).
-template <class PP>
-SCREE_INLINE bool speed_wanted(const PP& pp) {
-  return pp.need_speed && (pp.speed_mask == 0 || (pp.control->step[pp.parity] & pp.speed_mask) == 0);
+/// Whether this step computes the largest signal speed (PassPolicy::speed_mask).
+template <int D>
+SCREE_INLINE bool speed_wanted(const PassParams<D>& pp) {
+  return pp.policy.need_speed && (pp.policy.speed_mask == 0 || (pp.control->step[pp.parity] & pp.policy.speed_mask) == 0);
 }
 
 namespace detail {
@@ -277,17 +295,17 @@ struct FreshStress {
   Sym3 sigma = Sym3::zero();
   Real volume = 0;
   bool valid = false;
-  /// The energy ledger's share of the point (PassParams::energy): the stress work V (sigma^n
+  /// The energy ledger's share of the point (PassPolicy::energy): the stress work V (sigma^n
   /// + sigma^{n+1})/2 : deps of the step and the collisional dissipation V Gamma dt [J, J/m
   /// in 2D].
   Real work = 0, dissipated = 0;
 };
 
 /// The particle pass. ElasticFirst: the first kernel of the elastic-first split
-/// (PassParams::split_elastic): a point whose stress update is not elastic is appended to
+/// (PassPolicy::split_elastic): a point whose stress update is not elastic is appended to
 /// pp.deferred and left untouched (no state, position or velocity written, nothing
 /// scattered); the ordinary pass then runs over the deferred points alone. Ledger: the
-/// kernel that keeps the energy ledger (PassParams::energy), compiled apart so that the
+/// kernel that keeps the energy ledger (PassPolicy::energy), compiled apart so that the
 /// others carry none of its code: held through the stress update, its values make the
 /// register-capped elastic kernel spill.
 template <int D, class Shape, class M, unsigned May = kAllPhases, bool ElasticFirst = false, bool Ledger = false>
@@ -325,15 +343,15 @@ struct ParticlePass {
         v[d] = pa.v[d][p];
       }
     Mat<D> C = Mat<D>::zero();
-    const bool apic = pp.transfer == Transfer::apic;
+    const bool apic = pp.physics.transfer == Transfer::apic;
     if (apic && active)
       for (int i = 0; i < D * D; ++i) C.a[i / D][i % D] = pa.C[i][p];
 
     // ---------------- gather phases (weights at the current position) ----------------
     Real speed = 0;  // signal speed c + |v| after the stress update
     FreshStress fresh;  // the stress and volume the update wrote, for the scatter's force
-    Real pic_loss = 0;   // the energy ledger: kinetic energy the PIC blend removed (PassParams::energy)
-    Real wall_loss = 0;  // ... and the walls (PassParams::wall_ledger)
+    Real pic_loss = 0;   // the energy ledger: kinetic energy the PIC blend removed (PassPolicy::energy)
+    Real wall_loss = 0;  // ... and the walls (PassPolicy::wall_ledger)
     bool defer = false;  // ElasticFirst: the update is not elastic, left to the second kernel
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
@@ -346,7 +364,7 @@ struct ParticlePass {
         Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
         const bool from_new = flags & kStressFromNew;
         const bool want_L = flags & kStressPhases;
-        const bool flip_increment = (flags & kGatherVelocity) && !apic && (pp.pic_fraction < 1 || pp.pic_rate > 0);
+        const bool flip_increment = (flags & kGatherVelocity) && !apic && (pp.physics.pic_fraction < 1 || pp.physics.pic_rate > 0);
         // Unrolled: the stencil's weights stay in registers (a loop index would put the
         // Stencil in local memory, read back at every node).
 SCREE_UNROLL
@@ -374,15 +392,15 @@ SCREE_UNROLL
             for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] * rm : vi[d];
             dv += N * (vn - v_mapped);
             if constexpr (Ledger)
-              if (pp.wall_ledger) {
+              if (pp.policy.wall_ledger) {
                 // The node's v^{k+1} without the walls: the mapped velocity accelerated by
                 // the force (and the local damping) the grid update applied.
                 const Real t = ctl->t[pp.gather_parity];
-                const bool damp = damping_active(pp.damping, t, pp.damping_start, pp.damping_end);
+                const bool damp = damping_active(pp.physics.damping, t, pp.physics.damping_start, pp.physics.damping_end);
                 for (int d = 0; d < D; ++d) {
                   Real f = pp.gather.force[d][I];
-                  if (damp) f = damped_force(f, vi[d], pp.damping);
-                  const Real free = m > pp.mass_eps ? v_mapped[d] + dt * f * rm : v_mapped[d];
+                  if (damp) f = damped_force(f, vi[d], pp.physics.damping);
+                  const Real free = m > pp.physics.mass_eps ? v_mapped[d] + dt * f * rm : v_mapped[d];
                   dw[d] += N * (vn[d] - free);
                 }
               }
@@ -408,7 +426,7 @@ SCREE_UNROLL
             else C = Lnew;
           } else {
             // FLIP (eq. 10) blended with PIC.
-            const Real a = pic_share(pp, dt);
+            const Real a = pic_share(pp.physics, dt);
             Vec<D> v_old = Vec<D>::zero();  // Ledger: the walls' work takes the step's mean velocity
             if constexpr (Ledger) v_old = v;
             Real flip2 = 0, new2 = 0;
@@ -421,7 +439,7 @@ SCREE_UNROLL
             if constexpr (Ledger)
               if (flip_increment) {
                 pic_loss = Real(0.5) * mass * (flip2 - new2);
-                if (pp.wall_ledger) {
+                if (pp.policy.wall_ledger) {
                   // The walls moved both the FLIP and the PIC part by sum N dw: their work on
                   // the point is that impulse times the step's mean velocity (v_old +
                   // v_new)/2, so that it adds up with the forces' to the point's kinetic
@@ -441,7 +459,7 @@ SCREE_UNROLL
       }
     }
     if constexpr (ElasticFirst) {
-      push_index(pp.deferred, pp.deferred_count + pp.parity, p, defer, pp.serial);
+      push_index(pp.deferred, pp.deferred_count + pp.parity, p, defer, pp.policy.serial);
       if (defer) {
         active = false;  // nothing of it is written or scattered here
         pic_loss = wall_loss = 0;  // counted by the second kernel, which gathers it again
@@ -451,11 +469,11 @@ SCREE_UNROLL
     if constexpr ((May & kStressPhases) != 0)
       if ((flags & kStressPhases) && speed_wanted(pp)) {
         // The step's largest signal speed, for the adaptive time step: one atomic per warp.
-        if (pp.reference) {
-          if (speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.serial);
+        if (pp.policy.reference) {
+          if (speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.policy.serial);
         } else {
           speed = warp_max(speed);
-          if (detail::first_lane() && speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.serial);
+          if (detail::first_lane() && speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.policy.serial);
         }
       }
 
@@ -488,17 +506,17 @@ SCREE_UNROLL
 #endif
   }
 
-  /// The energy ledger (PassParams::energy): the warp's sums, added by its first lane.
+  /// The energy ledger (PassPolicy::energy): the warp's sums, added by its first lane.
   /// Warp-collective: every lane calls it (inactive ones with zeros).
   SCREE_INLINE void ledger(Real pic_loss, Real wall_loss, const FreshStress& fresh) const {
     Real* e = pp.control->energy;
     const Real pic = warp_sum(pic_loss), work = warp_sum(fresh.work), diss = warp_sum(fresh.dissipated);
     const Real wall = warp_sum(wall_loss);
     if (detail::first_lane()) {
-      if (pic != 0) atomic_add(e + kEnergyPic, pic, pp.serial);
-      if (wall != 0) atomic_add(e + kEnergyWalls, wall, pp.serial);
-      if (work != 0) atomic_add(e + kEnergyStressWork, work, pp.serial);
-      if (diss != 0) atomic_add(e + kEnergyCollisional, diss, pp.serial);
+      if (pic != 0) atomic_add(e + kEnergyPic, pic, pp.policy.serial);
+      if (wall != 0) atomic_add(e + kEnergyWalls, wall, pp.policy.serial);
+      if (work != 0) atomic_add(e + kEnergyStressWork, work, pp.policy.serial);
+      if (diss != 0) atomic_add(e + kEnergyCollisional, diss, pp.policy.serial);
     }
   }
 
@@ -523,9 +541,9 @@ SCREE_UNROLL
         vol = pa.volume0[p] * pa.F[0][p];  // J: F is kept as diag(J, 1[, 1]) (stress_update)
       }
     }
-    const bool apic = pp.transfer == Transfer::apic;
+    const bool apic = pp.physics.transfer == Transfer::apic;
     // Lanes with the same first stencil node share every node: they add per warp first.
-    const bool per_lane = pp.reference;
+    const bool per_lane = pp.policy.reference;
 #if defined(__CUDA_ARCH__)
     const long long key = active ? static_cast<long long>(g.flat(st.base)) : -1 - static_cast<long long>(threadIdx.x);
     const WarpSegment seg(per_lane ? -1 - static_cast<long long>(threadIdx.x) : key);
@@ -534,7 +552,7 @@ SCREE_UNROLL
 #endif
     if (pp.tile_stamps && active && seg.head)
       st.stamp_tiles(g, pp.tile_stamps, tile_stamp(pp.control->step[pp.parity]));
-    const bool serial = pp.serial;
+    const bool serial = pp.policy.serial;
     auto add = [&](Real* field, Real value) {
 #if defined(__CUDA_ARCH__)
       const Real s = per_lane ? value : seg.sum(value);
@@ -559,7 +577,7 @@ SCREE_UNROLL
         for (int d = 0; d < D; ++d) {
           Real s = 0;
           for (int e = 0; e < D; ++e) s += sig(d, e) * gradN[e];
-          add(&pp.scatter.force[d][I], -vol * s + N * mass * pp.gravity[d]);
+          add(&pp.scatter.force[d][I], -vol * s + N * mass * pp.physics.gravity[d]);
         }
       }
     });
@@ -584,15 +602,15 @@ SCREE_UNROLL
     Real J = det(Mat<D>::identity() + L * dt) * pa.F[0][p];
     StrainIncrement inc;
     inc.deps = sym3_from(L) * dt;
-    if (J > pp.max_volume_ratio) [[unlikely]] {
+    if (J > pp.physics.max_volume_ratio) [[unlikely]] {
       // The point's volume V0 J is capped at V0 max_volume_ratio: its density, and so the
       // signal speeds of the time step, stay bounded. The strain increment loses the same
       // volume, ln r spread over the D normal components, r = max_volume_ratio/J: the
       // material's void ratio (1 + e follows exp(tr deps)) then stays that of the capped
       // volume. (Without this, e grew without bound at the cap: 3e12 where the cap allows
       // 998, flume at 1.13 s.)
-      const Real r = pp.max_volume_ratio / J;
-      J = pp.max_volume_ratio;
+      const Real r = pp.physics.max_volume_ratio / J;
+      J = pp.physics.max_volume_ratio;
       const Real lr = log(r) / D;
       for (int d = 0; d < D; ++d) inc.deps[d] += lr;
     }
@@ -658,7 +676,7 @@ SCREE_UNROLL
   /// (report_nonfinite_node); the host then finds the point in the frozen state.
   SCREE_INLINE void lost(Index p) const {
     pa.volume0[p] = -fabs(pa.volume0[p]);
-    if (atomic_fetch_increment(&pp.control->lost, pp.serial) == 0) {
+    if (atomic_fetch_increment(&pp.control->lost, pp.policy.serial) == 0) {
       pp.control->first_lost.body = pp.body;
       pp.control->first_lost.index = p;
       pp.control->first_lost.step = pp.control->step[pp.parity];

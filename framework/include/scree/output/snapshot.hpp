@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scree/core/config.hpp"
+#include "scree/output/energy_ledger.hpp"
 
 namespace scree {
 
@@ -72,18 +73,6 @@ struct GridSnapshot {
   Real origin[3] = {0, 0, 0};
   Real h = 0;
   std::vector<FieldData> fields;  ///< mass, velocity, ... per node
-};
-
-/// The energy ledger at a snapshot's time (StepControl::energy): what the kernels added up
-/// since t = 0 over every body, in J (J/m of thickness in 2D). Kept only when a function
-/// object asks for it (FunctionObject::needs_energy_ledger); `kept` says whether it was.
-struct EnergyLedger {
-  bool kept = false;
-  Real stress_work = 0;  ///< sum of V (sigma^n + sigma^{n+1})/2 : deps over steps and points (into the material)
-  Real collisional = 0;  ///< collisional dissipation, sum of V Gamma dt
-  Real pic = 0;          ///< kinetic energy removed by the FLIP/PIC blend
-  Real damping = 0;      ///< kinetic energy removed by the local damping
-  Real walls = 0;        ///< kinetic energy removed by the walls
 };
 
 struct Snapshot {

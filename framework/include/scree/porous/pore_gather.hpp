@@ -76,17 +76,17 @@ struct PoreRate : PorePass<D, Shape> {
         div_q += nS * (vln - vsn) * gradN[d];
       }
     });
-    const Real a = pic_share(pp, dt);
+    const Real a = pic_share(pp.physics, dt);
     for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
     const Real n = col(kPorosity, p), S = col(kSaturation, p), pw = col(kPorePressure, p);
     // The volume at x^k from the porosity the last scatter wrote: J = (1 - n0) / (1 - n).
     const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
     const Real r = -(S * div_s + div_q) * V, c = lp.pore.storage(n, S, pw) * V;
     const Index cell = cell_of<D>(pp.grid, x);
-    atomic_add(lp.inflow + cell, r, pp.serial);
-    atomic_add(lp.capacity + cell, c, pp.serial);
-    atomic_add(lp.moments + cell, c * pw, pp.serial);
-    for (int d = 0; d < D; ++d) atomic_add(lp.moments + (d + 1) * lp.n_cells + cell, c * x[d], pp.serial);
+    atomic_add(lp.inflow + cell, r, pp.policy.serial);
+    atomic_add(lp.capacity + cell, c, pp.policy.serial);
+    atomic_add(lp.moments + cell, c * pw, pp.policy.serial);
+    for (int d = 0; d < D; ++d) atomic_add(lp.moments + (d + 1) * lp.n_cells + cell, c * x[d], pp.policy.serial);
   }
 };
 
@@ -198,7 +198,7 @@ struct PorePressure : PorePass<D, Shape> {
       const Real n = col(kPorosity, p);
       const Real V = pa.volume0[p] * (1 - lp.pore.n0) / (1 - n);
       const Real K = lp.pore.bulk_l, S0 = lp.pore.table.saturation(p_free);
-      atomic_add(lp.totals + 1, lp.pore.rho_l * n * V * (S * (1 + pw / K) - S0 * (1 + p_free / K)), pp.serial);
+      atomic_add(lp.totals + 1, lp.pore.rho_l * n * V * (S * (1 + pw / K) - S0 * (1 + p_free / K)), pp.policy.serial);
     }
     col(kPorePressure, p) = pw;
     col(kSaturation, p) = S;

@@ -81,7 +81,7 @@ struct MixtureScatter : PorePass<D, Shape> {
     Mat<D> C = Mat<D>::zero();
     Sym3 sig = Sym3::zero();
     Real V = 0, n = 0, S = 0, pw = 0;
-    const bool apic = pp.transfer == Transfer::apic;
+    const bool apic = pp.physics.transfer == Transfer::apic;
     if (active) {
       for (int d = 0; d < D; ++d) {
         x[d] = pa.x[d][p];
@@ -108,7 +108,7 @@ struct MixtureScatter : PorePass<D, Shape> {
 
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
     active = active && st.inside;  // outside: frozen by the next gather (above)
-    const bool serial = pp.serial;
+    const bool serial = pp.policy.serial;
 #if defined(__CUDA_ARCH__)
     const WarpSegment seg(active ? static_cast<long long>(pp.grid.flat(st.base))
                                  : -1 - static_cast<long long>(threadIdx.x));
@@ -147,9 +147,9 @@ struct MixtureScatter : PorePass<D, Shape> {
         Real s = 0;
         for (int e = 0; e < D; ++e) s += sig(d, e) * gradN[e];
         add(pp.scatter.momentum[d] + I, N * m_s * vI[d]);
-        add(pp.scatter.force[d] + I, -V * s + N * (m_s + m_lm) * pp.gravity[d]);
+        add(pp.scatter.force[d] + I, -V * s + N * (m_s + m_lm) * pp.physics.gravity[d]);
         add(lp.scatter.momentum[d] + I, N * m_l * vl[d]);
-        add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.gravity[d]);
+        add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.physics.gravity[d]);
       }
     });
     // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
@@ -203,7 +203,7 @@ struct SurfaceScatter : PorePass<D, Shape> {
       pw = col(kPorePressure, p);
       m = pa.mass[p] + n * S * lp.pore.rho_l * V;  // m_s + m_lm
     }
-    const bool serial = pp.serial;
+    const bool serial = pp.policy.serial;
 #if defined(__CUDA_ARCH__)
     const WarpSegment seg(active ? static_cast<long long>(pp.grid.flat(st.base))
                                  : -1 - static_cast<long long>(threadIdx.x));

@@ -22,6 +22,7 @@
 
 #include "scree/core/config.hpp"
 #include "scree/core/constants.hpp"
+#include "scree/output/energy_ledger.hpp"
 
 namespace scree {
 
@@ -33,19 +34,6 @@ enum StepFailure : unsigned {
   kFailStalled = 1u << 3,    ///< (set by the host) the adaptive step became too small to reach the end
   kFailElsewhere = 1u << 4,  ///< (set by the host) another rank of a decomposed run stopped its clock
   kFailHalo = 1u << 5,       ///< (set by the host) a point moved past its rank's halo between two migrations
-};
-
-/// The terms of the energy ledger (StepControl::energy): energies the kernels add up as they
-/// go, cumulative since t = 0, in J (J/m in 2D), for the energy budget of the function
-/// object `energies` (`budget yes`; plugins/functionObjects/Energies.hpp says how they close).
-/// Kept only when PassParams::energy / GridUpdateParams::energy is set: off, nothing is added.
-enum EnergyTerm : int {
-  kEnergyStressWork = 0,   ///< sum over steps and points of V (sigma^n + sigma^{n+1})/2 : deps (trapezoidal)
-  kEnergyCollisional = 1,  ///< collisional dissipation, sum V Gamma dt (material hook collisional_dissipation)
-  kEnergyPic = 2,          ///< kinetic energy the FLIP/PIC blend removed from the points (>= 0 when it damps)
-  kEnergyDamping = 3,      ///< kinetic energy the local damping removed from the nodes
-  kEnergyWalls = 4,        ///< kinetic energy the walls (wall_law.hpp) removed from the nodes
-  kEnergyTerms = 5,
 };
 
 /// The field of the first non-finite value (StepControl::BadPoint::field).
@@ -83,8 +71,9 @@ struct StepControl {
   unsigned failure;               ///< StepFailure bits (0: healthy)
   unsigned long long failed_step; ///< the step after which the clock stopped
   Real failed_co;                 ///< that step's Courant number dt (c + |v|)_max / h
-  /// The energy ledger (EnergyTerm), cumulative since t = 0: lives with the clock, so that a
-  /// checkpoint carries it and a restart continues it.
+  /// The energy ledger (output/energy_ledger.hpp), cumulative since t = 0: lives with the
+  /// clock, so that a checkpoint carries it and a restart continues it. Kept only when
+  /// PassPolicy::energy / GridUpdateParams::energy is set: off, nothing is added.
   Real energy[kEnergyTerms];
 };
 
