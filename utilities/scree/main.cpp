@@ -25,7 +25,8 @@
 // that this run would replace (nothing was run: move them, or give --overwrite), 5 the run
 // went wrong (a non-finite field, particles leaving the grid en masse, an unstable step) and
 // was stopped with a diagnosis, its last state written; 128 + N stopped by signal N
-// (SIGINT 130, SIGTERM 143) after writing the state it reached.
+// (SIGINT 130, SIGTERM 143) after writing the state it reached; 6 the case is in use by
+// another run (its lock, case/run_lock.hpp, names it; nothing was run).
 #include <omp.h>
 #include <signal.h>
 
@@ -38,11 +39,13 @@
 #include <filesystem>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scree/case/case.hpp"
 #include "scree/case/checkpoint.hpp"
+#include "scree/case/run_lock.hpp"
 #include "scree/case/setup_check.hpp"
 #include "scree/comm/comm.hpp"
 #include "scree/exec/memory.hpp"
@@ -271,6 +274,19 @@ int main(int argc, char** argv) {
                   << (results.size() > 1 ? ", ..." : "") << "): a run replaces them only with --overwrite\n";
       return 0;
     }
+    // One run at a time on a case (case/run_lock.hpp): taken before the results are looked
+    // at, held to the end of main. A decomposed run's root takes it for all its ranks.
+    std::optional<scree::RunLock> lock;
+    std::string holder;
+    if (rank == 0) lock = scree::RunLock::acquire(dir, holder);
+    if (world->sum(std::uint64_t(rank == 0 && !lock ? 1 : 0)) > 0) {
+      if (rank == 0)
+        err << "scree: case " << dir.string() << " is in use by another run (" << holder
+            << "; its lock: " << (dir / scree::RunLock::kFileName).string()
+            << "); nothing was run. Wait for that run to end or stop it (kill -TERM <PID>: it writes the state it "
+               "reached), or copy the case to run it beside it\n";
+      return 6;
+    }
     if (!results.empty() && !vm.count("overwrite")) {
       err << "scree: case " << dir.string() << " has results of an earlier run, which this run would replace:\n";
       const std::size_t shown = std::min<std::size_t>(results.size(), 5);
@@ -312,6 +328,7 @@ int main(int argc, char** argv) {
       std::cout << "scree: rank 0 on GPU " << local << " of its node" << std::endl;
     }
     world->barrier();  // every rank has read the case before the root writes anything
+    if (rank == 0) scree::remove_temporaries(c, rt.registry());  // a killed run's, in every output place
     if (!newer.empty() && rank == 0) {
       // Going back to an older checkpoint: the newer ones belong to the run being replaced.
       std::cout << "scree: continuing from " << opt.restart.string() << "; removing the " << newer.size()

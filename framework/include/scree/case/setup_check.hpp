@@ -75,4 +75,10 @@ SCREE_API std::vector<InputError> needs_two_phase(const Entry& e, const Boundary
 /// order of the places.
 SCREE_API std::vector<std::filesystem::path> existing_results(const Case& c, const Registry& reg);
 
+/// Remove the hidden temporaries (".<file>.tmp<pid>_<n>": write_file_atomically) a killed
+/// run left where this case's writers and function objects write; returns how many. Only
+/// under the case's RunLock (run_lock.hpp): another run's temporaries are files it is
+/// writing.
+SCREE_API std::size_t remove_temporaries(const Case& c, const Registry& reg);
+
 }  // namespace scree

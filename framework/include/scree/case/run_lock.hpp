@@ -1,0 +1,39 @@
+// RunLock: one run at a time on a case directory.
+//
+// Two runs on one case would write the same files, and each one's start-up clean-up would
+// delete the other's temporaries. A run therefore holds an exclusive lock on
+// <case>/.scree.lock for its whole life (an advisory flock(2) on an open file, which the
+// kernel releases when the process ends however it ends: a lock a killed run left behind is
+// no lock, and the next run takes it over). The file names the holder (PID, host, start
+// time) for the message of a run that finds it taken. `--check` reads the case only and
+// takes no lock.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "scree/core/config.hpp"
+
+namespace scree {
+
+class SCREE_API RunLock {
+ public:
+  /// The lock of `case_dir`, or nullopt when another process holds it; `holder` then says
+  /// who ("PID 1234 on host node7, started 2026-11-27 23:50:01 UTC"). Throws
+  /// std::runtime_error when the lock file cannot be created (the case is not writable).
+  static std::optional<RunLock> acquire(const std::filesystem::path& case_dir, std::string& holder);
+
+  RunLock(RunLock&& o) noexcept;
+  RunLock& operator=(RunLock&& o) noexcept;
+  RunLock(const RunLock&) = delete;
+  ~RunLock();
+
+  static constexpr const char* kFileName = ".scree.lock";
+
+ private:
+  explicit RunLock(int fd) : fd_(fd) {}
+  int fd_ = -1;
+};
+
+}  // namespace scree
