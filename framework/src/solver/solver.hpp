@@ -274,6 +274,11 @@ class Solver {
   std::int64_t writes_ = 0;          // write times since startTime (the first not counted)
   bool first_output_ = true;         // the run's first output (the initial or restart state)
   double checkpoint_time_ = -1;      // the time of the last checkpoint this run wrote
+  // The output schedule as it was before the scheduled output of step due_step_ (output_due):
+  // a checkpoint forced at that same step (a signal, endTime) stores it, so that a restart
+  // from it writes again what was due then (its CSVs and series keep only what came before).
+  std::vector<double> due_schedule_;
+  std::int64_t due_step_ = -1;
   double run_start_ = 0;             // startTime, or the time of the checkpoint restarted from
   Progress progress_;
   PhaseProfile profile_;

@@ -25,7 +25,14 @@ void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
     if (due.write_time && !first_output_) ++writes_;
     checkpoint = when != CheckpointWhen::never && every > 0 && !first_output_ && t != checkpoint_time_ &&
                  (when == CheckpointWhen::always || (due.write_time && writes_ % every == 0));
-    if (checkpoint) schedule = output_->state();
+    if (!force_all) {
+      due_schedule_ = output_->state();
+      due_step_ = step_;
+    }
+    // Forced after this step's scheduled output, the checkpoint keeps the schedule from
+    // before it: the restart writes again what was due at its time, as an uninterrupted
+    // run has it, and drops what only the forced output wrote.
+    if (checkpoint) schedule = force_all && step_ == due_step_ ? due_schedule_ : output_->state();
   }
   first_output_ = false;
   if (decomposed()) {

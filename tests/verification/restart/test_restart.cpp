@@ -14,6 +14,8 @@
 // restart is compared with the run-to-run spread of two uninterrupted runs.
 #include <gtest/gtest.h>
 
+#include <csignal>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -21,6 +23,7 @@
 #include <sstream>
 
 #include "scree/case/checkpoint.hpp"
+#include "scree/solver/simulation.hpp"
 #include "scree_test.hpp"
 
 namespace fs = std::filesystem;
@@ -190,6 +193,71 @@ TEST_P(Restart, FromAMidCheckpointEndsInTheUninterruptedState) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, Restart, ::testing::ValuesIn(variants()),
                          [](const ::testing::TestParamInfo<Variant>& i) { return std::string(i.param.name); });
+
+// A run stopped by a signal (request_stop: scree's SIGINT/SIGTERM handler) at the end of
+// every chunk of steps, and restarted from the checkpoint each stop writes, writes the
+// uninterrupted run's files byte for byte. The chunks end at every event: the write times
+// (with checkpointInterval 2, every other one is no checkpoint time of the schedule) and
+// the probe's steps (executeControl timeStep), so each stop lands on a time at which
+// something was due; a stop's own frame and rows at its time are replaced by the restart.
+// Also: a later endTime continued from the checkpoint of the earlier one (the frame at
+// the old endTime must stay).
+TEST(RestartSignal, StoppedAtEveryEventAndRestartedWritesTheUninterruptedFiles) {
+  const Variant v = variants().front();
+  std::string control = kControl;
+  control += " checkpointInterval 2; progressInterval 1000000;";
+  TempCase a("restartSignalA");
+  write_case(a, v, control);
+  const Snapshot whole = run(a.dir());
+
+  TempCase b("restartSignalB");
+  write_case(b, v, control);
+  int stops = 0, at_write_times = 0;
+  fs::path from;
+  for (;;) {
+    request_stop(SIGTERM);
+    try {
+      run(b.dir(), from);
+      break;  // reached endTime
+    } catch (const RunInterrupted&) {
+      ++stops;
+    }
+    from = list_checkpoints(b.dir()).back();
+    double t = 0;
+    ASSERT_TRUE(checkpoint_time(from, t));
+    const double writes = t / 0.03125;
+    if (std::fabs(writes - std::round(writes)) < 1e-6 && std::llround(writes) % 2 == 1) ++at_write_times;
+    ASSERT_LT(stops, 2000) << "the stops do not advance the run";
+  }
+  request_stop(0);
+  std::cout << "[ restart ] " << stops << " stops by signal, " << at_write_times
+            << " of them at a write time that is not a checkpoint time of the schedule\n";
+  EXPECT_GE(at_write_times, 3);
+  const auto fa = files_under(a.dir()), fb = files_under(b.dir());
+  EXPECT_EQ(fa, fb);
+  for (const auto& f : fa)
+    if (std::find(fb.begin(), fb.end(), f) != fb.end() && test_device() == Device::cpu)
+      EXPECT_TRUE(read_all(a.dir() / f) == read_all(b.dir() / f)) << f << " differs after the stops and restarts";
+}
+
+TEST(RestartEndTime, ALaterEndTimeKeepsTheFramesOfTheEarlierOne) {
+  const Variant v = variants().front();
+  TempCase a("restartEndFilesA");
+  write_case(a, v);
+  run(a.dir());
+  TempCase b("restartEndFilesB");
+  std::string control = kControl;
+  control.replace(control.find("endTime 0.25"), 12, "endTime 0.15625");  // the 5th write time
+  write_case(b, v, control);
+  run(b.dir());
+  write_case(b, v);  // endTime 0.25 again
+  run(b.dir(), list_checkpoints(b.dir()).back());
+  const auto fa = files_under(a.dir()), fb = files_under(b.dir());
+  EXPECT_EQ(fa, fb);
+  for (const auto& f : fa)
+    if (std::find(fb.begin(), fb.end(), f) != fb.end() && test_device() == Device::cpu)
+      EXPECT_TRUE(read_all(a.dir() / f) == read_all(b.dir() / f)) << f << " differs after the continuation";
+}
 
 // A run to an earlier endTime, continued with a later one, is the run to the later one.
 TEST(RestartEndTime, ALaterEndTimeContinuesTheRun) {
