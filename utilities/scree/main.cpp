@@ -3,6 +3,7 @@
 //   scree [--case DIR] [--device cpu|cuda] [--threads N]    run a case
 //   scree --case DIR --overwrite                              run it again, replacing its results
 //   scree --case DIR --restart[=TIME]                         continue it from its newest checkpoint (or TIME's)
+//   scree --case DIR --restart --accept-changes               ... although the case's physics changed since
 //   scree --case DIR --check                                  validate a case and exit
 //   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
 //   scree --version | --help
@@ -126,6 +127,10 @@ int main(int argc, char** argv) {
        "continue the case from its newest checkpoint (checkpoints/<time>.ckpt), or with --restart=TIME from the one "
        "at that time (newer ones are then removed), appending to its results (the same as `startFrom latestTime;` in "
        "system/controlDict)")
+      ("accept-changes",
+       "with --restart: continue although the case's physics (gridDict, mpmSchemes, g, materials, bodies, boundary "
+       "conditions) changed since the checkpoint was written; without it such a restart is refused, naming the "
+       "entries")
       ("list-plugins", po::value<std::string>()->implicit_value(""),
        "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
@@ -190,6 +195,7 @@ int main(int argc, char** argv) {
   if (vm.count("reference-kernels")) opt.kernels = scree::KernelPolicy::reference_kernels();
   opt.kernels.graphs = !vm.count("no-graphs");
   opt.profile = vm.count("profile") > 0;
+  opt.accept_changes = vm.count("accept-changes") > 0;
 
   const fs::path dir = vm["case"].as<std::string>();
   try {
@@ -261,6 +267,33 @@ int main(int argc, char** argv) {
                                        : std::string())
             << "; nothing was run\n";
         return 1;
+      }
+    }
+    if (vm.count("check") && !opt.restart.empty()) {
+      // What the run would refuse of its checkpoint, said now: unreadable, another case's,
+      // other physics (the solver checks the rest against the bodies it builds).
+      scree::Checkpoint ck;
+      try {
+        ck = scree::Checkpoint::read(opt.restart);
+      } catch (const std::exception& e) {
+        err << "scree: --restart: " << e.what() << "; continue from another checkpoint (--restart=TIME) or run "
+                                                   "the case from startTime (--overwrite)\n";
+        return 1;
+      }
+      std::vector<scree::InputError> bad;
+      if (!opt.accept_changes) bad = scree::physics_changes(ck.physics, c);
+      std::size_t bodies = 0;
+      for (const auto* e : scree::plugin_entries(c.bodies())) bodies += e != nullptr;
+      if (ck.bodies.size() != bodies)
+        bad.emplace_back(c.bodies().where(), "the checkpoint " + opt.restart.string() + " has " +
+                                                 std::to_string(ck.bodies.size()) + " bodies, the case " +
+                                                 std::to_string(bodies));
+      if (!bad.empty()) {
+        bad.emplace_back(bad.front().where(), "the checkpoint " + opt.restart.string() +
+                                                  " does not fit the case as it is now (the entries above): run it "
+                                                  "from startTime (--overwrite), restore them, or continue anyway with "
+                                                  "--restart --accept-changes");
+        throw scree::InputErrors(std::move(bad));
       }
     }
     const auto results = opt.output && opt.restart.empty() ? scree::existing_results(c, rt.registry())

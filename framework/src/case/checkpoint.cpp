@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "scree/case/case.hpp"
 #include "scree/output/writer.hpp"
 #include "scree/time/step_control.hpp"
 
@@ -147,6 +148,11 @@ void Checkpoint::write(const fs::path& file) const {
   o.array(liquid);
   o.pod(cut_axis);
   o.array(cuts);
+  o.pod<std::uint64_t>(physics.size());
+  for (const auto& [key, value] : physics) {
+    o.text(key);
+    o.text(value);
+  }
   Fnv sum;
   sum.add(o.buffer().data(), o.buffer().size());
   o.pod(sum.h);
@@ -199,7 +205,7 @@ Checkpoint Checkpoint::read(const fs::path& file) {
     if (stored != sum.h) in.fail("its checksum does not match (the file was altered or cut)");
   }
   const auto version = in.pod<std::uint32_t>();
-  if (version != kVersion && version != 1)
+  if (version < 1 || version > kVersion)
     in.fail("format version " + std::to_string(version) + ", this scree reads versions 1 to " +
             std::to_string(kVersion));
   if (in.pod<std::uint32_t>() != sizeof(Real)) in.fail("written with another size of Real");
@@ -233,7 +239,68 @@ Checkpoint Checkpoint::read(const fs::path& file) {
     c.cut_axis = in.pod<std::int32_t>();
     c.cuts = in.array<std::int32_t>();
   }
+  if (version >= 3) {
+    const auto n = in.pod<std::uint64_t>();
+    if (n > buf.size()) in.fail("an entry count exceeds the file");
+    for (std::uint64_t i = 0; i < n; ++i) {
+      std::string key = in.text();
+      c.physics.emplace_back(std::move(key), in.text());
+    }
+  }
   return c;
+}
+
+namespace {
+/// The dictionaries that define what a case computes (case_physics), by their file.
+std::vector<std::pair<std::string, const Dictionary*>> physics_files(const Case& c) {
+  return {{"system/gridDict", &c.grid()},           {"system/mpmSchemes", &c.schemes()},
+          {"constant/g", &c.gravity()},             {"constant/materialProperties", &c.materials()},
+          {"constant/bodies", &c.bodies()},         {"constant/boundaryConditions", &c.boundaries()}};
+}
+/// Every primitive entry of `d`, at any depth, with its dotted key ("soil.E") and value.
+void leaves(const Dictionary& d, const std::string& prefix, std::vector<std::pair<std::string, const Entry*>>& out) {
+  for (const Entry& e : d.entries()) {
+    const std::string key = prefix.empty() ? e.key() : prefix + "." + e.key();
+    if (e.is_dict()) leaves(e.dict(), key, out);
+    else out.emplace_back(key, &e);
+  }
+}
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> case_physics(const Case& c) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [file, d] : physics_files(c)) {
+    std::vector<std::pair<std::string, const Entry*>> all;
+    leaves(*d, "", all);
+    for (const auto& [key, e] : all) out.emplace_back(file + "/" + key, e->value_string());
+  }
+  return out;
+}
+
+std::vector<InputError> physics_changes(const std::vector<std::pair<std::string, std::string>>& then,
+                                        const Case& now) {
+  std::vector<InputError> out;
+  if (then.empty()) return out;
+  std::vector<std::string> seen;
+  for (const auto& [file, d] : physics_files(now)) {
+    std::vector<std::pair<std::string, const Entry*>> all;
+    leaves(*d, "", all);
+    for (const auto& [key, e] : all) {
+      const std::string full = file + "/" + key;
+      seen.push_back(full);
+      const auto was = std::find_if(then.begin(), then.end(), [&](const auto& kv) { return kv.first == full; });
+      if (was == then.end())
+        out.emplace_back(e->where(), "'" + key + "' was added since the checkpoint was written");
+      else if (was->second != e->value_string())
+        out.emplace_back(e->where(), "'" + key + "' changed since the checkpoint was written: " + was->second +
+                                         " then, " + e->value_string() + " now");
+    }
+    for (const auto& [full, value] : then)
+      if (full.rfind(file + "/", 0) == 0 && std::find(seen.begin(), seen.end(), full) == seen.end())
+        out.emplace_back(d->where(), "'" + full.substr(file.size() + 1) + "' (" + value +
+                                         ") was removed since the checkpoint was written");
+  }
+  return out;
 }
 
 fs::path checkpoint_dir(const fs::path& case_dir) { return case_dir / "checkpoints"; }

@@ -106,6 +106,7 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
   ck->clock.resize(sizeof host_ctl_);
   std::memcpy(ck->clock.data(), &host_ctl_, sizeof host_ctl_);
   ck->schedule = schedule;
+  ck->physics = case_physics(case_);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Checkpoint::Body b;
     b.name = ctx_.body_names[i];

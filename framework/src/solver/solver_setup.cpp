@@ -95,6 +95,20 @@ void Solver<D>::restore(const Checkpoint& ck) {
                           ". The case changed since it was written: run it from startTime (without --restart "
                           "or startFrom latestTime; --overwrite replaces the old results), or restore the case");
   };
+  if (std::vector<InputError> changed = physics_changes(ck.physics, case_); !changed.empty()) {
+    if (!opt_.accept_changes) {
+      const SourceLocation at = changed.front().where();
+      changed.emplace_back(at, "the checkpoint " + file +
+                                   " was written with other physics (the entries above): a restart would continue its "
+                                   "state under them and rewrite its results with a mix of both. Run the case from "
+                                   "startTime (--overwrite), restore those entries, or continue anyway with --restart "
+                                   "--accept-changes");
+      throw InputErrors(std::move(changed));
+    }
+    if (root())
+      for (const InputError& e : changed)
+        log_ << "warning: --accept-changes: " << e.what() << std::endl;
+  }
   if (ck.dimension != D)
     throw mismatch("it is " + std::to_string(ck.dimension) + "D, the case " + std::to_string(D) + "D");
   if (ck.bodies.size() != bodies_.size())

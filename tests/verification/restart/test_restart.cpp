@@ -304,6 +304,55 @@ TEST(WriteTimes, TheStepAfterAWriteFollowsTheCflCondition) {
 
 // A fresh run removes an earlier run's checkpoints; a checkpoint that does not fit the case
 // (another particle count) is an error naming the file before anything runs.
+// A restart after a change of the case's physics (a material's E doubled) is refused,
+// naming the entry, before anything is written; with accept_changes it runs, and the frames
+// and rows written before the checkpoint's time stay as they were.
+TEST(RestartErrors, AChangeOfPhysicsIsRefusedNamingTheEntry) {
+  const Variant v = variants().front();
+  TempCase a("restartPhysics");
+  write_case(a, v);
+  run(a.dir());
+  const auto checkpoints = list_checkpoints(a.dir());
+  ASSERT_GE(checkpoints.size(), 4u);
+  const fs::path mid = checkpoints[checkpoints.size() / 2];
+  double t_mid = 0;
+  ASSERT_TRUE(checkpoint_time(mid, t_mid));
+  const std::string pvd_before = read_all(a.dir() / "VTK" / "particles.pvd");
+  const std::string frame1 = read_all(a.dir() / "VTK" / "particles_1.vtp");
+  Variant changed = v;
+  changed.materials = "m { type linearElastic; E 4e5; nu 0.3; rho 1000; }";
+  write_case(a, changed);
+  Case c = Case::read(a.dir(), runtime());
+  RunOptions o = with_output();
+  o.restart = mid;
+  try {
+    Simulation sim(c, runtime(), o);
+    FAIL() << "a restart with a changed material was accepted";
+  } catch (const InputErrors& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("materialProperties"), std::string::npos) << m;
+    EXPECT_NE(m.find("'m.E' changed"), std::string::npos) << m;
+    EXPECT_NE(m.find("2e5 then, 4e5 now"), std::string::npos) << "the values: " << m;
+    EXPECT_NE(m.find("--accept-changes"), std::string::npos) << m;
+    EXPECT_EQ(m.find("bodies"), std::string::npos) << "only the changed entry: " << m;
+  }
+  EXPECT_EQ(read_all(a.dir() / "VTK" / "particles.pvd"), pvd_before) << "the refused restart wrote";
+  o.accept_changes = true;
+  {
+    Simulation sim(c, runtime(), o);
+    sim.run();
+  }
+  EXPECT_EQ(read_all(a.dir() / "VTK" / "particles_1.vtp"), frame1) << "a frame before the checkpoint was rewritten";
+  // The series: every entry before the checkpoint's time as it was.
+  const std::string pvd_after = read_all(a.dir() / "VTK" / "particles.pvd");
+  std::ostringstream t;
+  t << "timestep=\"" << t_mid << "\"";
+  const auto cut_before = pvd_before.find(t.str()), cut_after = pvd_after.find(t.str());
+  ASSERT_NE(cut_before, std::string::npos);
+  ASSERT_NE(cut_after, std::string::npos);
+  EXPECT_EQ(pvd_before.substr(0, cut_before), pvd_after.substr(0, cut_after));
+}
+
 TEST(RestartErrors, ACheckpointOfAnotherCaseIsRefused) {
   const Variant v = variants().front();
   TempCase a("restartErrA");
@@ -316,6 +365,7 @@ TEST(RestartErrors, ACheckpointOfAnotherCaseIsRefused) {
   Case c = Case::read(a.dir(), runtime());
   RunOptions o = with_output();
   o.restart = newest;
+  o.accept_changes = true;  // past the physics check (below): the state itself does not fit
   try {
     Simulation sim(c, runtime(), o);
     FAIL() << "a checkpoint with another particle count was accepted";

@@ -28,15 +28,17 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scree/core/config.hpp"
+#include "scree/io/dictionary.hpp"
 
 namespace scree {
 
 struct SCREE_API Checkpoint {
-  /// 2: the decomposition's cuts (version 1, without them, is read too).
-  static constexpr std::uint32_t kVersion = 2;
+  /// 2: the decomposition's cuts; 3: the case's physics (versions 1 and 2 are read too).
+  static constexpr std::uint32_t kVersion = 3;
 
   int dimension = 0;
   double time = 0;              ///< the clock [s]
@@ -58,6 +60,9 @@ struct SCREE_API Checkpoint {
   /// indices of the cuts, which a restart on as many ranks takes up; -1 and empty: one rank.
   std::int32_t cut_axis = -1;
   std::vector<std::int32_t> cuts;
+  /// The case's physics when it was written (case_physics): a restart refuses a case whose
+  /// physics changed since (physics_changes). Empty in a checkpoint of version 1 or 2.
+  std::vector<std::pair<std::string, std::string>> physics;
 
   /// Write atomically (temporary, fsync, rename). Throws std::runtime_error naming the file
   /// on an I/O failure (disk full, not writable).
@@ -66,6 +71,22 @@ struct SCREE_API Checkpoint {
   /// file and what is wrong with it.
   static Checkpoint read(const std::filesystem::path& file);
 };
+
+class Case;
+
+/// The physics of a case as a checkpoint records it: every entry, at any depth, of the
+/// dictionaries that define what is computed (system/gridDict, system/mpmSchemes,
+/// constant/g, materialProperties, bodies and boundaryConditions), as "<file>/<dotted key>"
+/// ("constant/materialProperties/soil.E") and its value written back in dictionary syntax (so comments, layout, macros and includes do not
+/// count, values do). system/controlDict is not among them: a restart may change the time
+/// control (endTime, deltaT, maxCo), the output and the health limits.
+SCREE_API std::vector<std::pair<std::string, std::string>> case_physics(const Case& c);
+
+/// Where the physics of `now` differs from a checkpoint's (`then`): one error per entry
+/// changed, added or removed, at the entry (a removed one at its file), saying so; empty when
+/// none differs or when the checkpoint records no physics (versions 1 and 2).
+SCREE_API std::vector<InputError> physics_changes(const std::vector<std::pair<std::string, std::string>>& then,
+                                                  const Case& now);
 
 /// <case>/checkpoints
 SCREE_API std::filesystem::path checkpoint_dir(const std::filesystem::path& case_dir);

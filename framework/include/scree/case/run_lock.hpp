@@ -5,8 +5,9 @@
 // <case>/.scree.lock for its whole life (an advisory flock(2) on an open file, which the
 // kernel releases when the process ends however it ends: a lock a killed run left behind is
 // no lock, and the next run takes it over). The file names the holder (PID, host, start
-// time) for the message of a run that finds it taken. `--check` reads the case only and
-// takes no lock.
+// time) for the message of a run that finds it taken, and is removed when the run ends, so
+// that a run refused for another reason leaves the case as it found it. `--check` reads the
+// case only and takes no lock.
 #pragma once
 
 #include <filesystem>
@@ -32,8 +33,10 @@ class SCREE_API RunLock {
   static constexpr const char* kFileName = ".scree.lock";
 
  private:
-  explicit RunLock(int fd) : fd_(fd) {}
+  RunLock(int fd, std::filesystem::path file) : fd_(fd), file_(std::move(file)) {}
+  void release() noexcept;
   int fd_ = -1;
+  std::filesystem::path file_;
 };
 
 }  // namespace scree

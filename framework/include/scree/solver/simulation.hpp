@@ -71,6 +71,10 @@ struct RunOptions {
   /// A checkpoint to continue from (case/checkpoint.hpp; empty: start from the case's
   /// initial state). The writers and function objects continue their series from its time.
   std::filesystem::path restart;
+  /// With `restart`: continue although the case's physics changed since the checkpoint was
+  /// written (case_physics: the changed entries are listed as a warning). Off, such a
+  /// restart is refused, listing them.
+  bool accept_changes = false;
   /// The ranks the case is decomposed over (comm/comm.hpp; case/decomposition.hpp): null
   /// takes world(), every rank of an MPI run (one rank without MPI); self() runs this
   /// process's case alone.
