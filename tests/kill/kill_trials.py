@@ -146,7 +146,11 @@ def main():
                 return
             # A run stopped by a signal also wrote the state it reached (a frame and a row of
             # every CSV at its stop time): the uninterrupted run's outputs plus that state.
-            t_stop = stop_time() if how != "KILL" else None
+            # (until a restart writes past it, also after later kills that wrote nothing)
+            nonlocal signal_stop
+            if how != "KILL":
+                signal_stop = stop_time()
+            t_stop = signal_stop
             times = dict(zip(re.findall(r'file="([^"]*)"', open(pvd).read()),
                              map(float, re.findall(r'timestep="([^"]*)"', open(pvd).read())))) if files else {}
             for f in files:
@@ -173,6 +177,7 @@ def main():
                                     f"e.g. {bad[0]!r}")
             return len(files)
 
+        signal_stop = None  # the time of the last stop by a signal (its state was written there)
         newest_left = None  # the newest frame a killed run left on disk
         restarts = 0
         unlisted_kills = 0  # kills that left the newest frame on disk unlisted (to be repaired)
@@ -233,6 +238,7 @@ def main():
                 compare(f"chain {chains + 1} (run {attempt})")
                 chains += 1
                 fresh = True  # the next kill trials start the case again
+                signal_stop = None
 
         ckpt_dir = os.path.join(work, "checkpoints")
         has_ckpt = os.path.isdir(ckpt_dir) and any(c.endswith(".ckpt") for c in os.listdir(ckpt_dir))
