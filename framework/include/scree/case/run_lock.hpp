@@ -21,7 +21,7 @@ namespace scree {
 class SCREE_API RunLock {
  public:
   /// The lock of `case_dir`, or nullopt when another process holds it; `holder` then says
-  /// who ("PID 1234 on host node7, started 2026-11-27 23:50:01 UTC"). Throws
+  /// who ("PID <pid> on host <host>, started <UTC date and time>"). Throws
   /// std::runtime_error when the lock file cannot be created (the case is not writable).
   static std::optional<RunLock> acquire(const std::filesystem::path& case_dir, std::string& holder);
 
