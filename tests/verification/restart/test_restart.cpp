@@ -116,6 +116,16 @@ std::vector<fs::path> files_under(const fs::path& dir) {
   return out;
 }
 
+/// The two cases' results: the same files (series, frames, CSVs), byte for byte on the CPU.
+void expect_same_files(const fs::path& a, const fs::path& b, const std::string& after) {
+  const auto fa = files_under(a), fb = files_under(b);
+  EXPECT_EQ(fa, fb);
+  if (test_device() == Device::cpu)
+    for (const auto& f : fa)
+      if (std::find(fb.begin(), fb.end(), f) != fb.end())
+        EXPECT_TRUE(read_all(a / f) == read_all(b / f)) << f << " differs after " << after;
+}
+
 /// The largest difference of any value of any field (0 when bit for bit the same;
 /// relative to the field's largest magnitude).
 double largest_difference(const Snapshot& a, const Snapshot& b) {
@@ -174,13 +184,7 @@ TEST_P(Restart, FromAMidCheckpointEndsInTheUninterruptedState) {
   EXPECT_FALSE(fs::exists(b.dir() / "VTK" / ".particles_6.vtp.tmp123_4")) << "a killed run's temporary";
   EXPECT_FALSE(fs::exists(b.dir() / "VTK" / "particles_99.vtp")) << "a frame past the checkpoint, never listed";
 
-  // The results: the same files (series, frames, CSVs), byte for byte on the CPU.
-  const auto fa = files_under(a.dir()), fb = files_under(b.dir());
-  EXPECT_EQ(fa, fb);
-  if (test_device() == Device::cpu)
-    for (const auto& f : fa)
-      if (std::find(fb.begin(), fb.end(), f) != fb.end())
-        EXPECT_TRUE(read_all(a.dir() / f) == read_all(b.dir() / f)) << f << " differs after the restart";
+  expect_same_files(a.dir(), b.dir(), "the restart");
   if (test_device() == Device::cuda) {
     // The GPU's own spread: a second uninterrupted run.
     TempCase c(std::string("restartC_") + v.name);
@@ -233,11 +237,7 @@ TEST(RestartSignal, StoppedAtEveryEventAndRestartedWritesTheUninterruptedFiles) 
   std::cout << "[ restart ] " << stops << " stops by signal, " << at_write_times
             << " of them at a write time that is not a checkpoint time of the schedule\n";
   EXPECT_GE(at_write_times, 3);
-  const auto fa = files_under(a.dir()), fb = files_under(b.dir());
-  EXPECT_EQ(fa, fb);
-  for (const auto& f : fa)
-    if (std::find(fb.begin(), fb.end(), f) != fb.end() && test_device() == Device::cpu)
-      EXPECT_TRUE(read_all(a.dir() / f) == read_all(b.dir() / f)) << f << " differs after the stops and restarts";
+  expect_same_files(a.dir(), b.dir(), "the stops and restarts");
 }
 
 TEST(RestartEndTime, ALaterEndTimeKeepsTheFramesOfTheEarlierOne) {
@@ -252,11 +252,7 @@ TEST(RestartEndTime, ALaterEndTimeKeepsTheFramesOfTheEarlierOne) {
   run(b.dir());
   write_case(b, v);  // endTime 0.25 again
   run(b.dir(), list_checkpoints(b.dir()).back());
-  const auto fa = files_under(a.dir()), fb = files_under(b.dir());
-  EXPECT_EQ(fa, fb);
-  for (const auto& f : fa)
-    if (std::find(fb.begin(), fb.end(), f) != fb.end() && test_device() == Device::cpu)
-      EXPECT_TRUE(read_all(a.dir() / f) == read_all(b.dir() / f)) << f << " differs after the continuation";
+  expect_same_files(a.dir(), b.dir(), "the continuation");
 }
 
 // A run to an earlier endTime, continued with a later one, is the run to the later one.
@@ -304,6 +300,18 @@ TEST(WriteTimes, TheStepAfterAWriteFollowsTheCflCondition) {
 
 // A fresh run removes an earlier run's checkpoints; a checkpoint that does not fit the case
 // (another particle count) is an error naming the file before anything runs.
+/// The case of `tc` rewritten as `v` and continued from the checkpoint `from` to its end
+/// (accept_changes: RunOptions's); throws what the restart refuses, before it writes.
+void continue_as(const TempCase& tc, const Variant& v, const fs::path& from, bool accept_changes) {
+  write_case(tc, v);
+  Case c = Case::read(tc.dir(), runtime());
+  RunOptions o = with_output();
+  o.restart = from;
+  o.accept_changes = accept_changes;
+  Simulation sim(c, runtime(), o);
+  sim.run();
+}
+
 // A restart after a change of the case's physics (a material's E doubled) is refused,
 // naming the entry, before anything is written; with accept_changes it runs, and the frames
 // and rows written before the checkpoint's time stay as they were.
@@ -321,12 +329,8 @@ TEST(RestartErrors, AChangeOfPhysicsIsRefusedNamingTheEntry) {
   const std::string frame1 = read_all(a.dir() / "VTK" / "particles_1.vtp");
   Variant changed = v;
   changed.materials = "m { type linearElastic; E 4e5; nu 0.3; rho 1000; }";
-  write_case(a, changed);
-  Case c = Case::read(a.dir(), runtime());
-  RunOptions o = with_output();
-  o.restart = mid;
   try {
-    Simulation sim(c, runtime(), o);
+    continue_as(a, changed, mid, false);
     FAIL() << "a restart with a changed material was accepted";
   } catch (const InputErrors& e) {
     const std::string m = e.what();
@@ -337,11 +341,7 @@ TEST(RestartErrors, AChangeOfPhysicsIsRefusedNamingTheEntry) {
     EXPECT_EQ(m.find("bodies"), std::string::npos) << "only the changed entry: " << m;
   }
   EXPECT_EQ(read_all(a.dir() / "VTK" / "particles.pvd"), pvd_before) << "the refused restart wrote";
-  o.accept_changes = true;
-  {
-    Simulation sim(c, runtime(), o);
-    sim.run();
-  }
+  continue_as(a, changed, mid, true);
   EXPECT_EQ(read_all(a.dir() / "VTK" / "particles_1.vtp"), frame1) << "a frame before the checkpoint was rewritten";
   // The series: every entry before the checkpoint's time as it was.
   const std::string pvd_after = read_all(a.dir() / "VTK" / "particles.pvd");
@@ -361,13 +361,8 @@ TEST(RestartErrors, ACheckpointOfAnotherCaseIsRefused) {
   const auto newest = list_checkpoints(a.dir()).back();
   Variant other = v;
   other.bodies = "b { material m; velocity (3 0); region { type rectangle; lower (0.1 0); upper (0.3 0.1); } }";
-  write_case(a, other);
-  Case c = Case::read(a.dir(), runtime());
-  RunOptions o = with_output();
-  o.restart = newest;
-  o.accept_changes = true;  // past the physics check (below): the state itself does not fit
   try {
-    Simulation sim(c, runtime(), o);
+    continue_as(a, other, newest, true);  // past the physics check: the state itself does not fit
     FAIL() << "a checkpoint with another particle count was accepted";
   } catch (const InputError& e) {
     const std::string m = e.what();
