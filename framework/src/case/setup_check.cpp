@@ -65,7 +65,16 @@ void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
   WallSet walls(NodeLattice::of(ctx));
   const Registry& reg = rt.registry();
   bool two_phase = false;
-  for (const Entry* b : c.body_entries()) two_phase = two_phase || b->dict().has("twoPhase");
+  for (const Entry* b : c.body_entries()) {
+    const Entry* tp = b->dict().find("twoPhase");
+    if (!tp || !tp->is_dict()) continue;
+    two_phase = true;
+    try {  // the models as the run reads them (porous/hydraulic_model.hpp)
+      (void)read_hydraulics(tp->dict(), reg.hydraulic_models());
+    } catch (const InputError& err) {
+      report.errors.push_back(err);
+    }
+  }
   for (const Entry* e : c.boundary_entries()) {
     const Dictionary& d = e->dict();
     try {

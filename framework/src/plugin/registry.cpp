@@ -74,6 +74,15 @@ std::vector<std::string> Registry::names(PluginKind kind) const {
   return v;
 }
 
+HydraulicModelFactory Registry::hydraulic_models() const {
+  return {[this](const Dictionary& d) {
+            return get(PluginKind::retention, d.at("type").as_word(), d.at("type").where()).retention(d);
+          },
+          [this](const Dictionary& d) {
+            return get(PluginKind::permeability, d.at("type").as_word(), d.at("type").where()).permeability(d);
+          }};
+}
+
 std::unique_ptr<PointMaterial> Registry::make_point_material(const Dictionary& d) const {
   const Entry& type = d.at("type");
   const PluginEntry& e = get(PluginKind::material, type.as_word(), type.where());

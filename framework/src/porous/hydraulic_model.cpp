@@ -46,4 +46,18 @@ HydraulicTableStorage::HydraulicTableStorage(const RetentionModel* ret, const Pe
   t.krel = data_.data() + 2 * ns;
 }
 
+BodyHydraulics read_hydraulics(const Dictionary& tp, const HydraulicModelFactory& models) {
+  BodyHydraulics h;
+  if (tp.has("retention")) h.retention = models.retention(tp.at("retention").dict());
+  if (tp.has("permeability")) h.permeability = models.permeability(tp.at("permeability").dict());
+  if (h.permeability && !h.retention)
+    throw InputError(tp.at("permeability").where(),
+                     "permeability: a relative permeability needs a retention curve (retention { type ...; }); a "
+                     "saturated body has k_rel = 1");
+  if (h.permeability)
+    if (const std::string why = h.permeability->incompatible(*h.retention); !why.empty())
+      throw InputError(tp.at("permeability").where(), "permeability: " + why);
+  return h;
+}
+
 }  // namespace scree

@@ -127,15 +127,9 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
                        "give intrinsicPermeability instead");
     P.kappa = r.scalar("hydraulicConductivity") * P.viscosity / (P.rho_l * g);
   }
-  if (tp.has("retention")) b.retention = models_.retention(tp.at("retention").dict());
-  if (tp.has("permeability")) b.permeability = models_.permeability(tp.at("permeability").dict());
-  if (b.permeability && !b.retention)
-    throw InputError(tp.at("permeability").where(),
-                     "permeability: a relative permeability needs a retention curve (retention { type ...; }); a "
-                     "saturated body has k_rel = 1");
-  if (b.permeability)
-    if (const std::string why = b.permeability->incompatible(*b.retention); !why.empty())
-      throw InputError(tp.at("permeability").where(), "permeability: " + why);
+  BodyHydraulics h = read_hydraulics(tp, models_);
+  b.retention = std::move(h.retention);
+  b.permeability = std::move(h.permeability);
   b.table = std::make_unique<HydraulicTableStorage>(b.retention.get(), b.permeability.get(), exec_.device);
   P.table = b.table->table();
 

@@ -19,15 +19,6 @@
 
 namespace scree {
 
-/// How a two-phase body's `retention { type ...; }` and `permeability { type ...; }` become
-/// models (porous/hydraulic_model.hpp): the plugin registry's factories, which the solver
-/// hands over (the porous formulation sits below the plugins in the README's layering).
-/// Each takes the model's dictionary and throws InputError for a type it does not know.
-struct HydraulicModelFactory {
-  std::function<std::unique_ptr<RetentionModel>(const Dictionary&)> retention;
-  std::function<std::unique_ptr<PermeabilityModel>(const Dictionary&)> permeability;
-};
-
 /// The `twoPhase { ... }` block of a body (constant/bodies): its spec.
 SCREE_API std::shared_ptr<ParamSpec> two_phase_spec();
 /// Names of the per-point fields a two-phase body writes.

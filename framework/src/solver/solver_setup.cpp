@@ -259,14 +259,7 @@ void Solver<D>::setup_bodies() {
     }
     try {  // the pore liquid's nodal fields
       // The bodies' retention and permeability models, by their type, from the plugins.
-      HydraulicModelFactory models{
-          [&reg](const Dictionary& d) {
-            return reg.get(PluginKind::retention, d.at("type").as_word(), d.at("type").where()).retention(d);
-          },
-          [&reg](const Dictionary& d) {
-            return reg.get(PluginKind::permeability, d.at("type").as_word(), d.at("type").where()).permeability(d);
-          }};
-      porous_ = std::make_unique<PorousMedia<D>>(std::move(models), grid_, exec_, gravity_, sch.shape,
+      porous_ = std::make_unique<PorousMedia<D>>(reg.hydraulic_models(), grid_, exec_, gravity_, sch.shape,
                                                  Real(0.5) / BodySettings::read(e->dict()).particles_per_cell);
     } catch (const std::bad_alloc& err) {
       throw out_of_memory(0, err);
