@@ -12,6 +12,7 @@
 #include "scree/boundary/boundary_condition.hpp"
 #include "scree/porous/hydraulic_condition.hpp"
 #include "scree/case/case_model.hpp"
+#include "scree/plugin/hydraulic_models.hpp"
 #include "scree/case/checkpoint.hpp"
 #include "scree/case/memory_estimate.hpp"
 #include "scree/case/particle_generation.hpp"
@@ -70,7 +71,7 @@ void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
     if (!tp || !tp->is_dict()) continue;
     two_phase = true;
     try {  // the models as the run reads them (porous/hydraulic_model.hpp)
-      (void)read_hydraulics(tp->dict(), reg.hydraulic_models());
+      (void)read_hydraulics(tp->dict(), hydraulic_models(reg));
     } catch (const InputError& err) {
       report.errors.push_back(err);
     }

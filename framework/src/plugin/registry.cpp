@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "scree/material/material.hpp"
+#include "scree/plugin/hydraulic_models.hpp"
 
 namespace scree {
 
@@ -74,12 +75,12 @@ std::vector<std::string> Registry::names(PluginKind kind) const {
   return v;
 }
 
-HydraulicModelFactory Registry::hydraulic_models() const {
-  return {[this](const Dictionary& d) {
-            return get(PluginKind::retention, d.at("type").as_word(), d.at("type").where()).retention(d);
+HydraulicModelFactory hydraulic_models(const Registry& reg) {
+  return {[&reg](const Dictionary& d) {
+            return reg.get(PluginKind::retention, d.at("type").as_word(), d.at("type").where()).retention(d);
           },
-          [this](const Dictionary& d) {
-            return get(PluginKind::permeability, d.at("type").as_word(), d.at("type").where()).permeability(d);
+          [&reg](const Dictionary& d) {
+            return reg.get(PluginKind::permeability, d.at("type").as_word(), d.at("type").where()).permeability(d);
           }};
 }
 

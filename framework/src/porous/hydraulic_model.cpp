@@ -1,5 +1,6 @@
 // Tabulation of the retention and permeability curves for the kernels (hydraulic_model.hpp),
-// and the key functions of the porous formulation's plugin interfaces (their type
+// a body's models read from its twoPhase block (body_hydraulics.hpp), and the key
+// functions of the porous formulation's plugin interfaces (their type
 // information lives in the core, where the solver's dynamic_cast finds a plugin's
 // HydraulicCondition: hydraulic_condition.hpp).
 #include "scree/porous/hydraulic_model.hpp"
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "scree/porous/body_hydraulics.hpp"
 #include "scree/porous/hydraulic_condition.hpp"
 
 namespace scree {

@@ -15,6 +15,7 @@
 #include "scree/mpm/schemes.hpp"
 #include "scree/output/snapshot.hpp"
 #include "scree/params/spec.hpp"
+#include "scree/porous/body_hydraulics.hpp"
 #include "scree/porous/two_phase.hpp"
 
 namespace scree {

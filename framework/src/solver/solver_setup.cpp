@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "scree/case/case_model.hpp"
+#include "scree/plugin/hydraulic_models.hpp"
 #include "scree/case/memory_estimate.hpp"
 #include "scree/case/particle_generation.hpp"
 #include "scree/case/setup_check.hpp"
@@ -259,7 +260,7 @@ void Solver<D>::setup_bodies() {
     }
     try {  // the pore liquid's nodal fields
       // The bodies' retention and permeability models, by their type, from the plugins.
-      porous_ = std::make_unique<PorousMedia<D>>(reg.hydraulic_models(), grid_, exec_, gravity_, sch.shape,
+      porous_ = std::make_unique<PorousMedia<D>>(hydraulic_models(reg), grid_, exec_, gravity_, sch.shape,
                                                  Real(0.5) / BodySettings::read(e->dict()).particles_per_cell);
     } catch (const std::bad_alloc& err) {
       throw out_of_memory(0, err);

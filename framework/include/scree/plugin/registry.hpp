@@ -16,7 +16,6 @@
 #include "scree/core/config.hpp"
 #include "scree/io/dictionary.hpp"
 #include "scree/params/spec.hpp"
-#include "scree/porous/hydraulic_model.hpp"
 
 namespace scree {
 
@@ -81,10 +80,6 @@ class SCREE_API Registry {
   /// A point-wise material from a material dictionary ({ type name; params... }),
   /// validated against its spec first (throws InputErrors listing every problem).
   std::unique_ptr<PointMaterial> make_point_material(const Dictionary& material_dict) const;
-
-  /// The retention and permeability plugins as the porous formulation takes them (by the
-  /// `type` of each model's dictionary; an unknown one is an InputError there).
-  HydraulicModelFactory hydraulic_models() const;
 
   /// The library being loaded (set by the loader while an entry point runs).
   void set_current_library(std::string lib) { current_library_ = std::move(lib); }

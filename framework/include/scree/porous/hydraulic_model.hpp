@@ -20,15 +20,12 @@
 #pragma once
 
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <memory>
 #include <string>
 #include <string_view>
 
 #include "scree/core/config.hpp"
 #include "scree/exec/memory.hpp"
-#include "scree/io/dictionary.hpp"
 
 namespace scree {
 
@@ -134,25 +131,5 @@ class SCREE_API HydraulicTableStorage {
   Buffer<Real> data_;
   HydraulicTable table_;
 };
-
-/// How a two-phase body's `retention { type ...; }` and `permeability { type ...; }` become
-/// models: the plugin registry's factories (Registry::hydraulic_models), handed down (the
-/// porous formulation sits below the plugins in the README's layering). Each takes the
-/// model's dictionary and throws InputError for a type it does not know.
-struct HydraulicModelFactory {
-  std::function<std::unique_ptr<RetentionModel>(const Dictionary&)> retention;
-  std::function<std::unique_ptr<PermeabilityModel>(const Dictionary&)> permeability;
-};
-
-/// A two-phase body's hydraulic models (either may be null: saturated).
-struct BodyHydraulics {
-  std::unique_ptr<RetentionModel> retention;
-  std::unique_ptr<PermeabilityModel> permeability;
-};
-
-/// The models of a body's `twoPhase { ... }` block, as the run and `--check` both read them:
-/// throws InputError at the entry when a relative permeability comes without a retention
-/// curve, or when the two do not fit (PermeabilityModel::incompatible).
-SCREE_API BodyHydraulics read_hydraulics(const Dictionary& two_phase, const HydraulicModelFactory& models);
 
 }  // namespace scree
