@@ -385,7 +385,10 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // The whole run's wall time, and what it went to: the steps (their rate), and the
     // output the loop waited for (snapshots taken and handed to the output thread).
-    std::cout << "scree: done: " << st.steps << " steps, " << st.simulated_time << " s simulated in " << wall
+    std::cout << "scree: done: " << st.steps << " steps";
+    if (st.last_step != st.steps)  // a restart: which steps of the whole run this process took
+      std::cout << " (step " << st.last_step - st.steps << " to " << st.last_step << ")";
+    std::cout << ", " << st.simulated_time << " s simulated in " << wall
               << " s wall (steps " << st.wall_seconds << " s at "
               << (st.wall_seconds > 0 ? st.steps / st.wall_seconds : 0) << " steps/s, output "
               << st.output_seconds << " s; " << st.particles << " particles)\n";

@@ -25,10 +25,14 @@ std::string format_duration(double seconds) {
 
 Progress::Progress(std::ostream& log, bool tty, double start_time, double end_time)
     : log_(log), tty_(tty), start_time_(start_time), end_time_(end_time) {
-  start();
+  start(start_time, 0);
 }
 
-void Progress::start() { run_start_ = last_report_ = std::chrono::steady_clock::now(); }
+void Progress::start(double t, std::int64_t step) {
+  from_time_ = t;
+  from_step_ = step;
+  run_start_ = last_report_ = std::chrono::steady_clock::now();
+}
 
 void Progress::report(double t, std::int64_t step, bool final) {
   const auto now = std::chrono::steady_clock::now();
@@ -38,10 +42,12 @@ void Progress::report(double t, std::int64_t step, bool final) {
   last_report_ = now;
   const double elapsed = std::chrono::duration<double>(now - run_start_).count();
   const double done = (t - start_time_) / std::max(1e-300, end_time_ - start_time_);
-  const double eta = done > 0 ? elapsed * (1 - done) / done : -1;
+  const double advanced = t - from_time_;  // simulated by this process
+  const double eta = advanced > 0 ? elapsed * (end_time_ - t) / advanced : -1;
+  const double rate = elapsed > 0 ? static_cast<double>(step - from_step_) / elapsed : 0.0;
   std::ostringstream os;
   os << "t = " << std::setprecision(6) << std::setw(10) << t << " s  step " << std::setw(9) << step << "  "
-     << std::setprecision(4) << (elapsed > 0 ? step / elapsed : 0.0) << " steps/s  " << std::fixed
+     << std::setprecision(4) << rate << " steps/s  " << std::fixed
      << std::setprecision(1) << 100 * done << "%  elapsed " << format_duration(elapsed) << "  ETA "
      << format_duration(eta);
   if (tty_)

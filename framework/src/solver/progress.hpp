@@ -15,16 +15,22 @@ namespace scree {
 
 /// The progress line: time, step, steps per second, percentage, elapsed time and ETA. On a
 /// terminal it is rewritten in place about 5 times a second; in a log a line every 10 s.
+/// The percentage is of the whole run (startTime to endTime); the rate and the ETA are of
+/// this process's own steps and time, so that a restarted run does not count the steps of
+/// the run it continues as done in its own wall time.
 class SCREE_API Progress {
  public:
   Progress(std::ostream& log, bool tty, double start_time, double end_time);
-  void start();  ///< the run's wall clock starts now
+  /// This process's part of the run starts now, at time t [s] and step `step`.
+  void start(double t, std::int64_t step);
   void report(double t, std::int64_t step, bool final);
 
  private:
   std::ostream& log_;
   bool tty_;
   double start_time_, end_time_;
+  double from_time_ = 0;
+  std::int64_t from_step_ = 0;
   std::chrono::steady_clock::time_point run_start_, last_report_;
 };
 

@@ -178,8 +178,7 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     after_chunk(with_output);
     if (const int sig = decomposed() ? agree_signal() : stop_requested(); sig != 0) {  // SIGINT/SIGTERM (scree's handler)
       std::ostringstream m;
-      m << "stopped by signal " << sig << " at t = " << time() << " s (step " << step_ << ", " << steps_done()
-        << " steps advanced the clock)";
+      m << "stopped by signal " << sig << " at t = " << time() << " s (step " << step_ << ")";
       throw RunInterrupted(m.str(), sig);
     }
   }
@@ -246,7 +245,8 @@ void Solver<D>::sync_control_to_device() {
 
 template <int D>
 RunStats Solver<D>::run() {
-  progress_.start();
+  progress_.start(time(), step_);
+  first_step_ = step_;
   log_ << "Running " << case_.dir().string() << ": " << D << "D, " << bodies_.size() << " bod"
        << (bodies_.size() == 1 ? "y" : "ies") << ", " << stats().particles << " particles, " << global_.num_nodes()
        << " grid nodes, backend " << to_string(exec_.device)

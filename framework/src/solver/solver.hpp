@@ -280,6 +280,7 @@ class Solver {
   std::vector<double> due_schedule_;
   std::int64_t due_step_ = -1;
   double run_start_ = 0;             // startTime, or the time of the checkpoint restarted from
+  std::int64_t first_step_ = 0;      // the step this process's run() started at
   Progress progress_;
   PhaseProfile profile_;
   double wall_ = 0, output_wall_ = 0;

@@ -203,7 +203,8 @@ Snapshot Solver<D>::local_snapshot(bool with_grid) {
 template <int D>
 RunStats Solver<D>::stats() const {
   RunStats r;
-  r.steps = step_;
+  r.steps = step_ - first_step_;
+  r.last_step = step_;
   r.simulated_time = time() - run_start_;
   r.wall_seconds = wall_;
   r.output_seconds = output_wall_;

@@ -173,7 +173,7 @@ void Solver<D>::restore(const Checkpoint& ck) {
   if (output_ && !output_->restore(ck.schedule))
     log_ << "note: the function objects differ from those of the checkpoint; they start on their schedules at t = "
          << ck.time << " s\n";
-  log_ << "Restarting from " << file << ": t = " << ck.time << " s, " << c.steps_done << " steps" << std::endl;
+  log_ << "Restarting from " << file << ": t = " << ck.time << " s, step " << ck.step << std::endl;
   if (decomposed()) migrate(false);  // what the run did at this write time: the next migration's step, a rebalance due
 }
 

@@ -83,8 +83,9 @@ struct RunOptions {
 
 struct RunStats {
   std::int64_t split_steps = 0;  ///< steps whose stress pass ran split (KernelPolicy::split)
-  std::int64_t steps = 0;
-  double simulated_time = 0;   ///< [s]
+  std::int64_t steps = 0;      ///< the steps this process took (a restart: since the checkpoint)
+  std::int64_t last_step = 0;  ///< the step number reached, counted from the run's start
+  double simulated_time = 0;   ///< [s] simulated by this process
   double wall_seconds = 0;     ///< wall time of the steps (the chunks of steps), setup and output excluded [s]
   double output_seconds = 0;   ///< wall time the loop spent taking snapshots and handing them to the output
                                ///< thread, besides wall_seconds [s]
