@@ -40,11 +40,16 @@ inline constexpr double kLongestDuration = 100 * 86400.0;
 /// Seconds as m:ss or h:mm:ss ("--:--" when unknown, ">100 days" from kLongestDuration).
 SCREE_API std::string format_duration(double seconds);
 
+class Comm;
+
 /// Wall time per named phase of a step (synchronised around each), and the table of it.
+/// On several ranks the table has a column per rank (up to 8; beyond, the least, mean and
+/// most over the ranks): what each rank spent where, its wait for the slowest included.
 class PhaseProfile {
  public:
   void add(const char* name, double seconds);
-  void report(std::ostream& log, std::int64_t steps) const;
+  /// Collective over `comm`: every rank calls it; the root prints.
+  void report(std::ostream& log, std::int64_t steps, Comm& comm) const;
 
  private:
   std::vector<std::pair<std::string, double>> phases_;

@@ -30,7 +30,7 @@ void Solver<D>::step() {
     scattered_ |= pp.flags & kAnyScatter;
   };
   auto grid = [&](const char* name, unsigned modes) {
-    if (decomposed()) phase("ranks: halo sum, clock", [&] { exchange_before_grid(parity(), modes); });
+    if (decomposed()) exchange_before_grid(parity(), modes);
     phase(name, [&] {
       grid_update<D>(exec_, grid_params(modes, parity()));
       apply_node_laws(modes, parity());
@@ -120,20 +120,6 @@ void Solver<D>::apply_node_laws(unsigned modes, int set) const {
 }
 
 template <int D>
-template <class F>
-void Solver<D>::phase(const char* name, F&& f) {
-  if (!opt_.profile) {
-    f();
-    return;
-  }
-  mem::synchronize(exec_.device);
-  const auto t0 = std::chrono::steady_clock::now();
-  f();
-  mem::synchronize(exec_.device);
-  profile_.add(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-}
-
-template <int D>
 void Solver<D>::launch_steps(std::int64_t n) {
   if (graphs_) {
     // The first step after a flush differs (no pending gather): launch it directly.
@@ -170,7 +156,7 @@ void Solver<D>::advance_chunked(double target, std::int64_t step_limit, bool wit
     std::int64_t report = every > 0 ? every : static_cast<std::int64_t>(std::max(2.0, chunk_rate_ * 0.5));
     if (sort_interval_ > 0) report = std::min(report, sort_interval_ - steps_done() % sort_interval_);
     std::int64_t n = time_.chunk_length(host_ctl_, p, t_event, step_event, budget, report);
-    if (decomposed()) agree_chunk(n, t_event);
+    if (decomposed()) phase("ranks: chunk agreement", [&] { agree_chunk(n, t_event); });
 
     if (time_.retarget(host_ctl_, p, t_event)) sync_control_to_device();
     run_chunk(n);
@@ -209,7 +195,7 @@ void Solver<D>::after_chunk(bool with_output) {
     for (auto& b : bodies_) b->sort_by_cell(grid_);
   }
   if (with_output) output_due(false);  // a decomposed run's migrates after the flush of its output
-  if (decomposed() && !migrated_ && steps_done() >= next_migration_) migrate();
+  if (decomposed() && !migrated_ && steps_done() >= next_migration_) phase("ranks: migration of points", [&] { migrate(); });
   migrated_ = false;
   if (opt_.progress) progress_.report(time(), step_, false);
   if (root()) time_.watch(wall_, time(), step_, [this] { return max_signal_speed(); }, log_);
@@ -276,7 +262,7 @@ RunStats Solver<D>::run() {
     output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   if (opt_.progress) progress_.report(time(), step_, true);
-  profile_.report(log_, step_);
+  profile_.report(log_, step_ - first_step_, *comm_);
   return stats();
 }
 

@@ -287,4 +287,20 @@ class Solver {
   double chunk_rate_ = 0;  // steps per second, measured
 };
 
+// Defined here: the stages in solver.cpp and the ranks' exchanges in decomposed.cpp time
+// their phases alike.
+template <int D>
+template <class F>
+void Solver<D>::phase(const char* name, F&& f) {
+  if (!opt_.profile) {
+    f();
+    return;
+  }
+  mem::synchronize(exec_.device);
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  mem::synchronize(exec_.device);
+  profile_.add(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
 }  // namespace scree
