@@ -7,6 +7,9 @@
 #include <cerrno>
 #include <cmath>
 #include <exception>
+#include <iterator>
+#include <memory>
+#include <sstream>
 #include <system_error>
 
 #include "scree/boundary/boundary_condition.hpp"
@@ -76,18 +79,26 @@ void check_geometry(const Case& c, PluginRuntime& rt, SetupReport& report) {
       report.errors.push_back(err);
     }
   }
+  std::vector<std::unique_ptr<BoundaryCondition>> made;
+  std::vector<const Entry*> made_from;
   for (const Entry* e : c.boundary_entries()) {
     const Dictionary& d = e->dict();
     try {
       auto bc = plugin_of(reg, PluginKind::boundaryCondition, d).boundary(d, named(ctx, e->key()));
       bc->constrain(walls);
       for (InputError& err : needs_two_phase(*e, *bc, two_phase)) report.errors.push_back(std::move(err));
+      made_from.push_back(e);
+      made.push_back(std::move(bc));
     } catch (const InputError& err) {
       report.errors.push_back(err);
     } catch (const std::exception& err) {
       report.errors.emplace_back(d.where(), "boundary condition '" + e->key() + "': " + err.what());
     }
   }
+  std::vector<const BoundaryCondition*> conditions;
+  for (const auto& bc : made) conditions.push_back(bc.get());
+  for (InputError& err : overlapping_hydraulic_conditions(made_from, conditions, NodeLattice::of(ctx)))
+    report.errors.push_back(std::move(err));
 }
 
 }  // namespace
@@ -104,6 +115,76 @@ std::vector<InputError> needs_two_phase(const Entry& e, const BoundaryCondition&
     errors.emplace_back(dr->where(), "drained: '" + e.key() +
                                          "' lets the pore liquid of two-phase bodies through, and " + none +
                                          "; leave drained out");
+  return errors;
+}
+
+std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const Entry*>& entries,
+                                                        const std::vector<const BoundaryCondition*>& made,
+                                                        const NodeLattice& grid) {
+  struct Acting {
+    std::size_t entry;
+    std::string type;
+    std::vector<Index> nodes;  // sorted
+    Real from, to;             // the window [from, to) in which it acts [s]
+  };
+  std::vector<Acting> acting;
+  for (std::size_t i = 0; i < entries.size() && i < made.size(); ++i) {
+    const auto* hc = dynamic_cast<const HydraulicCondition*>(made[i]);
+    if (!hc) continue;
+    std::vector<OpenSurface> surfaces;
+    std::vector<PorePressureLaw> laws;
+    hc->open_surfaces(surfaces);
+    hc->constrain_pores(laws);
+    Acting a{i, entries[i]->dict().get_word("type"), {}, kUnbounded, -kUnbounded};
+    for (const OpenSurface& o : surfaces) a.from = std::min(a.from, o.t_start), a.to = std::max(a.to, o.t_end);
+    for (const PorePressureLaw& l : laws) a.from = std::min(a.from, l.t_start), a.to = std::max(a.to, l.t_end);
+    a.nodes = select_nodes(grid, [&](const Real* x) {
+      for (const OpenSurface& o : surfaces)
+        if (o.select(x)) return true;
+      for (const PorePressureLaw& l : laws) {
+        bool inside = true;
+        for (int d = 0; d < grid.dimension; ++d) inside = inside && x[d] >= l.lo[d] && x[d] <= l.hi[d];
+        if (inside) return true;
+      }
+      return false;
+    });
+    std::sort(a.nodes.begin(), a.nodes.end());
+    acting.push_back(std::move(a));
+  }
+  auto time = [](Real t) {
+    std::ostringstream os;
+    if (t <= -kUnbounded) os << "the start";
+    else if (t >= kUnbounded) os << "the end";
+    else os << t << " s";
+    return os.str();
+  };
+  std::vector<InputError> errors;
+  for (std::size_t j = 0; j < acting.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      const Acting &a = acting[i], &b = acting[j];
+      const Real from = std::max(a.from, b.from), to = std::min(a.to, b.to);
+      if (a.type != b.type || !(from < to)) continue;
+      std::vector<Index> both;
+      std::set_intersection(a.nodes.begin(), a.nodes.end(), b.nodes.begin(), b.nodes.end(), std::back_inserter(both));
+      if (both.empty()) continue;
+      const Entry& ea = *entries[a.entry];
+      const Entry& eb = *entries[b.entry];
+      Real x[3] = {0, 0, 0};
+      Index k = both.front();
+      for (int d = 0; d < grid.dimension; ++d) {
+        x[d] = grid.origin[d] + grid.h * static_cast<Real>(k % grid.nodes[d]);
+        k /= grid.nodes[d];
+      }
+      std::ostringstream m;
+      m << "'" << eb.key() << "' and '" << ea.key() << "' (" << ea.where().str() << ") are both " << b.type
+        << " conditions on the same " << both.size() << " grid node(s), the first at (";
+      for (int d = 0; d < grid.dimension; ++d) m << (d ? " " : "") << x[d];
+      m << "), from " << time(from) << " to " << time(to)
+        << ": the run would apply one after the other, and the result is neither entry's (two rainfalls give the "
+           "smaller intensity, two pore pressures the later one). Expected regions or times that do not overlap: "
+           "merge them into one entry, or set their box, face or startTime/endTime apart";
+      errors.emplace_back(eb.dict().at("type").where(), m.str());
+    }
   return errors;
 }
 

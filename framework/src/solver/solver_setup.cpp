@@ -424,6 +424,14 @@ void Solver<D>::setup_boundaries(bool warn) {
     if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) porous_->add_condition(hc);
     boundaries_.push_back(std::move(bc));
   }
+  if (warn && porous_) {  // on the whole grid: every rank finds the same
+    std::vector<const BoundaryCondition*> made;
+    for (const auto& bc : boundaries_) made.push_back(bc.get());
+    const SolverContext whole = plugin_context<D>(case_, global_, Device::cpu);
+    if (auto errors = overlapping_hydraulic_conditions(case_.boundary_entries(), made, NodeLattice::of(whole));
+        !errors.empty())
+      throw InputErrors(std::move(errors));
+  }
   has_walls_ = !set.table().empty();
   if (has_walls_) {
     walls_.resize(set.table().size(), exec_.device);

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "scree/case/case.hpp"
+#include "scree/boundary/boundary_condition.hpp"
 #include "scree/case/case_model.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/io/dictionary.hpp"
@@ -69,6 +70,16 @@ SCREE_API std::vector<OutputPlace> output_places(const Case& c, const Registry& 
 /// hydraulic condition, or a wall with `drained yes`) in a case without a two-phase body;
 /// empty when it has none. The setup check and the run say the same.
 SCREE_API std::vector<InputError> needs_two_phase(const Entry& e, const BoundaryCondition& made, bool two_phase);
+
+/// Conditions of one type on the pore liquid (porous/hydraulic_condition.hpp) that act on
+/// the same nodes of `grid` in overlapping time windows: the run applies one after the
+/// other, and the result is not what either entry says (two rainfalls give the smaller
+/// intensity there, two pore pressures the later one). An error at the later entry naming
+/// the earlier one, the shared nodes and the common window, for each such pair. `made[i]`
+/// is the condition made from `entries[i]`. The setup check and the run say the same.
+SCREE_API std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const Entry*>& entries,
+                                                                   const std::vector<const BoundaryCondition*>& made,
+                                                                   const NodeLattice& grid);
 
 /// The results an earlier run left where this case's writers and function objects
 /// write (hidden temporaries aside), which a run from t = 0 replaces: their files, in
