@@ -163,8 +163,8 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
     // One contiguous block per neighbour: packed on the backend, sent through the host.
     const std::size_t n = static_cast<std::size_t>(slab_size<D>(grid_, ax, lo, hi) * fields.count);
     if (halo_buffer_.size() < n) halo_buffer_.resize(n, exec_.device);
-    halo_send_.resize(n);
-    halo_recv_.resize(n);
+    halo_send_.reserve(n);
+    halo_recv_.reserve(n);
     pack_slab<D>(exec_, grid_, ax, lo, hi, fields, halo_buffer_.data());
     mem::synchronize(exec_.device);
     mem::copy(halo_send_.data(), Device::cpu, halo_buffer_.data(), exec_.device, n * sizeof(Real));

@@ -36,6 +36,7 @@
 #include <optional>
 #include <vector>
 
+#include "../exec/pinned_buffer.hpp"
 #include "../exec/step_graphs.hpp"
 #include "../output/output_schedule.hpp"
 #include "../porous/porous_media.hpp"
@@ -227,7 +228,7 @@ class Solver {
   std::optional<Decomposition<D>> recut_;   // the cuts the next migration moves to (a rebalance)
   std::int64_t rebalances_ = 0;
   Buffer<Real> halo_buffer_;             // a halo slab packed on the backend
-  std::vector<Real> halo_send_, halo_recv_;  // ... and its host copies, sent and received
+  PinnedBuffer<Real> halo_send_, halo_recv_;  // ... and its host copies, sent and received
 
   // Algorithm (system/mpmSchemes, constant/g)
   Vec<D> gravity_;
