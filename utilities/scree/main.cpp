@@ -300,6 +300,7 @@ int main(int argc, char** argv) {
                                                            : std::vector<fs::path>{};
     if (vm.count("check")) {
       std::cout << "scree: case " << dir.string() << " is valid\n";
+      for (const std::string& line : setup.summary) std::cout << "scree: the run: " << line << "\n";
       std::cout << "scree: a run needs " << setup.memory << "\n";
       if (!opt.restart.empty()) std::cout << "scree: a run continues from " << opt.restart.string() << "\n";
       if (!results.empty())

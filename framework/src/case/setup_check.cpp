@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <exception>
+#include <iomanip>
 #include <iterator>
 #include <memory>
 #include <sstream>
@@ -188,6 +189,59 @@ std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const
   return errors;
 }
 
+std::vector<std::string> run_summary(const Case& c, const MemoryEstimate& m) {
+  std::vector<std::string> lines;
+  auto count = [](double n) {
+    std::ostringstream os;
+    if (n >= 1e6)
+      os << std::setprecision(3) << n / 1e6 << " million";
+    else
+      os << static_cast<long long>(std::llround(n));
+    return os.str();
+  };
+  double points = 0;
+  std::string bodies;
+  constexpr std::size_t kNamed = 4;  // bodies named one by one; the rest counted
+  for (std::size_t i = 1; i < m.parts.size(); ++i) {
+    points += m.parts[i].count;
+    if (i <= kNamed)
+      bodies += (i > 1 ? ", " : "") + m.parts[i].what.substr(m.parts[i].what.find(' ') + 1) + " " +
+                count(m.parts[i].count);
+  }
+  if (m.parts.size() > kNamed + 1) bodies += " and " + std::to_string(m.parts.size() - 1 - kNamed) + " more bodies";
+  const auto& g = c.settings().grid;
+  std::ostringstream grid;
+  grid << c.dimension() << "D, about " << count(points) << " points (" << bodies << ")";
+  if (!m.parts.empty()) grid << ", " << count(m.parts.front().count) << " grid nodes of " << g.cell_size << " m";
+  lines.push_back(grid.str());
+  const TimeSettings& t = c.settings().control.time;
+  const double span = t.end_time - t.start_time;
+  std::ostringstream steps;
+  steps << "from t = " << t.start_time << " to " << t.end_time << " s, ";
+  if (t.adjust_time_step)
+    steps << "at least " << count(std::ceil(span / t.max_delta_t - 1e-9)) << " steps (the step follows maxCo "
+          << t.max_co << " up to maxDeltaT " << t.max_delta_t << " s; the first, from the points' wave speed, is "
+          << "printed when the run starts)";
+  else
+    steps << count(std::ceil(span / t.delta_t - 1e-9)) << " steps of " << t.delta_t << " s";
+  lines.push_back(steps.str());
+  const ControlSettings& cs = c.settings().control;
+  if (!c.writer_entries().empty() || !c.function_entries().empty()) {
+    std::ostringstream w;
+    if (cs.write_control == WriteControl::timeStep)
+      w << "writes every " << cs.write_interval << " steps";
+    else
+      w << count(std::floor(span / cs.write_interval + 1e-9) + 1) << " writes (every " << cs.write_interval << " s)";
+    w << " by " << c.writer_entries().size() << " writer(s) and " << c.function_entries().size()
+      << " function object(s)";
+    if (cs.checkpoint_interval > 0)
+      w << "; a checkpoint every " << cs.checkpoint_interval << " write(s), the newest " << cs.checkpoint_keep
+        << " kept";
+    lines.push_back(w.str());
+  }
+  return lines;
+}
+
 namespace {
 
 void check_output(const Case& c, const Registry& reg, SetupReport& report) {
@@ -231,6 +285,7 @@ SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output, Devi
     };
     report.memory = space(m.host_bytes(), Device::cpu);
     if (device == Device::cuda) report.memory += " and " + space(m.device_bytes(), Device::cuda);
+    report.summary = run_summary(c, m);
   }
   if (c.dimension() == 3)
     check_geometry<3>(c, rt, report);

@@ -33,6 +33,8 @@ struct SetupReport {
   std::vector<InputError> errors;    ///< what the run would reject (file:line each)
   std::vector<InputError> warnings;  ///< what the run accepts but is probably a mistake
   std::string memory;  ///< the memory the run needs and what is free, e.g. "about 2.10 MB of host memory (23.4 GB free)"
+  /// What the run will be, a line each: its points (per body), grid, steps and writes.
+  std::vector<std::string> summary;
 };
 
 /// For a case Case::read accepted:
@@ -70,6 +72,13 @@ SCREE_API std::vector<OutputPlace> output_places(const Case& c, const Registry& 
 /// hydraulic condition, or a wall with `drained yes`) in a case without a two-phase body;
 /// empty when it has none. The setup check and the run say the same.
 SCREE_API std::vector<InputError> needs_two_phase(const Entry& e, const BoundaryCondition& made, bool two_phase);
+
+/// What a run of case `c` will be, from the memory estimate's counts (so the points are
+/// estimated: region volume x particlesPerCell / cellSize^D): the points per body, the grid,
+/// the steps (exact with a fixed deltaT; a lower bound with adjustTimeStep, whose steps the
+/// points' wave speed sets) and the writes. check_setup fills SetupReport::summary with it.
+struct MemoryEstimate;
+SCREE_API std::vector<std::string> run_summary(const Case& c, const MemoryEstimate& m);
 
 /// Conditions of one type on the pore liquid (porous/hydraulic_condition.hpp) that act on
 /// the same nodes of `grid` in overlapping time windows: the run applies one after the
