@@ -290,9 +290,8 @@ void VtkWriter::start_series() {
     std::string f = de.path().filename().string();
     bool temporary = false;
     if (!f.empty() && f[0] == '.') {
-      const auto tmp = f.find(".tmp");
-      if (tmp == std::string::npos) continue;
-      f = f.substr(1, tmp - 1);  // ".<target>.tmp<pid>_<n>" -> "<target>"
+      f = atomic_temporary_target(f);
+      if (f.empty()) continue;
       temporary = true;
     }
     const bool series = f == name_ + ".pvd" || f == name_ + "_grid.pvd";

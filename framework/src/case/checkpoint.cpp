@@ -328,9 +328,8 @@ void purge_checkpoints(const fs::path& case_dir, std::size_t keep) {
   for (std::size_t i = 0; i + keep < all.size(); ++i) fs::remove(all[i], ec);
   // Temporaries of a killed run: ".<time>.ckpt.tmp<pid>_<n>" (write_file_atomically).
   for (const auto& de : fs::directory_iterator(checkpoint_dir(case_dir), ec)) {
-    const std::string name = de.path().filename().string();
-    if (name.size() > 1 && name[0] == '.' && name.find(std::string(kSuffix) + ".tmp") != std::string::npos)
-      fs::remove(de.path(), ec);
+    const std::string target = atomic_temporary_target(de.path().filename().string());
+    if (target.size() > std::strlen(kSuffix) && target.ends_with(kSuffix)) fs::remove(de.path(), ec);
   }
 }
 

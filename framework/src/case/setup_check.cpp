@@ -19,6 +19,7 @@
 #include "scree/plugin/hydraulic_models.hpp"
 #include "scree/case/checkpoint.hpp"
 #include "scree/case/memory_estimate.hpp"
+#include "scree/output/writer.hpp"
 #include "scree/case/particle_generation.hpp"
 
 namespace fs = std::filesystem;
@@ -331,22 +332,12 @@ std::vector<OutputPlace> output_places(const Case& c, const Registry& reg) {
 }
 
 std::size_t remove_temporaries(const Case& c, const Registry& reg) {
-  // ".<target>.tmp<pid>_<n>", as write_file_atomically names them
-  auto temporary = [](const std::string& name) {
-    if (name.size() < 2 || name[0] != '.') return false;
-    const auto at = name.rfind(".tmp");
-    if (at == std::string::npos || at < 2) return false;
-    const std::string tail = name.substr(at + 4);
-    const auto us = tail.find('_');
-    auto digits = [](const std::string& t) { return !t.empty() && t.find_first_not_of("0123456789") == std::string::npos; };
-    return us != std::string::npos && digits(tail.substr(0, us)) && digits(tail.substr(us + 1));
-  };
   std::size_t removed = 0;
   for (const OutputPlace& place : output_places(c, reg)) {
     std::error_code ec;
     if (!fs::is_directory(place.dir, ec)) continue;
     for (const auto& de : fs::directory_iterator(place.dir, ec))
-      if (temporary(de.path().filename().string()) && fs::remove(de.path(), ec)) ++removed;
+      if (!atomic_temporary_target(de.path().filename().string()).empty() && fs::remove(de.path(), ec)) ++removed;
   }
   return removed;
 }

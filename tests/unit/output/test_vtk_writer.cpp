@@ -357,3 +357,22 @@ TEST(VtkWriter, RestartListsTheFrameAKilledRunLeftUnlisted) {
   EXPECT_NEAR(series[3].time, 0.3, 1e-9);
   EXPECT_TRUE(fs::exists(vtk / "r_3.vtp"));
 }
+
+// The temporaries write_file_atomically makes are recognised by the one function the
+// clean-ups use, and nothing else is: a user's hidden file, or one named like a temporary
+// but not hidden, stays.
+TEST(AtomicFiles, TheTemporariesOfWriteFileAtomicallyAndNothingElse) {
+  const fs::path dir = fs::temp_directory_path() / ("scree_atomic_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string seen;
+  scree::write_file_atomically(dir / "1.126.csv", [&](const fs::path& tmp) {
+    seen = tmp.filename().string();
+    std::ofstream(tmp) << "x\n";
+  });
+  EXPECT_EQ(scree::atomic_temporary_target(seen), "1.126.csv") << seen;
+  EXPECT_EQ(scree::atomic_temporary_target(".particles_3.vtp.tmp4375_12"), "particles_3.vtp");
+  EXPECT_EQ(scree::atomic_temporary_target(".0.005.ckpt.tmp1_0"), "0.005.ckpt");
+  for (const char* other : {".hidden", ".notes.tmp", ".a.tmp12", ".a.tmp_3", ".a.tmpx_3", "a.vtp.tmp1_2", ".tmp1_2", ""})
+    EXPECT_EQ(scree::atomic_temporary_target(other), "") << other;
+  fs::remove_all(dir);
+}

@@ -47,4 +47,9 @@ class SCREE_API Writer {
 SCREE_API void write_file_atomically(const std::filesystem::path& target,
                                      const std::function<void(const std::filesystem::path&)>& fill);
 
+/// The file name a temporary of write_file_atomically stands for ("<target>" of
+/// ".<target>.tmp<pid>_<n>"), or "" for any other name: what a killed run left, for the
+/// clean-ups of the output places, the VTK writer and the checkpoints.
+SCREE_API std::string atomic_temporary_target(const std::string& filename);
+
 }  // namespace scree
