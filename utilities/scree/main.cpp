@@ -5,7 +5,7 @@
 //   scree --case DIR --restart[=TIME]                         continue it from its newest checkpoint (or TIME's)
 //   scree --case DIR --restart --accept-changes               ... although the case's physics changed since
 //   scree --case DIR --check                                  validate a case and exit
-//   scree --list-plugins [material|boundaryCondition|writer|functionObject|case]
+//   scree --list-plugins [material|boundaryCondition|writer|functionObject|case|fields]
 //   scree --version | --help
 //
 // Before anything runs, the case is validated as a whole (every dictionary, then the
@@ -50,6 +50,7 @@
 #include "scree/case/setup_check.hpp"
 #include "scree/comm/comm.hpp"
 #include "scree/exec/memory.hpp"
+#include "scree/output/field_info.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/simulation.hpp"
 #include "scree/time/time_control.hpp"
@@ -59,9 +60,32 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// Fields a line each: name, kind, unit, meaning.
+void print_fields(const std::vector<scree::FieldInfo>& fields, int indent) {
+  auto kind = [](const scree::FieldInfo& f) {
+    return std::string(f.components == 1 ? "scalar" : f.components == 3 ? "vector" : "tensor") + " [" + f.unit + "]";
+  };
+  std::size_t w = 0, u = 0;
+  for (const auto& f : fields) w = std::max(w, f.name.size()), u = std::max(u, kind(f).size());
+  for (const auto& f : fields)
+    std::cout << std::string(static_cast<std::size_t>(indent), ' ') << f.name
+              << std::string(w + 2 - f.name.size(), ' ') << kind(f) << std::string(u + 2 - kind(f).size(), ' ')
+              << f.doc << "\n";
+}
+
 void print_plugins(const scree::PluginRuntime& rt, const std::string& only) {
   using scree::PluginKind;
   bool any = false;
+  if (only.empty() || only == "fields") {
+    std::cout << "== particle fields ==\n\n"
+                 "Every body writes (writers' and function objects' `fields`; vectors x y z, tensors xx yy zz xy yz "
+                 "zx):\n";
+    print_fields(scree::standard_particle_fields(), 4);
+    std::cout << "A two-phase body (twoPhase { ... } in constant/bodies) also writes:\n";
+    print_fields(scree::two_phase_fields(), 4);
+    std::cout << "and each material its own (listed under it below).\n\n";
+    any = true;
+  }
   if (only.empty() || only == "case") {
     const auto& cs = scree::CoreSpecs::get();
     std::cout << "== case dictionaries ==\n\n";
@@ -81,12 +105,16 @@ void print_plugins(const scree::PluginRuntime& rt, const std::string& only) {
         std::cout << "    (no parameters)\n";
       else
         std::cout << e->spec->describe(4);
+      if (!e->output_fields.empty()) {
+        std::cout << "    writes, besides every body's fields:\n";
+        print_fields(e->output_fields, 6);
+      }
       std::cout << "\n";
     }
   }
   if (!any) {
     std::cerr << "scree: --list-plugins: unknown kind '" << only
-              << "'; valid: material, boundaryCondition, writer, functionObject, case\n";
+              << "'; valid: material, boundaryCondition, writer, functionObject, case, fields\n";
     std::exit(2);
   }
 }
@@ -132,7 +160,7 @@ int main(int argc, char** argv) {
        "conditions) changed since the checkpoint was written; without it such a restart is refused, naming the "
        "entries")
       ("list-plugins", po::value<std::string>()->implicit_value(""),
-       "list plugins and their parameters: [material|boundaryCondition|writer|functionObject|case]")
+       "list plugins, their parameters and the fields they write: [material|boundaryCondition|writer|functionObject|case|fields]")
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
       ("no-output", "run without writers and function objects (benchmarks)")
       ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs")

@@ -459,19 +459,19 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
   // materials or bodies did not read (an include that cannot be opened, say): their fields
   // are then unknown, and that file's error is the one to report.
   if (readable(c.materials_) && readable(c.bodies_)) {
-    std::vector<std::string> known = standard_particle_fields();
+    std::vector<std::string> known;
+    for (const FieldInfo& f : standard_particle_fields()) known.push_back(f.name);
     for (const Entry& e : c.materials_.entries()) {
       if (!e.is_dict() || !names_an_object(e) || !e.dict().has("type")) continue;
       try {
         if (const PluginEntry* pe = reg.find(PluginKind::material, e.dict().get_word("type")))
-          known.insert(known.end(), pe->output_fields.begin(), pe->output_fields.end());
+          for (const FieldInfo& f : pe->output_fields) known.push_back(f.name);
       } catch (const InputError&) {
       }
     }
     for (const Entry& e : c.bodies_.entries())
       if (e.is_dict() && e.dict().has("twoPhase")) {
-        const auto names = two_phase_field_names();
-        known.insert(known.end(), names.begin(), names.end());
+        for (const FieldInfo& f : two_phase_fields()) known.push_back(f.name);
         break;
       }
     known.push_back("all");

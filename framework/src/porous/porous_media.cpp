@@ -56,8 +56,15 @@ std::shared_ptr<ParamSpec> two_phase_spec() {
   return spec;
 }
 
-std::vector<std::string> two_phase_field_names() {
-  return {"porePressure", "saturation", "porosity", "suction", "liquidVelocity", "seepageVelocity"};
+const std::vector<FieldInfo>& two_phase_fields() {
+  static const std::vector<FieldInfo> fields{
+      {"porePressure", 1, "Pa", "pore-liquid pressure p_w, compression positive (negative: suction)"},
+      {"saturation", 1, "-", "degree of liquid saturation S_l"},
+      {"porosity", 1, "-", "porosity n = 1 - (1 - n0) / det F"},
+      {"suction", 1, "Pa", "suction s = -p_w where p_w < 0, else 0"},
+      {"liquidVelocity", 3, "m/s", "velocity of the pore liquid v_l"},
+      {"seepageVelocity", 3, "m/s", "Darcy flux, the seepage velocity w = n S_l (v_l - v_s)"}};
+  return fields;
 }
 
 template <int D>
@@ -193,14 +200,13 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
   s.mass_factor = 1 - P.n0;
   using Col = typename BodySetup<D>::ExtraColumn;
   s.extra.clear();
-  s.extra.push_back(Col{"porePressure", "Pa", "pore-liquid pressure p_w, compression positive (negative: suction)",
-                        1, 0, pw, true});
-  s.extra.push_back(Col{"saturation", "-", "degree of liquid saturation S_l", 1, 0, sat, true});
-  s.extra.push_back(Col{"porosity", "-", "porosity n = 1 - (1 - n0) / det F", 1, 0, por, true});
-  s.extra.push_back(Col{"suction", "Pa", "suction s = -p_w where p_w < 0, else 0", 1, 0, suction, true});
-  s.extra.push_back(Col{"liquidVelocity", "m/s", "velocity of the pore liquid v_l", D, 0, {}, true});
-  s.extra.push_back(
-      Col{"seepageVelocity", "m/s", "Darcy flux, the seepage velocity w = n S_l (v_l - v_s)", D, 0, {}, true});
+  // The columns in the order of two_phase_fields(), whose names, units and meaning they take.
+  const std::vector<Real>* initial[] = {&pw, &sat, &por, &suction, nullptr, nullptr};
+  for (std::size_t k = 0; k < two_phase_fields().size(); ++k) {
+    const FieldInfo& f = two_phase_fields()[k];
+    s.extra.push_back(Col{f.name, f.unit, f.doc, f.components == 1 ? 1 : D, 0,
+                          initial[k] ? *initial[k] : std::vector<Real>{}, true});
+  }
   pending_.push_back(std::move(b));
   return true;
 }

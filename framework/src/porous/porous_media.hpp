@@ -22,8 +22,6 @@ namespace scree {
 
 /// The `twoPhase { ... }` block of a body (constant/bodies): its spec.
 SCREE_API std::shared_ptr<ParamSpec> two_phase_spec();
-/// Names of the per-point fields a two-phase body writes.
-SCREE_API std::vector<std::string> two_phase_field_names();
 
 template <int D>
 class PorousMedia {

@@ -176,15 +176,19 @@ class MaterialBody final : public Body<D> {
     };
     out.fields.clear();
     out.fields.reserve(10 + fields_.size() + extra_.size());
-    Real* vel = add("velocity", 3, "m/s", "particle velocity");
-    Real* disp = add("displacement", 3, "m", "displacement from the initial position");
-    Real* stress = add("stress", 6, "Pa", "Cauchy stress, tension positive (xx yy zz xy yz zx)");
-    Real* pres = add("pressure", 1, "Pa", "mean stress p = -tr(sigma)/3, compression positive");
-    Real* qdev = add("deviatoricStress", 1, "Pa", "von Mises stress q = sqrt(3/2 s:s)");
-    Real* vol = add("volume", 1, "m^3", "current volume (area per unit thickness in 2D)");
-    Real* pmass = add("mass", 1, "kg", "particle mass (per unit thickness in 2D)");
-    Real* dens = add("density", 1, "kg/m^3", "mass / current volume");
-    Real* bid = add("bodyId", 1, "-", "index of the body in constant/bodies");
+    auto standard = [&](const char* nm) {  // output/field_info.hpp: one table of their units and meaning
+      const FieldInfo& f = standard_particle_field(nm);
+      return add(f.name, f.components, f.unit, f.doc);
+    };
+    Real* vel = standard("velocity");
+    Real* disp = standard("displacement");
+    Real* stress = standard("stress");
+    Real* pres = standard("pressure");
+    Real* qdev = standard("deviatoricStress");
+    Real* vol = standard("volume");
+    Real* pmass = standard("mass");
+    Real* dens = standard("density");
+    Real* bid = standard("bodyId");
     std::vector<Real*> mat;
     for (const auto& f : fields_) mat.push_back(add(f.name, f.components, f.unit, f.doc));
     for (int c = 0, j = 0; j < static_cast<int>(extra_.size()); c += extra_[j].components, ++j) {

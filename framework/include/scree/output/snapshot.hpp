@@ -9,6 +9,7 @@
 
 #include "scree/core/config.hpp"
 #include "scree/output/energy_ledger.hpp"
+#include "scree/output/field_info.hpp"
 
 namespace scree {
 
@@ -22,14 +23,6 @@ struct FieldData {
   std::string doc;
   std::vector<Real> values;
 };
-
-/// The fields every body's snapshot carries, whatever its material (mpm/material_body.hpp),
-/// besides the material's own (PluginEntry::output_fields). Writers add particleId.
-inline const std::vector<std::string>& standard_particle_fields() {
-  static const std::vector<std::string> names{"velocity", "displacement", "stress",  "pressure", "deviatoricStress",
-                                              "volume",   "mass",         "density", "bodyId",   "particleId"};
-  return names;
-}
 
 struct BodySnapshot {
   std::string name;       ///< the body's name in constant/bodies

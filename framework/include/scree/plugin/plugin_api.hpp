@@ -78,7 +78,7 @@ void Registry::add_material() {
     {
       OutputFields<M> out;
       M::describe(out);
-      for (const auto& f : out.fields()) e.output_fields.push_back(f.name);
+      for (const auto& f : out.fields()) e.output_fields.push_back({f.name, f.components, f.unit, f.doc});
     }
     e.material.point = [spec](const Dictionary& d) -> std::unique_ptr<PointMaterial> {
       ParamReader r(*spec, d);

@@ -15,6 +15,7 @@
 
 #include "scree/core/config.hpp"
 #include "scree/io/dictionary.hpp"
+#include "scree/output/field_info.hpp"
 #include "scree/params/spec.hpp"
 
 namespace scree {
@@ -49,7 +50,7 @@ struct PluginEntry {
   std::shared_ptr<const ParamSpec> spec;
   std::string library;  ///< the file it came from ("<core>" for built-ins)
   MaterialFactory material;  ///< kind == material
-  std::vector<std::string> output_fields;  ///< kind == material: its own output fields
+  std::vector<FieldInfo> output_fields;  ///< kind == material: its own output fields
   /// kind == boundaryCondition / writer / functionObject
   std::function<std::unique_ptr<BoundaryCondition>(const Dictionary&, const SolverContext&)> boundary;
   std::function<std::unique_ptr<Writer>(const Dictionary&, const SolverContext&)> writer;
