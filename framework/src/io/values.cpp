@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <system_error>
 #include <utility>
 
@@ -144,8 +145,10 @@ namespace {
 
 /// Up to this many entries a dictionary is searched by a scan and index_ stays empty:
 /// most dictionaries of a case are that small, and a scan of a few keys is as fast as a
-/// hash, without a node and a copy of each key.
+/// hash, without a table to keep.
 constexpr std::size_t kScanned = 8;
+
+std::size_t key_hash(std::string_view key) noexcept { return std::hash<std::string_view>{}(key); }
 
 }  // namespace
 
@@ -155,8 +158,26 @@ const Entry* Dictionary::find(std::string_view key) const noexcept {
       if (e.key() == key) return &e;
     return nullptr;
   }
-  auto it = index_.find(key);
-  return it == index_.end() ? nullptr : &entries_[it->second];
+  const std::size_t mask = index_.size() - 1;
+  for (std::size_t slot = key_hash(key) & mask;; slot = (slot + 1) & mask) {
+    const std::uint32_t p = index_[slot];
+    if (p == 0) return nullptr;
+    if (entries_[p - 1].key() == key) return &entries_[p - 1];
+  }
+}
+
+/// Slots for all entries at most three quarters full (linear probing stays short).
+void Dictionary::rebuild_index() {
+  std::size_t slots = 16;
+  while (4 * entries_.size() > 3 * slots) slots *= 2;
+  std::vector<std::uint32_t>().swap(index_);  // the old table is gone before the new one is made
+  index_.assign(slots, 0);
+  const std::size_t mask = slots - 1;
+  for (std::size_t p = 0; p < entries_.size(); ++p) {
+    std::size_t slot = key_hash(entries_[p].key()) & mask;
+    while (index_[slot] != 0) slot = (slot + 1) & mask;
+    index_[slot] = static_cast<std::uint32_t>(p + 1);
+  }
 }
 
 const Entry& Dictionary::at(std::string_view key) const {
@@ -194,26 +215,22 @@ std::string Dictionary::get_word_or(std::string_view key, std::string def) const
 }
 
 void Dictionary::set(Entry e) {
-  if (index_.empty()) {
-    for (Entry& x : entries_)
-      if (x.key() == e.key()) {
-        x = std::move(e);
-        return;
-      }
-    entries_.push_back(std::move(e));
-    if (entries_.size() > kScanned) {
-      index_.reserve(2 * entries_.size());
-      for (std::size_t p = 0; p < entries_.size(); ++p) index_.emplace(entries_[p].key(), p);
-    }
+  if (Entry* x = const_cast<Entry*>(find(e.key()))) {  // replacement keeps its position
+    *x = std::move(e);
     return;
   }
-  auto it = index_.find(std::string_view(e.key()));
-  if (it != index_.end()) {
-    entries_[it->second] = std::move(e);
-    return;
-  }
-  index_.emplace(e.key(), entries_.size());
+  if (entries_.size() >= std::numeric_limits<std::uint32_t>::max() - 1)
+    throw InputError(e.where(), "too many entries in dictionary '" + name_ + "'");
   entries_.push_back(std::move(e));
+  if (entries_.size() <= kScanned) return;
+  if (index_.empty() || 4 * entries_.size() > 3 * index_.size()) {
+    rebuild_index();
+    return;
+  }
+  const std::size_t mask = index_.size() - 1;
+  std::size_t slot = key_hash(entries_.back().key()) & mask;
+  while (index_[slot] != 0) slot = (slot + 1) & mask;
+  index_[slot] = static_cast<std::uint32_t>(entries_.size());
 }
 
 }  // namespace scree

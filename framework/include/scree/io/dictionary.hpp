@@ -34,6 +34,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -41,7 +42,6 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "scree/core/config.hpp"
@@ -193,17 +193,15 @@ class SCREE_API Dictionary {
   std::string to_string(int indent = 0) const;
 
  private:
-  /// Hashes std::string and std::string_view alike (lookup without a temporary string).
-  struct KeyHash {
-    using is_transparent = void;
-    std::size_t operator()(std::string_view s) const noexcept { return std::hash<std::string_view>{}(s); }
-  };
+  void rebuild_index();
   std::string name_;
   SourceLocation where_;
   std::vector<Entry> entries_;
   std::shared_ptr<const Dictionary> header_;
-  /// key -> position in entries_ (find() and set() in constant time, even for huge files).
-  std::unordered_map<std::string, std::size_t, KeyHash, std::equal_to<>> index_;
+  /// Open addressing over entries_' keys (find() and set() in constant time, even for
+  /// huge files): a power-of-two number of slots, each 0 (free) or a position + 1; empty
+  /// while the dictionary is small enough to scan.
+  std::vector<std::uint32_t> index_;
 };
 
 }  // namespace scree
