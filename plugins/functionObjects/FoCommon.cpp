@@ -101,16 +101,16 @@ std::string zero_direction(const std::string& key, const std::string& found) {
 
 bool zero_vector(const Dictionary& d, const char* key) {
   const Entry* e = d.find(key);
-  if (!e || e->items().size() != 1 || e->items()[0].kind != Item::Kind::list) return false;
-  for (const Item& x : e->items()[0].list)
-    if (x.kind != Item::Kind::number || x.number != 0) return false;
+  if (!e || e->items().size() != 1 || e->items()[0].kind() != Item::Kind::list) return false;
+  for (const Item& x : e->items()[0].list())
+    if (x.kind() != Item::Kind::number || x.number() != 0) return false;
   return true;
 }
 
 int given_dimension(const Dictionary& d, std::initializer_list<const char*> keys) {
   for (const char* k : keys)
-    if (const Entry* e = d.find(k); e && e->items().size() == 1 && e->items()[0].kind == Item::Kind::list)
-      return static_cast<int>(e->items()[0].list.size());
+    if (const Entry* e = d.find(k); e && e->items().size() == 1 && e->items()[0].kind() == Item::Kind::list)
+      return static_cast<int>(e->items()[0].list().size());
   return 0;
 }
 

@@ -45,19 +45,19 @@ ParticleProbes::ParticleProbes(const ParamReader& r, const SolverContext& ctx)
   // points ((x y) (x y) ...)
   const Entry& pe = r.entry("points");
   const Item& list = pe.single_item();
-  if (list.kind != Item::Kind::list || list.list.empty())
+  if (list.kind() != Item::Kind::list || list.list().empty())
     throw InputError(pe.where(), "points: expected a non-empty list of points, e.g. ((0.05 0.09) (0.1 0.05))");
   const int dim = dimension_ == 3 ? 3 : 2;
-  for (std::size_t i = 0; i < list.list.size(); ++i) {
-    const Item& it = list.list[i];
-    bool ok = it.kind == Item::Kind::list && static_cast<int>(it.list.size()) == dim;
+  for (std::size_t i = 0; i < list.list().size(); ++i) {
+    const Item& it = list.list()[i];
+    bool ok = it.kind() == Item::Kind::list && static_cast<int>(it.list().size()) == dim;
     Probe p;
     for (int d = 0; ok && d < dim; ++d) {
-      ok = it.list[d].kind == Item::Kind::number && std::isfinite(it.list[d].number);
-      if (ok) p.point[d] = it.list[d].number;
+      ok = it.list()[d].kind() == Item::Kind::number && std::isfinite(it.list()[d].number());
+      if (ok) p.point[d] = it.list()[d].number();
     }
     if (!ok)
-      throw InputError(it.where.file ? it.where : pe.where(),
+      throw InputError(it.where().file ? it.where() : pe.where(),
                        "points: element " + std::to_string(i + 1) + " must be a point of " + std::to_string(dim) +
                            " numbers (" + std::string(dim == 3 ? "x y z" : "x y") + "), found " + it.to_string());
     p.name = "probe" + std::to_string(i);

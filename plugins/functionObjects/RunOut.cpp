@@ -72,21 +72,21 @@ std::vector<Vec3> sector_directions(const Dictionary& radial, int dim, const Vec
   const Entry* de = radial.find("directions");
   if (!de) return out;
   const std::string form = dim == 3 ? "((1 0 0) (0 0 1))" : "((1 0) (-1 0))";
-  if (de->items().size() != 1 || de->items()[0].kind != Item::Kind::list || de->items()[0].list.empty()) {
+  if (de->items().size() != 1 || de->items()[0].kind() != Item::Kind::list || de->items()[0].list().empty()) {
     errors.emplace_back(de->where(), "radial.directions: expected a non-empty list of directions, e.g. " + form);
     return out;
   }
   const Item& list = de->items()[0];
   std::vector<Vec3> given;
-  for (std::size_t i = 0; i < list.list.size(); ++i) {
-    const Item& it = list.list[i];
-    const SourceLocation at = it.where.file ? it.where : de->where();
+  for (std::size_t i = 0; i < list.list().size(); ++i) {
+    const Item& it = list.list()[i];
+    const SourceLocation at = it.where().file ? it.where() : de->where();
     const std::string which = "radial.directions: element " + std::to_string(i + 1) + " ";
-    bool ok = it.kind == Item::Kind::list && static_cast<int>(it.list.size()) == dim;
+    bool ok = it.kind() == Item::Kind::list && static_cast<int>(it.list().size()) == dim;
     Vec3 v{0, 0, 0};
     for (int k = 0; ok && k < dim; ++k) {
-      ok = it.list[k].kind == Item::Kind::number && std::isfinite(it.list[k].number);
-      if (ok) v[k] = it.list[k].number;
+      ok = it.list()[k].kind() == Item::Kind::number && std::isfinite(it.list()[k].number());
+      if (ok) v[k] = it.list()[k].number();
     }
     if (!ok) {
       errors.emplace_back(at, which + "must be a direction of " + std::to_string(dim) + " numbers, e.g. " + form +
@@ -137,7 +137,7 @@ void check_runout(const Dictionary& d, std::vector<InputError>& errors) {
   const Dictionary& rd = re->dict();
   const Entry* centre = rd.find("centre");
   if (!centre || centre->items().size() != 1) return;
-  const int dim = static_cast<int>(centre->items()[0].list.size());  // validated: one per dimension
+  const int dim = static_cast<int>(centre->items()[0].list().size());  // validated: one per dimension
   if (zero_vector(rd, "axis"))
     errors.emplace_back(rd.find("axis")->where(), zero_direction("axis", rd.find("axis")->value_string()));
   Vec3 axis{0, 0, 0};

@@ -42,8 +42,8 @@ void check_surface(const Dictionary& d, std::vector<InputError>& errors) {
   if (const Entry* r = d.find("range"); r && (section || dim != 0)) {
     const bool field = dim == 3 && !section;
     std::vector<double> v;
-    for (const Item& x : r->items().size() == 1 ? r->items()[0].list : std::vector<Item>{})
-      v.push_back(x.kind == Item::Kind::number ? x.number : std::nan(""));
+    for (const Item& x : r->items().size() == 1 ? r->items()[0].list() : std::span<const Item>())
+      v.push_back(x.kind() == Item::Kind::number ? x.number() : std::nan(""));
     if (!range_fits(v, field)) errors.emplace_back(r->where(), field ? kRangeField : kRangeProfile);
   }
 }

@@ -38,7 +38,7 @@ struct Counts {
 
 void count(const scree::Item& it, Counts& c) {
   ++c.items;
-  for (const scree::Item& el : it.list) count(el, c);
+  for (const scree::Item& el : it.list()) count(el, c);
 }
 
 void count(const scree::Dictionary& d, Counts& c) {

@@ -483,14 +483,14 @@ Case Case::read(const fs::path& dir, PluginRuntime& rt) {
         const Entry* f = e.dict().find("fields");
         if (!f) continue;
         try {
-          for (const Item& it : f->single_item().list) {
-            if (std::find(known.begin(), known.end(), it.text) != known.end()) continue;
-            std::string msg = "fields: no body of this case has a field '" + it.text + "'";
-            const std::string near = nearest_name(it.text, known);
+          for (const Item& it : f->single_item().list()) {
+            if (std::find(known.begin(), known.end(), it.text()) != known.end()) continue;
+            std::string msg = "fields: no body of this case has a field '" + it.text() + "'";
+            const std::string near = nearest_name(it.text(), known);
             if (!near.empty()) msg += "; did you mean '" + near + "'?";
             msg += " Valid: ";
             for (std::size_t i = 0; i + 1 < known.size(); ++i) msg += (i ? ", " : "") + known[i];
-            errors.emplace_back(it.where, msg);
+            errors.emplace_back(it.where(), msg);
           }
         } catch (const InputError&) {
         }

@@ -81,11 +81,11 @@ struct Shape {
 std::vector<std::array<Real, 2>> read_points(const Entry& pts, const std::string& what) {
   std::vector<std::array<Real, 2>> poly;
   const Item& list = pts.single_item();
-  for (const Item& p : list.list) {
-    if (p.kind != Item::Kind::list || p.list.size() != 2 || p.list[0].kind != Item::Kind::number ||
-        p.list[1].kind != Item::Kind::number)
-      throw InputError(p.where, "points: each vertex must be " + what + ", found " + p.to_string());
-    poly.push_back({p.list[0].number, p.list[1].number});
+  for (const Item& p : list.list()) {
+    if (p.kind() != Item::Kind::list || p.list().size() != 2 || p.list()[0].kind() != Item::Kind::number ||
+        p.list()[1].kind() != Item::Kind::number)
+      throw InputError(p.where(), "points: each vertex must be " + what + ", found " + p.to_string());
+    poly.push_back({p.list()[0].number(), p.list()[1].number()});
   }
   if (poly.size() < 3)
     throw InputError(pts.where(), "points: a polygon needs at least 3 vertices, found " + std::to_string(poly.size()));

@@ -5,20 +5,21 @@
 #include <algorithm>
 #include <limits>
 #include <memory>
+#include <span>
 
 namespace scree::reader {
 
 Extent extent(const Item& item) {
   Extent x{1, 0};
-  if (item.kind == Item::Kind::list) {
-    for (const Item& el : item.list) {
+  if (item.kind() == Item::Kind::list) {
+    for (const Item& el : item.list()) {
       Extent e = extent(el);
       x.nodes += e.nodes;
       x.depth = std::max(x.depth, e.depth);
     }
     x.depth += 1;
-  } else if (item.kind == Item::Kind::dict && item.dict) {
-    Extent e = extent(*item.dict);
+  } else if (item.kind() == Item::Kind::dict && item.dict()) {
+    Extent e = extent(*item.dict());
     x.nodes += e.nodes;
     x.depth = e.depth + 1;
   }
@@ -85,43 +86,41 @@ std::string index_path(const std::string& path, std::size_t i) { return path + '
 namespace {
 
 bool holds_dictionary(const Item& item) {
-  if (item.kind == Item::Kind::dict) return true;
-  return item.kind == Item::Kind::list && std::any_of(item.list.begin(), item.list.end(), holds_dictionary);
+  if (item.kind() == Item::Kind::dict) return true;
+  const std::span<const Item> list = item.list();
+  return std::any_of(list.begin(), list.end(), holds_dictionary);
 }
 
 }  // namespace
 
 Item renamed(const Item& item, const std::string& path) {
   if (!holds_dictionary(item)) return item;  // nothing to rename: a plain copy
-  Item copy;
-  copy.kind = item.kind;
-  copy.text = item.text;
-  copy.number = item.number;
-  copy.integral = item.integral;
-  copy.where = item.where;
-  if (item.kind == Item::Kind::list) {
-    copy.list.reserve(item.list.size());
-    for (std::size_t i = 0; i < item.list.size(); ++i) {
-      const Item& el = item.list[i];
-      copy.list.push_back(holds_dictionary(el) ? renamed(el, index_path(path, i)) : el);
+  if (item.kind() == Item::Kind::list) {
+    const std::span<const Item> list = item.list();
+    std::vector<Item> elements;
+    elements.reserve(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const Item& el = list[i];
+      elements.push_back(holds_dictionary(el) ? renamed(el, index_path(path, i)) : el);
     }
-  } else if (item.kind == Item::Kind::dict && item.dict) {
-    copy.dict = std::make_shared<const Dictionary>(renamed(*item.dict, path, item.dict->where()));
+    return Item::make_list(std::move(elements), item.pos());
   }
-  return copy;
+  if (!item.dict()) return item;
+  return Item::make_dict(std::make_shared<const Dictionary>(renamed(*item.dict(), path, item.dict()->where())),
+                         item.pos());
 }
 
 Entry renamed(const Entry& e, const std::string& parent) {
   if (e.is_dict()) {
     const std::string path = join_path(parent, e.key());
-    return Entry(e.key(), e.where(), std::make_shared<const Dictionary>(renamed(e.dict(), path, e.dict().where())));
+    return Entry(e.key(), e.pos(), std::make_shared<const Dictionary>(renamed(e.dict(), path, e.dict().where())));
   }
   if (std::none_of(e.items().begin(), e.items().end(), holds_dictionary)) return e;  // nothing to rename
   const std::string path = join_path(parent, e.key());
   std::vector<Item> items;
   items.reserve(e.items().size());
   for (const Item& it : e.items()) items.push_back(renamed(it, path));
-  return Entry(e.key(), e.where(), std::move(items));
+  return Entry(e.key(), e.pos(), std::move(items));
 }
 
 Dictionary renamed(const Dictionary& src, const std::string& name, const SourceLocation& where) {

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <mutex>
+#include <unordered_map>
 #include <utility>
 
 #include "lexer.hpp"
@@ -24,6 +26,40 @@ std::string SourceLocation::str() const {
     if (column > 0) s += ':' + std::to_string(column);
   }
   return s;
+}
+
+namespace {
+
+/// The file names positions refer to, numbered from 1 in the order first seen.
+struct FileTable {
+  std::mutex mutex;
+  std::vector<std::shared_ptr<const std::string>> names{nullptr};  // 0: no file
+  std::unordered_map<std::string, std::uint32_t> numbers;
+};
+
+FileTable& file_table() {
+  static FileTable* table = new FileTable;  // never destroyed: positions outlive everything
+  return *table;
+}
+
+}  // namespace
+
+std::uint32_t SourcePos::file_number(const std::shared_ptr<const std::string>& file) {
+  if (!file) return 0;
+  FileTable& t = file_table();
+  std::lock_guard lock(t.mutex);
+  auto [it, added] = t.numbers.try_emplace(*file, static_cast<std::uint32_t>(t.names.size()));
+  if (added) t.names.push_back(file);
+  return it->second;
+}
+
+SourcePos SourcePos::of(const SourceLocation& where) { return {file_number(where.file), where.line, where.column}; }
+
+SourceLocation SourcePos::location() const {
+  if (file == 0) return {nullptr, line, column};
+  FileTable& t = file_table();
+  std::lock_guard lock(t.mutex);
+  return {t.names[file], line, column};
 }
 
 namespace {
@@ -104,9 +140,9 @@ std::string shorten(std::string s) {
 }
 
 std::string describe(const Item& item) {
-  switch (item.kind) {
-    case Item::Kind::word: return "the word '" + shorten(item.text) + "'";
-    case Item::Kind::string: return "the string " + shorten(quote(item.text));
+  switch (item.kind()) {
+    case Item::Kind::word: return "the word '" + shorten(item.text()) + "'";
+    case Item::Kind::string: return "the string " + shorten(quote(item.text()));
     case Item::Kind::number: return "the number " + shorten(item.to_string());
     case Item::Kind::list: return "the list " + shorten(item.to_string());
     case Item::Kind::dict: return "a dictionary " + shorten(item.to_string());
@@ -114,7 +150,7 @@ std::string describe(const Item& item) {
   return "an item";
 }
 
-std::string join_items(const std::vector<Item>& items) {
+std::string join_items(std::span<const Item> items) {
   return join(items, ' ', [](const Item& it) { return it.to_string(); });
 }
 
@@ -137,7 +173,7 @@ using namespace reader;  // this file is the writing side of the reader
 // ---------------------------------------------------------------------------------------
 
 std::string Item::kind_name() const {
-  switch (kind) {
+  switch (kind_) {
     case Kind::word: return "a word";
     case Kind::string: return "a string";
     case Kind::number: return "a number";
@@ -148,26 +184,19 @@ std::string Item::kind_name() const {
 }
 
 std::string Item::to_string() const {
-  switch (kind) {
-    case Kind::word: return word_text(text);
-    case Kind::string: return quote(text);
-    case Kind::number: {
-      double ignored = 0;
-      bool ignored_integral = false;
-      if (!text.empty() && looks_numeric(text) &&
-          parse_number(text, ignored, ignored_integral) == NumberStatus::ok)
-        return text;
-      return format_number(number, integral);
-    }
-    case Kind::list: return '(' + join_items(list) + ')';
-    case Kind::dict: return dict ? dict_inline(*dict) : "{ }";
+  switch (kind_) {
+    case Kind::word: return word_text(text());
+    case Kind::string: return quote(text());
+    case Kind::number: return text();  // as written, or as make_number(value) formatted it
+    case Kind::list: return '(' + join_items(list()) + ')';
+    case Kind::dict: return dict() ? dict_inline(*dict()) : "{ }";
   }
   return {};
 }
 
 std::string Entry::value_string() const {
-  if (dict_) return dict_inline(*dict_);
-  return join_items(items_);
+  if (is_dict()) return dict_inline(dict());
+  return join_items(items());
 }
 
 namespace {

@@ -2,6 +2,7 @@
 // syntax, and the words messages use for what was found.
 #pragma once
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,7 +22,7 @@ std::string shorten(std::string s);
 /// "the word 'ten'", "the number 2.5", ...: what a message says was found.
 std::string describe(const Item& item);
 /// The items separated by spaces.
-std::string join_items(const std::vector<Item>& items);
+std::string join_items(std::span<const Item> items);
 /// `{ key value; sub { ... } }` on one line (dictionaries inside lists, messages).
 std::string dict_inline(const Dictionary& d);
 

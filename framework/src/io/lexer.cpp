@@ -127,12 +127,12 @@ std::string describe(const Token& t) {
 }
 
 Lexer::Lexer(std::string text, std::shared_ptr<const std::string> file)
-    : text_(std::move(text)), file_(std::move(file)) {
+    : text_(std::move(text)), file_(SourcePos::file_number(file)) {
   reject_nul();
   if (text_.compare(0, 3, "\xEF\xBB\xBF") == 0) pos_ = 3;  // UTF-8 byte order mark
 }
 
-void Lexer::fail(const SourceLocation& where, std::string message) const {
+void Lexer::fail(const SourcePos& where, std::string message) const {
   throw InputError(where, std::move(message));
 }
 
@@ -151,7 +151,7 @@ void Lexer::skip_space_and_comments() {
     } else if (c == '/' && at(1) == '/') {
       while (!done() && at(0) != '\n') advance();
     } else if (c == '/' && at(1) == '*') {
-      const SourceLocation open = here();
+      const SourcePos open = here();
       advance(), advance();
       while (!done() && !(at(0) == '*' && at(1) == '/')) advance();
       if (done()) fail(open, "unterminated comment: '/*' has no matching '*/'");

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,11 +61,11 @@ struct Token {
   std::string text;  ///< word, string contents, number as written, macro/directive name
   double number = 0;
   bool integral = false;
-  SourceLocation where;
+  SourcePos where;
   int end_line = 0, end_column = 0;  ///< just after the token
   bool line_start = false;           ///< no other token before it on its line
 
-  SourceLocation end() const { return {where.file, end_line, end_column}; }
+  SourcePos end() const { return {where.file, end_line, end_column}; }
 };
 
 /// "the word 'x'", "';'", "the end of the file": what a message says was found.
@@ -90,7 +91,7 @@ class Lexer {
     return pos_ + offset < text_.size() ? text_[pos_ + offset] : '\0';
   }
   bool done() const { return pos_ >= text_.size(); }
-  SourceLocation here() const { return {file_, line_, column_}; }
+  SourcePos here() const { return {file_, line_, column_}; }
 
   void advance() {
     const unsigned char c = static_cast<unsigned char>(text_[pos_++]);
@@ -102,7 +103,7 @@ class Lexer {
     }
   }
 
-  [[noreturn]] void fail(const SourceLocation& where, std::string message) const;
+  [[noreturn]] void fail(const SourcePos& where, std::string message) const;
   void reject_nul();
   void skip_space_and_comments();
   std::string read_word_bytes();
@@ -114,7 +115,7 @@ class Lexer {
   std::string found_here() const;
 
   std::string text_;
-  std::shared_ptr<const std::string> file_;
+  std::uint32_t file_;  ///< SourcePos::file_number of the file's name
   std::size_t pos_ = 0;
   int line_ = 1;
   int column_ = 1;

@@ -50,7 +50,7 @@ namespace {
 constexpr int kMaxNesting = 256;                      // levels of { } and ( )
 constexpr int kMaxIncludeDepth = 64;                  // files open at once
 constexpr std::size_t kMaxExpandedNodes = 1'000'000;  // items/entries copied by macros
-constexpr std::size_t kBufferedElements = 4096;       // longer lists are moved, not copied
+constexpr std::size_t kBufferedElements = 4096;       // longer lists grow in place, this many at a time
 
 /// What a path whose symbolic links go round in a loop is, naming the chain.
 std::string link_loop_text(const fs::path& path, const std::string& shown) {
@@ -86,8 +86,8 @@ class Parser {
   void parse_main(Lexer& lx) { parse_entries(lx, Level::main_file, nullptr); }
 
  private:
-  [[noreturn]] static void fail(const SourceLocation& where, std::string message) {
-    throw InputError(where, std::move(message));
+  [[noreturn]] static void fail(const SourcePos& where, std::string message) {
+    throw InputError(where.location(), std::move(message));
   }
 
   // ---- nesting and expansion limits ----
@@ -114,7 +114,7 @@ class Parser {
 
   /// Entries into the current scope until the '}' matching `open`, or until the end of
   /// the file when `open` is null. Returns the location just after the '}'.
-  SourceLocation parse_entries(Lexer& lx, Level level, const Token* open) {
+  SourcePos parse_entries(Lexer& lx, Level level, const Token* open) {
     for (;;) {
       Token t = lx.next();
       switch (t.kind) {
@@ -185,7 +185,7 @@ class Parser {
     const bool file_level = level != Level::nested;
     if (lx.peek().kind == Tok::lbrace) {
       Token open = lx.next();
-      SourceLocation close;
+      SourcePos close;
       auto d = std::make_shared<const Dictionary>(parse_dict(lx, open, path, key.where, close));
       if (lx.peek().kind == Tok::semicolon) lx.next();  // `name { ... };` is tolerated
       if (file_level && key.text == "FoamFile") {
@@ -199,17 +199,17 @@ class Parser {
     if (file_level && key.text == "FoamFile")
       fail(key.where, "the FoamFile header must be a dictionary 'FoamFile { ... }', found " +
                           (items.size() == 1 ? describe(items[0]) : std::to_string(items.size()) + " values"));
-    if (items.size() == 1 && items[0].kind == Item::Kind::dict) {  // `sand2 $sand;`
+    if (items.size() == 1 && items[0].kind() == Item::Kind::dict) {  // `sand2 $sand;`
       add_written(key, Entry(key.text, key.where,
-                             std::make_shared<const Dictionary>(renamed(*items[0].dict, path, key.where))));
+                             std::make_shared<const Dictionary>(renamed(*items[0].dict(), path, key.where))));
       return;
     }
     add_written(key, Entry(key.text, key.where, std::move(items)));
   }
 
   /// `{ ... }` after its '{'; `close` receives the location just after the '}'.
-  Dictionary parse_dict(Lexer& lx, const Token& open, const std::string& path, const SourceLocation& where,
-                        SourceLocation& close) {
+  Dictionary parse_dict(Lexer& lx, const Token& open, const std::string& path, const SourcePos& where,
+                        SourcePos& close) {
     enter(open);
     Dictionary d(path, where);
     scopes_.push_back({&d, path});
@@ -221,7 +221,7 @@ class Parser {
 
   // ---- values ----
 
-  [[noreturn]] void missing_semicolon(const Token& key, const SourceLocation& after, const Token& found) {
+  [[noreturn]] void missing_semicolon(const Token& key, const SourcePos& after, const Token& found) {
     std::string where_found = describe(found);
     if (found.kind != Tok::end && found.where.line != after.line)
       where_found += " on line " + std::to_string(found.where.line);
@@ -231,7 +231,7 @@ class Parser {
   /// Items up to and including ';'. A dictionary macro may only be the whole value.
   std::vector<Item> parse_value(Lexer& lx, const Token& key, const std::string& path) {
     std::vector<Item> items;
-    SourceLocation after;              // just after the last item
+    SourcePos after;                   // just after the last item
     std::optional<Token> dict_macro;   // a macro that gave a dictionary
     for (;;) {
       const Token& t = lx.peek();
@@ -258,8 +258,8 @@ class Parser {
                           "' (directives stand on their own, between entries)");
       std::optional<Token> macro;
       if (t.kind == Tok::macro) macro = t;
-      after = parse_item(lx, items, path, false);
-      if (macro && items.back().kind == Item::Kind::dict) dict_macro = std::move(macro);
+      after = parse_item(lx, items, 0, path, false);
+      if (macro && items.back().kind() == Item::Kind::dict) dict_macro = std::move(macro);
     }
     if (dict_macro && items.size() > 1)
       fail(dict_macro->where, "'$" + shorten(dict_macro->text) +
@@ -270,44 +270,29 @@ class Parser {
 
   /// One item (several for a macro holding several values) appended to `out`; returns
   /// the location just after it. `path` names dictionaries in it: the entry's path for a
-  /// value, the list's path for list elements (which append "[index]").
-  SourceLocation parse_item(Lexer& lx, std::vector<Item>& out, const std::string& path, bool in_list) {
+  /// value, the list's path for list elements (which append "[index]"); `before` is the
+  /// number of elements of the list that are not in `out`.
+  SourcePos parse_item(Lexer& lx, std::vector<Item>& out, std::size_t before, const std::string& path, bool in_list) {
     Token t = lx.next();
     // The name of a list or dictionary this item is (made only for those: a table's
     // numbers would each pay for a string).
-    auto item_path = [&] { return in_list ? index_path(path, out.size()) : path; };
+    auto item_path = [&] { return in_list ? index_path(path, before + out.size()) : path; };
     switch (t.kind) {
-      case Tok::word: return simple_item(Item::Kind::word, t, out);
-      case Tok::string: return simple_item(Item::Kind::string, t, out);
-      case Tok::number: return simple_item(Item::Kind::number, t, out);
+      case Tok::word: out.push_back(Item::make_word(t.text, t.where)); return t.end();
+      case Tok::string: out.push_back(Item::make_string(t.text, t.where)); return t.end();
+      case Tok::number: out.push_back(Item::make_number(t.text, t.where)); return t.end();
       case Tok::lparen:
       case Tok::lbracket: return parse_list(lx, t, item_path(), out);
       case Tok::lbrace: {  // only reached inside lists
-        Item it;
-        it.kind = Item::Kind::dict;
-        it.where = t.where;
-        SourceLocation close;
-        it.dict = std::make_shared<const Dictionary>(parse_dict(lx, t, item_path(), t.where, close));
-        out.push_back(std::move(it));
+        SourcePos close;
+        auto d = std::make_shared<const Dictionary>(parse_dict(lx, t, item_path(), t.where, close));
+        out.push_back(Item::make_dict(std::move(d), t.where));
         return close;
       }
-      case Tok::macro: expand_items(t, out, path, in_list); break;
+      case Tok::macro: expand_items(t, out, before, path, in_list); break;
       default: fail(t.where, "expected a value, found " + describe(t));  // callers filter these
     }
     return t.end();
-  }
-
-  /// A word, string or number from its token (taken apart); returns the location just
-  /// after it.
-  static SourceLocation simple_item(Item::Kind kind, Token& t, std::vector<Item>& out) {
-    SourceLocation after = t.end();
-    Item& it = out.emplace_back();
-    it.kind = kind;
-    it.integral = t.integral;
-    it.text = std::move(t.text);
-    it.number = t.number;
-    it.where = std::move(t.where);
-    return after;
   }
 
   /// "opened at line 3, column 7": where the list that `open` begins was opened, for its
@@ -317,13 +302,16 @@ class Parser {
   }
 
   /// `( ... )` after its '('; appends the list to `out`.
-  SourceLocation parse_list(Lexer& lx, const Token& open, const std::string& path, std::vector<Item>& out) {
+  SourcePos parse_list(Lexer& lx, const Token& open, const std::string& path, std::vector<Item>& out) {
     enter(open);
     // The elements are gathered in this level's reused buffer and the list gets exactly
     // as many: a list grown in place keeps up to as much room again unused (a row of
-    // three numbers held four), and tables have a list a row.
+    // three numbers held four), and tables have a list a row. A long list (a table) is
+    // then grown in place, a buffer at a time, so that it is never held twice.
     std::vector<Item>& elements = elements_[static_cast<std::size_t>(depth_)];
     elements.clear();
+    Item list = Item::make_list({}, open.where);
+    std::size_t moved = 0;  // elements already in `list`
     const bool bracket = open.kind == Tok::lbracket;
     const Tok closer = bracket ? Tok::rbracket : Tok::rparen;
     const std::string_view o = bracket ? "'['" : "'('", c = bracket ? "']'" : "')'";
@@ -331,14 +319,9 @@ class Parser {
       const Token& t = lx.peek();
       if (t.kind == closer) {
         Token close = lx.next();
-        Item& list = out.emplace_back();
-        list.kind = Item::Kind::list;
-        list.where = open.where;
-        if (elements.size() > kBufferedElements)
-          list.list = std::move(elements);  // a big list: no second copy of it
-        else
-          list.list.assign(std::make_move_iterator(elements.begin()), std::make_move_iterator(elements.end()));
+        list.append(elements);
         elements.clear();
+        out.push_back(std::move(list));
         leave();
         return close.end();
       }
@@ -353,7 +336,14 @@ class Parser {
                             std::string(c));
         case Tok::directive:
           fail(t.where, "unexpected directive '#" + t.text + "' inside a list (directives stand between entries)");
-        default: parse_item(lx, elements, path, true); break;
+        default:
+          parse_item(lx, elements, moved, path, true);
+          if (elements.size() >= kBufferedElements) {
+            list.append(elements);
+            moved += elements.size();
+            elements.clear();
+          }
+          break;
       }
     }
   }
@@ -414,23 +404,22 @@ class Parser {
   }
 
   /// `$name` as a value: the entry's items, or its dictionary as one item.
-  void expand_items(const Token& macro, std::vector<Item>& out, const std::string& path, bool in_list) {
+  void expand_items(const Token& macro, std::vector<Item>& out, std::size_t before, const std::string& path,
+                    bool in_list) {
     const Entry& e = resolve(macro);
-    auto path_of = [&](std::size_t k) { return in_list ? index_path(path, out.size() + k) : path; };
+    auto path_of = [&](std::size_t k) { return in_list ? index_path(path, before + out.size() + k) : path; };
     if (e.is_dict()) {
       charge(extent(e.dict()), 1, macro);
-      Item it;
-      it.kind = Item::Kind::dict;
-      it.where = macro.where;
       if (in_list) {
-        it.dict = std::make_shared<const Dictionary>(renamed(e.dict(), path_of(0), e.dict().where()));
+        out.push_back(Item::make_dict(
+            std::make_shared<const Dictionary>(renamed(e.dict(), path_of(0), e.dict().where())), macro.where));
       } else {
         // The whole value of an entry (`sand2 $sand;`): parse_entry() copies it under the
         // new name right after this value is parsed, and nothing is modified meanwhile,
         // so a non-owning pointer (aliasing an empty shared_ptr) avoids a second copy.
-        it.dict = std::shared_ptr<const Dictionary>(std::shared_ptr<const Dictionary>(), &e.dict());
+        out.push_back(Item::make_dict(std::shared_ptr<const Dictionary>(std::shared_ptr<const Dictionary>(), &e.dict()),
+                                      macro.where));
       }
-      out.push_back(std::move(it));
       return;
     }
     for (const Item& it : e.items()) charge(extent(it), 0, macro);

@@ -289,7 +289,7 @@ void validate_value(const Param& p, const Entry& e, std::vector<InputError>& err
       case ParamType::wordList: e.as_word_list(); break;
       case ParamType::list: {
         const Item& it = e.single_item();
-        if (it.kind != Item::Kind::list)
+        if (it.kind() != Item::Kind::list)
           errors.emplace_back(e.where(), p.name() + ": expected " + p.expectation() + ", found " + it.kind_name());
         break;
       }

@@ -157,10 +157,10 @@ void PluginRuntime::load(const std::string& name, const SourceLocation& where, c
 void PluginRuntime::load_libs(const Dictionary& control, const fs::path& case_dir) {
   const Entry* libs = control.find("libs");
   if (!libs) return;
-  for (const Item& it : libs->single_item().list) {
-    if (it.kind != Item::Kind::word && it.kind != Item::Kind::string)
-      throw InputError(it.where, "libs: expected library names (\"libfoo.so\"), found " + it.kind_name());
-    load(it.text, it.where, case_dir);
+  for (const Item& it : libs->single_item().list()) {
+    if (it.kind() != Item::Kind::word && it.kind() != Item::Kind::string)
+      throw InputError(it.where(), "libs: expected library names (\"libfoo.so\"), found " + it.kind_name());
+    load(it.text(), it.where(), case_dir);
   }
 }
 

@@ -118,24 +118,24 @@ class TempDir {
 ::testing::AssertionResult same(const Dictionary& a, const Dictionary& b, const std::string& at = "");
 
 ::testing::AssertionResult same(const Item& a, const Item& b, const std::string& at) {
-  if (a.kind != b.kind) return ::testing::AssertionFailure() << at << ": kinds differ";
-  switch (a.kind) {
+  if (a.kind() != b.kind()) return ::testing::AssertionFailure() << at << ": kinds differ";
+  switch (a.kind()) {
     case Item::Kind::word:
     case Item::Kind::string:
-      if (a.text != b.text) return ::testing::AssertionFailure() << at << ": '" << a.text << "' vs '" << b.text << "'";
+      if (a.text() != b.text()) return ::testing::AssertionFailure() << at << ": '" << a.text() << "' vs '" << b.text() << "'";
       break;
     case Item::Kind::number:
-      if (!(a.number == b.number || (std::isnan(a.number) && std::isnan(b.number))) || a.integral != b.integral)
-        return ::testing::AssertionFailure() << at << ": " << a.number << " vs " << b.number;
+      if (!(a.number() == b.number() || (std::isnan(a.number()) && std::isnan(b.number()))) || a.integral() != b.integral())
+        return ::testing::AssertionFailure() << at << ": " << a.number() << " vs " << b.number();
       break;
     case Item::Kind::list:
-      if (a.list.size() != b.list.size()) return ::testing::AssertionFailure() << at << ": list sizes differ";
-      for (std::size_t i = 0; i < a.list.size(); ++i)
-        if (auto r = same(a.list[i], b.list[i], at + "[" + std::to_string(i) + "]"); !r) return r;
+      if (a.list().size() != b.list().size()) return ::testing::AssertionFailure() << at << ": list sizes differ";
+      for (std::size_t i = 0; i < a.list().size(); ++i)
+        if (auto r = same(a.list()[i], b.list()[i], at + "[" + std::to_string(i) + "]"); !r) return r;
       break;
     case Item::Kind::dict:
-      if (!a.dict || !b.dict) return ::testing::AssertionFailure() << at << ": null dictionary";
-      return same(*a.dict, *b.dict, at);
+      if (!a.dict() || !b.dict()) return ::testing::AssertionFailure() << at << ": null dictionary";
+      return same(*a.dict(), *b.dict(), at);
   }
   return ::testing::AssertionSuccess();
 }
@@ -270,16 +270,16 @@ TEST(DictionaryParse, TypicalFileWithHeaderValuesAndLocations) {
   // Exact locations of entries and items.
   expect_at(d.at("application").where(), "system/controlDict", 12, 1);
   expect_at(d.at("endTime").where(), "system/controlDict", 14, 1);
-  expect_at(d.at("endTime").single_item().where, "system/controlDict", 14, 17);
+  expect_at(d.at("endTime").single_item().where(), "system/controlDict", 14, 17);
   const Item& g = d.at("gravity").single_item();
-  expect_at(g.where, "system/controlDict", 17, 17);
-  expect_at(g.list[1].where, "system/controlDict", 17, 20);
+  expect_at(g.where(), "system/controlDict", 17, 17);
+  expect_at(g.list()[1].where(), "system/controlDict", 17, 20);
   const Dictionary& sand = d.sub("materials").sub("sand");
   EXPECT_EQ(d.sub("materials").name(), "materials");
   EXPECT_EQ(sand.name(), "materials.sand");
   expect_at(sand.where(), "system/controlDict", 23, 5);
   expect_at(sand.at("rho").where(), "system/controlDict", 26, 9);
-  expect_at(sand.at("rho").single_item().where, "system/controlDict", 26, 17);
+  expect_at(sand.at("rho").single_item().where(), "system/controlDict", 26, 17);
   expect_at(d.where(), "system/controlDict", 0, 0);
 }
 
@@ -299,10 +299,10 @@ TEST(DictionaryParse, Numbers) {
                         Case{"j", -0.0025, false, "-.25e-2"}, Case{"k", 7, true, "007"}, Case{"l", 0, false, "1e-400"}}) {
     SCOPED_TRACE(c.key);
     const Item& it = d.at(c.key).single_item();
-    EXPECT_EQ(it.kind, Item::Kind::number);
-    EXPECT_DOUBLE_EQ(it.number, c.value);
-    EXPECT_EQ(it.integral, c.integral);
-    EXPECT_EQ(it.text, c.text);
+    EXPECT_EQ(it.kind(), Item::Kind::number);
+    EXPECT_DOUBLE_EQ(it.number(), c.value);
+    EXPECT_EQ(it.integral(), c.integral);
+    EXPECT_EQ(it.text(), c.text);
     EXPECT_EQ(it.kind_name(), "a number");
   }
   EXPECT_EQ(d.get_integer("m"), std::numeric_limits<long long>::max());  // exact, not via double
@@ -320,17 +320,17 @@ TEST(DictionaryParse, WordsAreGenerous) {
   for (const auto& [key, word] : expected) {
     SCOPED_TRACE(key);
     const Item& it = d.at(key).single_item();
-    EXPECT_EQ(it.kind, Item::Kind::word);
-    EXPECT_EQ(it.text, word);
+    EXPECT_EQ(it.kind(), Item::Kind::word);
+    EXPECT_EQ(it.text(), word);
   }
   // Words stop at the delimiters ; ( ) { } " $ and at comments.
   Dictionary e = parse("a x(y)z; b p\"q\"; c w// comment\n; d u/*c*/v;");
   ASSERT_EQ(e.at("a").items().size(), 3u);
-  EXPECT_EQ(e.at("a").items()[0].text, "x");
-  EXPECT_EQ(e.at("a").items()[1].kind, Item::Kind::list);
-  EXPECT_EQ(e.at("a").items()[2].text, "z");
+  EXPECT_EQ(e.at("a").items()[0].text(), "x");
+  EXPECT_EQ(e.at("a").items()[1].kind(), Item::Kind::list);
+  EXPECT_EQ(e.at("a").items()[2].text(), "z");
   ASSERT_EQ(e.at("b").items().size(), 2u);
-  EXPECT_EQ(e.at("b").items()[1].kind, Item::Kind::string);
+  EXPECT_EQ(e.at("b").items()[1].kind(), Item::Kind::string);
   EXPECT_EQ(e.get_word("c"), "w");
   ASSERT_EQ(e.at("d").items().size(), 2u);
 }
@@ -345,7 +345,7 @@ TEST(DictionaryParse, Strings) {
   EXPECT_EQ(d.get_word("e"), "a\\tb\\n");  // other escapes are kept as written
   EXPECT_EQ(d.get_word("f"), "semi;{}()$#//");
   EXPECT_EQ(d.get_word("g"), "continued");  // backslash-newline continues the string
-  EXPECT_EQ(d.at("a").single_item().kind, Item::Kind::string);
+  EXPECT_EQ(d.at("a").single_item().kind(), Item::Kind::string);
   EXPECT_EQ(d.at("b").single_item().to_string(), R"("say \"hi\"")");
   EXPECT_EQ(d.at("c").single_item().to_string(), R"("back\\slash")");
   // Quoted keys are keys.
@@ -360,31 +360,31 @@ TEST(DictionaryParse, MultipleItemsListsAndNesting) {
       "functions ( { type probe; at (0 1); } { type energy; } );\n");
   const Entry& region = d.at("region");
   ASSERT_EQ(region.items().size(), 3u);
-  EXPECT_EQ(region.items()[0].text, "box");
-  EXPECT_EQ(region.items()[2].list[1].number, 1.5);
+  EXPECT_EQ(region.items()[0].text(), "box");
+  EXPECT_EQ(region.items()[2].list()[1].number(), 1.5);
   EXPECT_EQ(region.value_string(), "box (0 0) (1 1.5)");
   EXPECT_THROW(region.single_item(), InputError);
 
   const Item& mixed = d.at("mixed").single_item();
-  ASSERT_EQ(mixed.kind, Item::Kind::list);
-  ASSERT_EQ(mixed.list.size(), 6u);
-  EXPECT_EQ(mixed.list[0].kind, Item::Kind::number);
-  EXPECT_EQ(mixed.list[2].kind, Item::Kind::word);
-  EXPECT_EQ(mixed.list[3].kind, Item::Kind::string);
-  EXPECT_EQ(mixed.list[4].kind, Item::Kind::list);
-  EXPECT_EQ(mixed.list[5].list[0].list[0].text, "a");
-  EXPECT_TRUE(mixed.list[5].list[1].list.empty());
+  ASSERT_EQ(mixed.kind(), Item::Kind::list);
+  ASSERT_EQ(mixed.list().size(), 6u);
+  EXPECT_EQ(mixed.list()[0].kind(), Item::Kind::number);
+  EXPECT_EQ(mixed.list()[2].kind(), Item::Kind::word);
+  EXPECT_EQ(mixed.list()[3].kind(), Item::Kind::string);
+  EXPECT_EQ(mixed.list()[4].kind(), Item::Kind::list);
+  EXPECT_EQ(mixed.list()[5].list()[0].list()[0].text(), "a");
+  EXPECT_TRUE(mixed.list()[5].list()[1].list().empty());
   EXPECT_EQ(mixed.kind_name(), "a list");
   EXPECT_TRUE(d.at("empty").as_scalar_list().empty());
 
   const Item& fns = d.at("functions").single_item();
-  ASSERT_EQ(fns.list.size(), 2u);
-  ASSERT_EQ(fns.list[0].kind, Item::Kind::dict);
-  EXPECT_EQ(fns.list[0].kind_name(), "a dictionary");
-  EXPECT_EQ(fns.list[0].dict->get_word("type"), "probe");
-  EXPECT_EQ(fns.list[0].dict->name(), "functions[0]");
-  EXPECT_EQ(fns.list[1].dict->name(), "functions[1]");
-  expect_at(fns.list[1].where, "test.dict", 4, 39);
+  ASSERT_EQ(fns.list().size(), 2u);
+  ASSERT_EQ(fns.list()[0].kind(), Item::Kind::dict);
+  EXPECT_EQ(fns.list()[0].kind_name(), "a dictionary");
+  EXPECT_EQ(fns.list()[0].dict()->get_word("type"), "probe");
+  EXPECT_EQ(fns.list()[0].dict()->name(), "functions[0]");
+  EXPECT_EQ(fns.list()[1].dict()->name(), "functions[1]");
+  expect_at(fns.list()[1].where(), "test.dict", 4, 39);
   EXPECT_EQ(fns.to_string(), "({ type probe; at (0 1); } { type energy; })");
 }
 
@@ -396,7 +396,7 @@ TEST(DictionaryParse, BooleansAreWords) {
   EXPECT_FALSE(d.get_bool("d"));
   EXPECT_TRUE(d.get_bool("e"));
   EXPECT_FALSE(d.get_bool("f"));
-  EXPECT_EQ(d.at("a").single_item().kind, Item::Kind::word);
+  EXPECT_EQ(d.at("a").single_item().kind(), Item::Kind::word);
   for (const char* bad : {"g", "h", "i"}) EXPECT_THROW(d.get_bool(bad), InputError) << bad;  // case-sensitive
 }
 
@@ -424,7 +424,7 @@ TEST(DictionaryParse, CommentsAnywhereWhitespaceMayAppear) {
   EXPECT_EQ(d.get_integer("d"), 4);
   expect_at(d.at("a").where(), "test.dict", 3, 18);
   expect_at(d.at("b").where(), "test.dict", 4, 1);
-  expect_at(d.at("b").single_item().list[2].where, "test.dict", 5, 2);
+  expect_at(d.at("b").single_item().list()[2].where(), "test.dict", 5, 2);
 }
 
 TEST(DictionaryParse, LineEndingsEmptyInputAndEncoding) {
@@ -445,7 +445,7 @@ TEST(DictionaryParse, LineEndingsEmptyInputAndEncoding) {
   expect_at(bom.at("a").where(), "test.dict", 1, 1);
   expect_at(bom.at("x").where(), "test.dict", 2, 8);
   // Tabs count as one column.
-  expect_at(parse("\ta\t1;").at("a").single_item().where, "test.dict", 1, 4);
+  expect_at(parse("\ta\t1;").at("a").single_item().where(), "test.dict", 1, 4);
 }
 
 // A byte order mark is skipped at the start of the file only. Elsewhere (two files
@@ -547,7 +547,7 @@ TEST(DictionaryMacros, ValueCopiesAndScopes) {
   EXPECT_EQ(d.sub("outer").sub("inner").at("y").value_string(), "1 2");
   EXPECT_EQ(d.sub("outer").get_integer("z"), 2650);
   // Copied items keep the location where the value was written.
-  expect_at(d.at("a").single_item().where, "test.dict", 1, 5);
+  expect_at(d.at("a").single_item().where(), "test.dict", 1, 5);
   expect_at(d.at("a").where(), "test.dict", 4, 1);
 }
 
@@ -600,10 +600,10 @@ TEST(DictionaryMacros, DictionaryCopyAndMerge) {
   EXPECT_EQ(wet.get_integer("rho"), 2000);  // a later entry overrides a merged one
   EXPECT_EQ(wet.sub("extra").get_integer("rho"), 2650);
   EXPECT_EQ(wet.sub("extra").name(), "materials.wet.extra");
-  const Item& first = d.at("list").single_item().list[0];
-  ASSERT_EQ(first.kind, Item::Kind::dict);
-  EXPECT_EQ(first.dict->get_integer("rho"), 2650);
-  EXPECT_EQ(first.dict->name(), "list[0]");
+  const Item& first = d.at("list").single_item().list()[0];
+  ASSERT_EQ(first.kind(), Item::Kind::dict);
+  EXPECT_EQ(first.dict()->get_integer("rho"), 2650);
+  EXPECT_EQ(first.dict()->name(), "list[0]");
   EXPECT_TRUE(round_trips(d));
 }
 
@@ -669,10 +669,10 @@ TEST(DictionaryInclude, ParseResolvesIncludesRelativeToTheNamesDirectory) {
 
 TEST(DictionaryInclude, Errors) {
   TempDir dir;
-  const fs::path a = dir.write("a.dict", "x 1;\n#include \"b.dict\"\n");
-  dir.write("b.dict", "y 2;\n\n#include \"a.dict\"\n");
-  check_error(error_of([&] { Dictionary::read_file(a, "a.dict"); }), "b.dict", 3, 1,
-              "include cycle: a.dict includes b.dict which includes a.dict");
+  const fs::path a = dir.write("a.dict()", "x 1;\n#include \"b.dict()\"\n");
+  dir.write("b.dict()", "y 2;\n\n#include \"a.dict()\"\n");
+  check_error(error_of([&] { Dictionary::read_file(a, "a.dict()"); }), "b.dict()", 3, 1,
+              "include cycle: a.dict() includes b.dict() which includes a.dict()");
 
   const fs::path self = dir.write("self.dict", "// me again\n  #include \"self.dict\"\n");
   check_error(error_of([&] { Dictionary::read_file(self, "self.dict"); }), "self.dict", 2, 3,
@@ -684,10 +684,10 @@ TEST(DictionaryInclude, Errors) {
   check_error(error_of([&] { Dictionary::read_file(three, "c1"); }), "c3", 2, 1,
               "include cycle: c1 includes c2 which includes c3 which includes c1");
 
-  const fs::path missing = dir.write("missing.dict", "a 1;\n#include \"nowhere/x.dict\"\n");
+  const fs::path missing = dir.write("missing.dict", "a 1;\n#include \"nowhere/x.dict()\"\n");
   const InputError e = error_of([&] { Dictionary::read_file(missing, "missing.dict"); });
-  check_error(e, "missing.dict", 2, 1, "cannot open include file 'nowhere/x.dict' (looked for ");
-  EXPECT_NE(e.message().find((dir.path() / "nowhere/x.dict").string()), std::string::npos) << e.message();
+  check_error(e, "missing.dict", 2, 1, "cannot open include file 'nowhere/x.dict()' (looked for ");
+  EXPECT_NE(e.message().find((dir.path() / "nowhere/x.dict()").string()), std::string::npos) << e.message();
 
   const fs::path directory = dir.write("dir.dict", "#include \".\"\n");
   check_error(error_of([&] { Dictionary::read_file(directory, "dir.dict"); }), "dir.dict", 1, 1, "is a directory");
@@ -866,7 +866,7 @@ TEST(DictionaryAccess, TypedAccessorErrorsNameKeyExpectationAndFinding) {
   EXPECT_EQ(msg([&] { d.at("nope"); }), "test.dict: missing required entry 'nope' in dictionary 'test.dict'");
   EXPECT_EQ(msg([&] { d.sub("s").at("b"); }), "test.dict:10:1: missing required entry 'b' in dictionary 's'");
   EXPECT_EQ(d.at("str").as_word(), "text");
-  EXPECT_EQ(d.at("w").single_item().list[0].text, "a");
+  EXPECT_EQ(d.at("w").single_item().list()[0].text(), "a");
 
   // Integers beyond the range of long long written as floating point are rejected too.
   EXPECT_THROW(parse("x 1e19;").get_integer("x"), InputError);
@@ -889,13 +889,9 @@ TEST(DictionaryAccess, DefaultsFindSetAndBuildingInCode) {
   EXPECT_TRUE(d.has("w"));
 
   Dictionary built("built", {});
-  Item n;
-  n.kind = Item::Kind::number;
-  n.number = 0.1;
+  Item n = Item::make_number(0.1, false);
   built.set(Entry("x", {}, std::vector<Item>{n}));
-  Item w;
-  w.kind = Item::Kind::word;
-  w.text = "two words";  // not a word: written quoted
+  Item w = Item::make_word("two words");  // not a word: written quoted
   built.set(Entry("y", {}, std::vector<Item>{w}));
   built.set(Entry("x", {}, std::vector<Item>{w}));
   EXPECT_EQ(built.keys(), (std::vector<std::string>{"x", "y"}));
@@ -905,6 +901,51 @@ TEST(DictionaryAccess, DefaultsFindSetAndBuildingInCode) {
   EXPECT_STREQ(error_of([&] { built.at("q"); }).what(), "missing required entry 'q' in dictionary 'built'");
   built.set_name("renamed");
   EXPECT_EQ(built.name(), "renamed");
+}
+
+TEST(DictionaryItems, TextsOfEveryLengthAreKeptAsWritten) {
+  // Short texts are held in the item itself (numbers two characters a byte), longer ones
+  // behind a pointer: every length reads back the same, copies and moves included.
+  const std::string digits = "1234567890123456789012345";
+  const std::string letters = "abcdefghijklmnopqrstuvwxy";
+  for (std::size_t n = 1; n <= digits.size(); ++n) {
+    SCOPED_TRACE(n);
+    const std::string number = "-" + digits.substr(0, n) + "e-3";
+    const std::string word = letters.substr(0, n);
+    Dictionary d = parse("n " + number + "; w " + word + "; s \"" + word + " x\"; l (" + number + " " + word + ");");
+    const Item& it = d.at("n").single_item();
+    EXPECT_EQ(it.text(), number);
+    EXPECT_EQ(it.to_string(), number);
+    EXPECT_DOUBLE_EQ(it.number(), std::stod(number));
+    EXPECT_FALSE(it.integral());
+    EXPECT_EQ(d.at("w").single_item().text(), word);
+    EXPECT_EQ(d.at("s").single_item().text(), word + " x");
+    Item copy = d.at("l").single_item();
+    Item moved = std::move(copy);
+    EXPECT_EQ(moved.to_string(), "(" + number + " " + word + ")");
+    copy = moved;
+    EXPECT_EQ(copy.list()[1].text(), word);
+    expect_at(copy.list()[1].where(), "test.dict", 1, static_cast<int>(21 + 2 * number.size() + 2 * word.size()));
+  }
+  EXPECT_EQ(sizeof(Item), 24u);
+  EXPECT_EQ(Item::make_number(2.5, false).to_string(), "2.5");
+  EXPECT_EQ(Item::make_number(1e6, true).to_string(), "1000000");
+  EXPECT_TRUE(std::isnan(Item::make_number(std::nan(""), false).number()));
+  EXPECT_EQ(Item::make_number(-INFINITY, false).number(), -INFINITY);
+  EXPECT_THROW(Item::make_number("ten"), std::invalid_argument);
+}
+
+TEST(DictionaryItems, ManyKeysAreFoundAndReplacedInPlace) {
+  Dictionary d("many", {});
+  for (int i = 0; i < 1000; ++i) d.set(Entry("k" + std::to_string(i), {}, {Item::make_number(i, true)}));
+  for (int i = 0; i < 1000; i += 3) d.set(Entry("k" + std::to_string(i), {}, {Item::make_word("x")}));
+  ASSERT_EQ(d.entries().size(), 1000u);
+  for (int i = 0; i < 1000; ++i) {
+    ASSERT_NE(d.find("k" + std::to_string(i)), nullptr) << i;
+    EXPECT_EQ(d.entries()[static_cast<std::size_t>(i)].key(), "k" + std::to_string(i));
+    EXPECT_EQ(d.at("k" + std::to_string(i)).value_string(), i % 3 ? std::to_string(i) : "x");
+  }
+  EXPECT_EQ(d.find("k1000"), nullptr);
 }
 
 TEST(DictionaryWrite, ToStringRoundTrips) {
@@ -1057,7 +1098,7 @@ TEST(DictionaryErrors, BinaryGarbage) {
   EXPECT_PARSE_ERROR("a 1;\n  b \x01;", 2, 5, "unexpected control character (byte 0x01");
   EXPECT_PARSE_ERROR("a \x7f;", 1, 3, "unexpected control character (byte 0x7f");
   // Bytes of invalid UTF-8 are just word bytes.
-  EXPECT_EQ(parse("a \xff\xfe;").at("a").single_item().text, "\xff\xfe");
+  EXPECT_EQ(parse("a \xff\xfe;").at("a").single_item().text(), "\xff\xfe");
 }
 
 TEST(DictionaryErrors, NestingBeyondTheLimit) {
@@ -1326,7 +1367,7 @@ TEST(DictionaryBrackets, DimensionSetIsAList) {
   const auto dims = d.at("dimensions").as_scalar_list();
   ASSERT_EQ(dims.size(), 7u);
   EXPECT_EQ(dims[2], -2);
-  EXPECT_EQ(d.at("nested").single_item().list.size(), 2u);
+  EXPECT_EQ(d.at("nested").single_item().list().size(), 2u);
 }
 
 TEST(DictionaryBrackets, MismatchedBracketsAreErrors) {

@@ -34,14 +34,15 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "scree/core/config.hpp"
@@ -56,6 +57,24 @@ struct SCREE_API SourceLocation {
   int column = 0;
   /// "file:line:col", or "file" when line is 0, or "<unknown>" when there is no file.
   std::string str() const;
+};
+
+/// The same position in 12 bytes, as items and entries keep it (a large file has millions
+/// of them): the file is a number in a table of the process's file names, which never
+/// shrinks (a program reads a handful of files, each name is stored once).
+struct SCREE_API SourcePos {
+  std::uint32_t file = 0;  ///< 0: no file
+  int line = 0;
+  int column = 0;
+
+  /// The position of `where` (its file name entered in the table if new).
+  static SourcePos of(const SourceLocation& where);
+  /// The number of the file name `file` (0 for none), entered in the table if new.
+  static std::uint32_t file_number(const std::shared_ptr<const std::string>& file);
+  /// The full location (the file's name shared with the table).
+  SourceLocation location() const;
+  operator SourceLocation() const { return location(); }  // NOLINT: positions are locations
+  std::string str() const { return location().str(); }
 };
 
 /// An error a user can cause, located in an input file.
@@ -84,33 +103,87 @@ class SCREE_API InputErrors : public std::runtime_error {
 class Dictionary;
 
 /// One item of a primitive entry's value.
-struct SCREE_API Item {
-  enum class Kind { word, string, number, list, dict };
-  Kind kind = Kind::word;
+///
+/// 24 bytes (a table of a million rows is millions of items): the position, the kind and,
+/// in the remaining 9 bytes, a short text (a number's text packed two characters a byte,
+/// so up to 18 of them) or a pointer to the longer text, the list's elements or the
+/// dictionary. A number keeps only its text as written; its value is read from it.
+class SCREE_API Item {
+ public:
+  enum class Kind : std::uint8_t { word, string, number, list, dict };
+
+  Item() noexcept = default;  ///< an empty word
+  Item(const Item& other);
+  Item(Item&& other) noexcept;
+  Item& operator=(const Item& other);
+  Item& operator=(Item&& other) noexcept;
+  ~Item();
+
+  static Item make_word(std::string_view text, SourcePos where = {});
+  static Item make_string(std::string_view text, SourcePos where = {});
+  /// A number as written: `text` must read as one ("1e6", "-0.5"), and is what
+  /// to_string() writes back.
+  static Item make_number(std::string_view text, SourcePos where = {});
+  /// A number from its value, written back in the shortest form that reads back the same.
+  static Item make_number(double value, bool integral, SourcePos where = {});
+  static Item make_list(std::vector<Item> elements, SourcePos where = {});
+  /// `count` elements moved from `first` into a list of exactly that many.
+  static Item make_list(Item* first, std::size_t count, SourcePos where = {});
+  static Item make_dict(std::shared_ptr<const Dictionary> dict, SourcePos where = {});
+
+  Kind kind() const noexcept { return kind_; }
   /// word: the word; string: the unquoted contents; number: the text as written.
-  std::string text;
-  double number = 0;        ///< number value (Kind::number)
-  bool integral = false;    ///< the number was written without '.', 'e' or 'E'
-  std::vector<Item> list;   ///< Kind::list
-  std::shared_ptr<const Dictionary> dict;  ///< Kind::dict (a { } inside a list)
-  SourceLocation where;
+  std::string text() const;
+  /// The value of a number (0 for other kinds).
+  double number() const noexcept;
+  /// The number was written without '.', 'e' or 'E'.
+  bool integral() const noexcept { return (bits_ & kIntegral) != 0; }
+  /// The elements of a list (none for other kinds).
+  std::span<const Item> list() const noexcept;
+  /// The dictionary of a { } inside a list (null for other kinds).
+  const Dictionary* dict() const noexcept;
+  SourceLocation where() const { return pos_.location(); }
+  const SourcePos& pos() const noexcept { return pos_; }
+
+  /// Moves `elements` to the end of this list, which keeps room to grow (a long list is
+  /// built in place rather than copied whole when it is complete).
+  void append(std::span<Item> elements);
 
   /// Human-readable description of the kind ("a number", "a word", "a list", ...).
   std::string kind_name() const;
   /// The item written back in dictionary syntax.
   std::string to_string() const;
+
+ private:
+  static constexpr std::uint8_t kIntegral = 1;  // a number written without '.', 'e', 'E'
+  static constexpr std::uint8_t kHeap = 2;      // word/string/number text behind the pointer
+  static constexpr std::size_t kInline = 9;     // bytes of text held in the item
+
+  struct ListBlock;
+  void release() noexcept;
+  void set_text(std::string_view text);
+  void* pointer() const noexcept;
+  void set_pointer(const void* p) noexcept;
+  ListBlock* block() const noexcept;
+
+  SourcePos pos_;
+  Kind kind_ = Kind::word;
+  std::uint8_t bits_ = 0;
+  std::uint8_t size_ = 0;             ///< inline text: bytes, or characters of a number
+  unsigned char bytes_[kInline] = {};  ///< inline text, or a pointer in bytes_[1..8]
 };
 
 /// A `key value;` or `key { }` entry.
 class SCREE_API Entry {
  public:
   const std::string& key() const noexcept { return key_; }
-  const SourceLocation& where() const noexcept { return where_; }
-  bool is_dict() const noexcept { return dict_ != nullptr; }
+  SourceLocation where() const { return where_.location(); }
+  const SourcePos& pos() const noexcept { return where_; }
+  bool is_dict() const noexcept { return shape_ == Shape::dict; }
   /// The sub-dictionary; throws InputError ("'key' must be a dictionary { ... }") otherwise.
   const Dictionary& dict() const;
   /// Items of a primitive entry (empty for a dictionary entry).
-  const std::vector<Item>& items() const noexcept { return items_; }
+  std::span<const Item> items() const noexcept;
 
   // Typed access to a primitive entry holding exactly one item. Each throws an
   // InputError at the entry's location naming the key, what was expected and what
@@ -131,15 +204,19 @@ class SCREE_API Entry {
   /// The value written back in dictionary syntax (for messages and --list-plugins).
   std::string value_string() const;
 
-  // Construction (used by the parser and by code that builds dictionaries).
-  Entry(std::string key, SourceLocation where, std::vector<Item> items);
-  Entry(std::string key, SourceLocation where, std::shared_ptr<const Dictionary> dict);
+  // Construction (used by the parser and by code that builds dictionaries; a
+  // SourceLocation becomes a position with SourcePos::of).
+  Entry(std::string key, SourcePos where, std::vector<Item> items);
+  Entry(std::string key, SourcePos where, std::shared_ptr<const Dictionary> dict);
 
  private:
+  /// one: value_ is the only item (most entries); items: value_ is a list of the items
+  /// (none or several); dict: value_ holds the sub-dictionary.
+  enum class Shape : std::uint8_t { one, items, dict };
   std::string key_;
-  SourceLocation where_;
-  std::vector<Item> items_;
-  std::shared_ptr<const Dictionary> dict_;
+  SourcePos where_;
+  Shape shape_ = Shape::items;
+  Item value_;
 };
 
 class SCREE_API Dictionary {
@@ -193,17 +270,15 @@ class SCREE_API Dictionary {
   std::string to_string(int indent = 0) const;
 
  private:
-  /// Hashes std::string and std::string_view alike (lookup without a temporary string).
-  struct KeyHash {
-    using is_transparent = void;
-    std::size_t operator()(std::string_view s) const noexcept { return std::hash<std::string_view>{}(s); }
-  };
+  void rebuild_index();
   std::string name_;
   SourceLocation where_;
   std::vector<Entry> entries_;
   std::shared_ptr<const Dictionary> header_;
-  /// key -> position in entries_ (find() and set() in constant time, even for huge files).
-  std::unordered_map<std::string, std::size_t, KeyHash, std::equal_to<>> index_;
+  /// Open addressing over entries_' keys (find() and set() in constant time, even for
+  /// huge files): a power-of-two number of slots, each 0 (free) or a position + 1; empty
+  /// while the dictionary is small enough to scan.
+  std::vector<std::uint32_t> index_;
 };
 
 }  // namespace scree
