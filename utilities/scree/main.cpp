@@ -234,7 +234,7 @@ int main(int argc, char** argv) {
         device == "cuda" || (device.empty() && scree::mem::cuda_compiled() && scree::mem::cuda_available())
             ? scree::Device::cuda
             : scree::Device::cpu;
-    scree::SetupReport setup = scree::check_setup(c, rt, opt.output, memory_backend);
+    scree::SetupReport setup = scree::check_setup(c, rt, opt.output, memory_backend, {ranks, per_node});
     for (const auto& w : setup.warnings) std::cout << "warning: " << w.what() << "\n";
     if (!setup.errors.empty()) throw scree::InputErrors(std::move(setup.errors));
     // Restart: from the newest checkpoint (--restart, or startFrom latestTime), or the one at TIME.

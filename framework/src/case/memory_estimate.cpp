@@ -7,6 +7,7 @@
 #include <exception>
 
 #include "scree/case/case_model.hpp"
+#include "scree/case/decomposition.hpp"
 #include "scree/case/particle_generation.hpp"
 #include "scree/material/material.hpp"
 #include "scree/mpm/grid.hpp"
@@ -23,7 +24,7 @@ double MemoryEstimate::backend_bytes() const {
 double MemoryEstimate::host_bytes() const {
   double b = device == Device::cpu ? backend_bytes() : 0;
   for (const MemoryPart& p : parts) b += p.host();
-  return b;
+  return b * std::max(1, layout.per_node);
 }
 double MemoryEstimate::device_bytes() const { return device == Device::cuda ? backend_bytes() : 0; }
 
@@ -45,6 +46,7 @@ struct Model {
   };
   int dim = 2;
   Device device = Device::cpu;
+  RankLayout layout;
   bool output = false;  ///< snapshots are taken (writers or function objects)
   GridSettings grid;
   std::filesystem::path case_dir;  ///< an stl region's file is relative to it
@@ -53,9 +55,10 @@ struct Model {
   std::vector<Body> bodies;
 };
 
-Model read_model(const Case& c, const Registry& reg, Device device, bool with_output) {
+Model read_model(const Case& c, const Registry& reg, Device device, bool with_output, RankLayout layout) {
   const CaseSettings& s = c.settings();
   Model m;
+  m.layout = layout;
   m.dim = c.dimension();
   m.case_dir = c.dir();
   m.device = device;
@@ -104,10 +107,21 @@ double points(const Dictionary& body, double h, int ppc, const std::filesystem::
 MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
   MemoryEstimate e;
   e.device = m.device;
+  e.layout = m.layout;
   const int D = m.dim;
   const bool gpu = m.device == Device::cuda;
+  const int R = std::max(1, m.layout.ranks);
 
   MemoryPart g{"the grid", "cellSize", m.cell_size_where, grid_nodes(m.grid, h)};
+  if (R > 1) {
+    // The slabs cut the points' longest extent, at most the grid's longest axis: a rank's
+    // share of it, and the halo's node layers on both sides (the shape's reach and the
+    // migration slack, case/decomposition.hpp; 3 + kSlackCells covers every shape).
+    double longest = 1;
+    for (int d = 0; d < m.grid.dimension && d < static_cast<int>(m.grid.lower.size()); ++d)
+      longest = std::max(longest, static_cast<double>(domain_cells(m.grid.lower[d], m.grid.upper[d], h)));
+    g.rank_share = std::min(1.0, 1.0 / R + 2.0 * (3 + kSlackCells) / longest);
+  }
   // Solver::setup_grid: two sets of kGridFieldCount nodal fields, and a stamp (uint32) per
   // tile of Tiles<D>::kNodes nodes for each set.
   g.backend_each = 2.0 * (D == 2 ? kGridFieldCount<2> : kGridFieldCount<3>) * kReal + 2.0 * sizeof(std::uint32_t) / (D == 2 ? Tiles<2>::kNodes : Tiles<3>::kNodes);
@@ -131,6 +145,7 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     const int n_ppc = static_cast<int>(i) == body ? ppc : b.ppc;
     MemoryPart p{"body '" + b.name + "'", "particlesPerCell", b.where,
                  D == 2 ? points<2>(*b.dict, h, n_ppc, m.case_dir) : points<3>(*b.dict, h, n_ppc, m.case_dir)};
+    if (R > 1) p.rank_share = std::min(1.0, kRebalanceRatio / R);  // the most a rank holds before a recut
     // particle_storage.hpp: x, v, x0 (D each), F (D^2), sigma (4 in 2D, 6 in 3D), mass,
     // volume0, id, C (D^2, APIC), the state, a two-phase body's 4 + 2 D extra columns.
     const double columns = 3 * D + D * D + (D == 2 ? 4 : 6) + 3 + (m.apic ? D * D : 0) + b.state_reals +
@@ -208,14 +223,16 @@ double fitting_cell_size(const Model& m, Device space, double free) {
 
 }  // namespace
 
-MemoryEstimate estimate_memory(const Case& c, const Registry& reg, Device device, bool with_output) {
-  const Model m = read_model(c, reg, device, with_output);
+MemoryEstimate estimate_memory(const Case& c, const Registry& reg, Device device, bool with_output,
+                               RankLayout layout) {
+  const Model m = read_model(c, reg, device, with_output, layout);
   return evaluate(m, m.grid.cell_size);
 }
 
-std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device device, bool with_output) {
+std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device device, bool with_output,
+                                     RankLayout layout) {
   std::vector<InputError> errors;
-  const Model m = read_model(c, reg, device, with_output);
+  const Model m = read_model(c, reg, device, with_output, layout);
   const MemoryEstimate e = evaluate(m, m.grid.cell_size);
   std::vector<Device> spaces{Device::cpu};
   if (device == Device::cuda) spaces.push_back(Device::cuda);
@@ -230,11 +247,19 @@ std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device 
       if (part_bytes(e.parts[i], space, device) > part_bytes(e.parts[top], space, device)) top = i;
     const MemoryPart& driver = e.parts[top];
     const char* space_name = space == Device::cuda ? "GPU" : "host";
+    // A decomposed run: what one GPU holds, or what the ranks of one machine need of its host.
+    const int R = std::max(1, layout.ranks);
+    const std::string whose =
+        R == 1 ? std::string()
+        : space == Device::cuda
+            ? " per rank (one GPU each, " + std::to_string(R) + " ranks)"
+            : " on each machine (its " + std::to_string(std::max(1, layout.per_node)) + " rank(s) of " +
+                  std::to_string(R) + ", each generating every body and the first gathering the case's output)";
     std::string msg = driver.key + ": the run needs about " + mem::format_bytes(need) + " of " + space_name +
-                      " memory, more than the " + mem::format_bytes(free) + " free (" + a.source + "): ";
+                      " memory" + whose + ", more than the " + mem::format_bytes(free) + " free (" + a.source + "): ";
     for (std::size_t i = 0; i < e.parts.size(); ++i) {
       const MemoryPart& p = e.parts[i];
-      const double bytes = part_bytes(p, space, device);
+      const double bytes = part_bytes(p, space, device) * (space == Device::cpu ? std::max(1, layout.per_node) : 1);
       msg += i ? ", " : "";
       if (i == 0)
         msg += "the grid's " + count_text(p.count) + " nodes (cellSize " + number_text(m.grid.cell_size) + " m at " +

@@ -273,15 +273,18 @@ void check_output(const Case& c, const Registry& reg, SetupReport& report) {
 
 }  // namespace
 
-SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output, Device device) {
+SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output, Device device, RankLayout layout) {
   SetupReport report;
-  report.errors = check_memory(c, rt.registry(), device, with_output);
+  report.errors = check_memory(c, rt.registry(), device, with_output, layout);
   if (!report.errors.empty()) return report;
   {
-    const MemoryEstimate m = estimate_memory(c, rt.registry(), device, with_output);
-    auto space = [](double need, Device d) {
+    const MemoryEstimate m = estimate_memory(c, rt.registry(), device, with_output, layout);
+    auto space = [&](double need, Device d) {
       const mem::Available a = mem::available(d);
-      return "about " + mem::format_bytes(need) + " of " + (d == Device::cuda ? "GPU" : "host") + " memory" +
+      const std::string whose = layout.ranks <= 1 ? std::string()
+                                : d == Device::cuda ? " per rank"
+                                                    : " on each machine";
+      return "about " + mem::format_bytes(need) + " of " + (d == Device::cuda ? "GPU" : "host") + " memory" + whose +
              (a.known ? " (" + mem::format_bytes(static_cast<double>(a.bytes)) + " free)" : std::string());
     };
     report.memory = space(m.host_bytes(), Device::cpu);

@@ -19,12 +19,6 @@
 
 namespace scree {
 
-namespace {
-/// Cells a held point may lie outside its box between two migrations (the halo's slack).
-constexpr int kSlackCells = 2;
-
-}  // namespace
-
 template <int D>
 void Solver<D>::decompose_bodies() {
   body_totals_.clear();

@@ -282,7 +282,7 @@ void Solver<D>::setup_bodies() {
 template <int D>
 InputError Solver<D>::out_of_memory(std::size_t part, const std::bad_alloc& e) const {
   // The estimate check_setup made passed (or was not run): say what the part needs.
-  const MemoryEstimate m = estimate_memory(case_, rt_.registry(), exec_.device, opt_.output);
+  const MemoryEstimate m = estimate_memory(case_, rt_.registry(), exec_.device, opt_.output, {comm_->size(), 1});
   const MemoryPart& p = m.parts.at(part);
   // A Buffer's allocation says its space; another one (a host vector) is the host's.
   const auto* oom = dynamic_cast<const mem::OutOfMemory*>(&e);

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "scree/case/decomposition.hpp"
 #include "scree/case/memory_estimate.hpp"
 #include "scree/case/setup_check.hpp"
 #include "scree_test.hpp"
@@ -151,6 +152,41 @@ TEST(MemoryEstimate, TooManyPointsNameTheBodysParticlesPerCellAndWhatFits) {
   EXPECT_THROW(Simulation(c, runtime(), options(1)), InputErrors);
   EXPECT_EQ(mem::bytes_in_use(Device::cpu), before);
   ::unsetenv("SCREE_TEST_FREE_MEMORY");
+}
+
+// A run over ranks: each rank's backend holds its slab of the grid with the halo (a
+// quarter of 1000 cells plus 5 node layers on each side, the widest shape's reach and the
+// migration slack) and at most kRebalanceRatio times a quarter of the points before the
+// cuts move; its host holds the whole case (every rank generates every body, the root
+// gathers the output), and the ranks of one machine share that machine's memory. A case
+// too big for one process fits on four machines, and not on four ranks of one.
+TEST(MemoryEstimate, ARunOverRanksNeedsItsShareOfTheBackendAndTheWholeCaseOnEachRanksHost) {
+  TempCase tc("memory_ranks");
+  write_block(tc, "0.001", "1");  // 1,010,025 nodes, 250,000 points
+  const Case c = Case::read(tc.dir(), runtime());
+  const auto& reg = runtime().registry();
+  const MemoryEstimate one = estimate_memory(c, reg, Device::cpu, true);
+  const MemoryEstimate four = estimate_memory(c, reg, Device::cpu, true, {4, 1});
+  const MemoryEstimate shared = estimate_memory(c, reg, Device::cpu, true, {4, 4});
+  EXPECT_NEAR(four.parts[0].backend() / one.parts[0].backend(), 0.25 + 2 * 5 / 1000.0, 1e-12);
+  EXPECT_NEAR(four.parts[1].backend() / one.parts[1].backend(), kRebalanceRatio / 4, 1e-12);
+  for (std::size_t i = 0; i < one.parts.size(); ++i) EXPECT_DOUBLE_EQ(four.parts[i].host(), one.parts[i].host());
+  EXPECT_DOUBLE_EQ(shared.host_bytes(), 4 * four.host_bytes());
+  EXPECT_LT(four.host_bytes(), one.host_bytes());
+
+  const std::string free = std::to_string(0.5 * (one.host_bytes() + four.host_bytes()));
+  ::setenv("SCREE_TEST_FREE_MEMORY", free.c_str(), 1);
+  const auto refused = check_memory(c, reg, Device::cpu, true);
+  const auto fits = check_memory(c, reg, Device::cpu, true, {4, 1});
+  const auto crowded = check_memory(c, reg, Device::cpu, true, {4, 4});
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+  EXPECT_EQ(refused.size(), 1u);
+  EXPECT_TRUE(fits.empty()) << fits.front().what();
+  ASSERT_EQ(crowded.size(), 1u);
+  EXPECT_NE(std::string(crowded[0].what()).find("of host memory on each machine (its 4 rank(s) of 4, each generating "
+                                                "every body and the first gathering the case's output)"),
+            std::string::npos)
+      << crowded[0].what();
 }
 
 TEST(MemoryEstimate, ALargeGridNamesCellSizeAndTheSmallestThatFits) {

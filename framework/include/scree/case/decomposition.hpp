@@ -43,6 +43,9 @@ SCREE_API int domain_cell(const GlobalGrid<D>& g, int d, Real x);
 /// The imbalance (most points on one rank over the mean) above which the cuts move.
 inline constexpr double kRebalanceRatio = 1.15;
 
+/// Cells a held point may lie outside its box between two migrations (the halo's slack).
+inline constexpr int kSlackCells = 2;
+
 template <int D>
 struct Decomposition {
   int ranks = 1;

@@ -35,6 +35,17 @@
 
 namespace scree {
 
+/// How a run is spread: over `ranks` processes (mpirun; one GPU each), `per_node` of them
+/// on one machine. A rank's backend holds its slab of the grid with the halo and about
+/// 1/ranks of the points, up to kRebalanceRatio times that before the cuts move
+/// (case/decomposition.hpp). Every rank generates every body, and the root gathers the
+/// whole case for its output: a rank's host peak is the whole case's, and the ranks of one
+/// machine share its host memory.
+struct RankLayout {
+  int ranks = 1;
+  int per_node = 1;
+};
+
 /// One part of a case's memory: the grid, or a body's points.
 struct MemoryPart {
   std::string what;      ///< "the grid", "body 'column'"
@@ -43,27 +54,32 @@ struct MemoryPart {
   double count = 0;      ///< nodes or points
   double backend_each = 0;  ///< bytes per node or point in the backend's memory (mem::allocate)
   double host_each = 0;     ///< bytes per node or point on the host at the peak, besides the backend's
-  double backend() const { return count * backend_each; }
+  double rank_share = 1;    ///< the fraction of `count` one rank holds in the backend's memory
+  double backend() const { return count * rank_share * backend_each; }
   double host() const { return count * host_each; }
 };
 
 struct SCREE_API MemoryEstimate {
   Device device = Device::cpu;
+  RankLayout layout;
   std::vector<MemoryPart> parts;  ///< the grid first, then each body
-  /// What goes through mem::allocate on the backend: nodal fields, particle arrays, sort
-  /// buffers, masks (mem::peak_bytes(device) counts the same).
+  /// What goes through mem::allocate on one rank's backend: nodal fields, particle arrays,
+  /// sort buffers, masks (mem::peak_bytes(device) counts the same).
   double backend_bytes() const;
-  /// The peaks: host (the backend's bytes too on the CPU backend) and device (0 on the CPU).
+  /// The peaks: one machine's host (its ranks', with their backends' bytes on the CPU
+  /// backend) and one rank's device (0 on the CPU).
   double host_bytes() const;
   double device_bytes() const;
 };
 
 /// The estimate for a case Case::read accepted, on `device`; `with_output`: writers and
 /// function objects take snapshots.
-SCREE_API MemoryEstimate estimate_memory(const Case& c, const Registry& reg, Device device, bool with_output);
+SCREE_API MemoryEstimate estimate_memory(const Case& c, const Registry& reg, Device device, bool with_output,
+                                         RankLayout layout = {});
 
 /// An error per memory space (host; the device's with Device::cuda) the estimate does not
 /// fit in, at the entry that drives it; empty when it fits or the free memory is unknown.
-SCREE_API std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device device, bool with_output);
+SCREE_API std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device device, bool with_output,
+                                               RankLayout layout = {});
 
 }  // namespace scree

@@ -21,6 +21,7 @@
 #include "scree/case/case.hpp"
 #include "scree/boundary/boundary_condition.hpp"
 #include "scree/case/case_model.hpp"
+#include "scree/case/memory_estimate.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/io/dictionary.hpp"
 #include "scree/plugin/loader.hpp"
@@ -51,7 +52,7 @@ struct SetupReport {
 ///                created and written (nothing is created); one outside the case
 ///                directory is a warning.
 SCREE_API SetupReport check_setup(const Case& c, PluginRuntime& rt, bool with_output = true,
-                                  Device device = Device::cpu);
+                                  Device device = Device::cpu, RankLayout layout = {});
 
 /// Where a writer or function object writes.
 struct OutputPlace {
