@@ -20,6 +20,7 @@
 #include "scree/case/checkpoint.hpp"
 #include "scree/case/memory_estimate.hpp"
 #include "scree/output/writer.hpp"
+#include "../porous/porous_media.hpp"
 #include "scree/case/particle_generation.hpp"
 
 namespace fs = std::filesystem;
@@ -137,19 +138,9 @@ std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const
     std::vector<PorePressureLaw> laws;
     hc->open_surfaces(surfaces);
     hc->constrain_pores(laws);
-    Acting a{i, entries[i]->dict().get_word("type"), {}, kUnbounded, -kUnbounded};
+    Acting a{i, entries[i]->dict().get_word("type"), hydraulic_condition_nodes(*hc, grid), kUnbounded, -kUnbounded};
     for (const OpenSurface& o : surfaces) a.from = std::min(a.from, o.t_start), a.to = std::max(a.to, o.t_end);
     for (const PorePressureLaw& l : laws) a.from = std::min(a.from, l.t_start), a.to = std::max(a.to, l.t_end);
-    a.nodes = select_nodes(grid, [&](const Real* x) {
-      for (const OpenSurface& o : surfaces)
-        if (o.select(x)) return true;
-      for (const PorePressureLaw& l : laws) {
-        bool inside = true;
-        for (int d = 0; d < grid.dimension; ++d) inside = inside && x[d] >= l.lo[d] && x[d] <= l.hi[d];
-        if (inside) return true;
-      }
-      return false;
-    });
     std::sort(a.nodes.begin(), a.nodes.end());
     acting.push_back(std::move(a));
   }

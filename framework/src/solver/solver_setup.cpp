@@ -372,27 +372,6 @@ void Solver<D>::setup_output() {
                                              cs.time.start_time);
 }
 
-namespace {
-/// The grid nodes a condition on the pore liquid acts on: those its open surfaces select and
-/// those inside its pore-pressure boxes (hydraulic_condition.hpp).
-std::uint64_t hydraulic_nodes(const HydraulicCondition& hc, const NodeLattice& grid) {
-  std::vector<OpenSurface> surfaces;
-  std::vector<PorePressureLaw> laws;
-  hc.open_surfaces(surfaces);
-  hc.constrain_pores(laws);
-  return select_nodes(grid, [&](const Real* x) {
-           for (const OpenSurface& s : surfaces)
-             if (s.select(x)) return true;
-           for (const PorePressureLaw& l : laws) {
-             bool inside = true;
-             for (int d = 0; d < grid.dimension; ++d) inside = inside && x[d] >= l.lo[d] && x[d] <= l.hi[d];
-             if (inside) return true;
-           }
-           return false;
-         }).size();
-}
-}  // namespace
-
 template <int D>
 void Solver<D>::setup_boundaries(bool warn) {
   boundaries_.clear();
@@ -412,7 +391,7 @@ void Solver<D>::setup_boundaries(bool warn) {
     }
     // A condition on the pore liquid (rainfall, ponding, porePressure, seepageFace) as a wall.
     if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) {
-      const std::uint64_t n = hydraulic_nodes(*hc, NodeLattice::of(ctx_));
+      const std::uint64_t n = hydraulic_condition_nodes(*hc, NodeLattice::of(ctx_)).size();
       none += n == 0;
       nodes += n;
     }
