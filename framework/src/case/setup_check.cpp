@@ -20,7 +20,7 @@
 #include "scree/case/checkpoint.hpp"
 #include "scree/case/memory_estimate.hpp"
 #include "scree/output/writer.hpp"
-#include "../porous/porous_media.hpp"
+#include "hydraulic_nodes.hpp"
 #include "scree/case/particle_generation.hpp"
 
 namespace fs = std::filesystem;
@@ -119,6 +119,23 @@ std::vector<InputError> needs_two_phase(const Entry& e, const BoundaryCondition&
                                          "' lets the pore liquid of two-phase bodies through, and " + none +
                                          "; leave drained out");
   return errors;
+}
+
+std::vector<Index> hydraulic_condition_nodes(const HydraulicCondition& hc, const NodeLattice& grid) {
+  std::vector<OpenSurface> surfaces;
+  std::vector<PorePressureLaw> laws;
+  hc.open_surfaces(surfaces);
+  hc.constrain_pores(laws);
+  return select_nodes(grid, [&](const Real* x) {
+    for (const OpenSurface& s : surfaces)
+      if (s.select(x)) return true;
+    for (const PorePressureLaw& l : laws) {
+      bool inside = true;
+      for (int d = 0; d < grid.dimension; ++d) inside = inside && x[d] >= l.lo[d] && x[d] <= l.hi[d];
+      if (inside) return true;
+    }
+    return false;
+  });
 }
 
 std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const Entry*>& entries,

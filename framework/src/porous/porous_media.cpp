@@ -56,23 +56,6 @@ std::shared_ptr<ParamSpec> two_phase_spec() {
   return spec;
 }
 
-std::vector<Index> hydraulic_condition_nodes(const HydraulicCondition& hc, const NodeLattice& grid) {
-  std::vector<OpenSurface> surfaces;
-  std::vector<PorePressureLaw> laws;
-  hc.open_surfaces(surfaces);
-  hc.constrain_pores(laws);
-  return select_nodes(grid, [&](const Real* x) {
-    for (const OpenSurface& s : surfaces)
-      if (s.select(x)) return true;
-    for (const PorePressureLaw& l : laws) {
-      bool inside = true;
-      for (int d = 0; d < grid.dimension; ++d) inside = inside && x[d] >= l.lo[d] && x[d] <= l.hi[d];
-      if (inside) return true;
-    }
-    return false;
-  });
-}
-
 const std::vector<FieldInfo>& two_phase_fields() {
   static const std::vector<FieldInfo> fields{
       {"porePressure", 1, "Pa", "pore-liquid pressure p_w, compression positive (negative: suction)"},

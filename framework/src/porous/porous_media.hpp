@@ -16,16 +16,9 @@
 #include "scree/output/snapshot.hpp"
 #include "scree/params/spec.hpp"
 #include "scree/porous/body_hydraulics.hpp"
-#include "scree/boundary/boundary_condition.hpp"
-#include "scree/porous/hydraulic_condition.hpp"
 #include "scree/porous/two_phase.hpp"
 
 namespace scree {
-
-/// The grid nodes a condition on the pore liquid acts on: those its open surfaces select
-/// and those inside its pore-pressure boxes (hydraulic_condition.hpp). For the run's
-/// warning of a condition that selects none and the check of two that overlap.
-SCREE_API std::vector<Index> hydraulic_condition_nodes(const HydraulicCondition& hc, const NodeLattice& grid);
 
 /// The `twoPhase { ... }` block of a body (constant/bodies): its spec.
 SCREE_API std::shared_ptr<ParamSpec> two_phase_spec();

@@ -17,6 +17,7 @@
 #include "scree/case/memory_estimate.hpp"
 #include "scree/case/particle_generation.hpp"
 #include "scree/case/setup_check.hpp"
+#include "../case/hydraulic_nodes.hpp"
 #include "solver.hpp"
 
 #if defined(SCREE_HAVE_CUDA)
