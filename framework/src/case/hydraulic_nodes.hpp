@@ -1,4 +1,4 @@
-// The grid nodes a condition on the pore liquid acts on (porous/hydraulic_condition.hpp),
+// Where and when a condition on the pore liquid acts (porous/hydraulic_condition.hpp),
 // for the run's warning of a condition that selects none (solver_setup.cpp) and the check
 // of two that overlap (setup_check.cpp). Here, in case/, which sits above both boundary/
 // (the lattice) and porous/ (the conditions) in the README's layering.
@@ -11,7 +11,13 @@
 
 namespace scree {
 
-/// The nodes its open surfaces select and those inside its pore-pressure boxes.
-std::vector<Index> hydraulic_condition_nodes(const HydraulicCondition& hc, const NodeLattice& grid);
+/// Where and when a condition acts: the nodes its open surfaces select and those inside its
+/// pore-pressure boxes (flat indices, ascending), and the window [from, to) of its time
+/// windows' union [s].
+struct HydraulicReach {
+  std::vector<Index> nodes;
+  Real from = 0, to = 0;
+};
+HydraulicReach hydraulic_reach(const HydraulicCondition& hc, const NodeLattice& grid);
 
 }  // namespace scree

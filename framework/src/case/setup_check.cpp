@@ -121,12 +121,17 @@ std::vector<InputError> needs_two_phase(const Entry& e, const BoundaryCondition&
   return errors;
 }
 
-std::vector<Index> hydraulic_condition_nodes(const HydraulicCondition& hc, const NodeLattice& grid) {
+HydraulicReach hydraulic_reach(const HydraulicCondition& hc, const NodeLattice& grid) {
   std::vector<OpenSurface> surfaces;
   std::vector<PorePressureLaw> laws;
   hc.open_surfaces(surfaces);
   hc.constrain_pores(laws);
-  return select_nodes(grid, [&](const Real* x) {
+  HydraulicReach r;
+  r.from = kUnbounded;
+  r.to = -kUnbounded;
+  for (const OpenSurface& o : surfaces) r.from = std::min(r.from, o.t_start), r.to = std::max(r.to, o.t_end);
+  for (const PorePressureLaw& l : laws) r.from = std::min(r.from, l.t_start), r.to = std::max(r.to, l.t_end);
+  r.nodes = select_nodes(grid, [&](const Real* x) {  // visits the nodes in ascending order
     for (const OpenSurface& s : surfaces)
       if (s.select(x)) return true;
     for (const PorePressureLaw& l : laws) {
@@ -136,6 +141,7 @@ std::vector<Index> hydraulic_condition_nodes(const HydraulicCondition& hc, const
     }
     return false;
   });
+  return r;
 }
 
 std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const Entry*>& entries,
@@ -144,23 +150,12 @@ std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const
   struct Acting {
     std::size_t entry;
     std::string type;
-    std::vector<Index> nodes;  // sorted
-    Real from, to;             // the window [from, to) in which it acts [s]
+    HydraulicReach reach;
   };
   std::vector<Acting> acting;
-  for (std::size_t i = 0; i < entries.size() && i < made.size(); ++i) {
-    const auto* hc = dynamic_cast<const HydraulicCondition*>(made[i]);
-    if (!hc) continue;
-    std::vector<OpenSurface> surfaces;
-    std::vector<PorePressureLaw> laws;
-    hc->open_surfaces(surfaces);
-    hc->constrain_pores(laws);
-    Acting a{i, entries[i]->dict().get_word("type"), hydraulic_condition_nodes(*hc, grid), kUnbounded, -kUnbounded};
-    for (const OpenSurface& o : surfaces) a.from = std::min(a.from, o.t_start), a.to = std::max(a.to, o.t_end);
-    for (const PorePressureLaw& l : laws) a.from = std::min(a.from, l.t_start), a.to = std::max(a.to, l.t_end);
-    std::sort(a.nodes.begin(), a.nodes.end());
-    acting.push_back(std::move(a));
-  }
+  for (std::size_t i = 0; i < entries.size() && i < made.size(); ++i)
+    if (const auto* hc = dynamic_cast<const HydraulicCondition*>(made[i]))
+      acting.push_back({i, entries[i]->dict().get_word("type"), hydraulic_reach(*hc, grid)});
   auto time = [](Real t) {
     std::ostringstream os;
     if (t <= -kUnbounded) os << "the start";
@@ -172,10 +167,11 @@ std::vector<InputError> overlapping_hydraulic_conditions(const std::vector<const
   for (std::size_t j = 0; j < acting.size(); ++j)
     for (std::size_t i = 0; i < j; ++i) {
       const Acting &a = acting[i], &b = acting[j];
-      const Real from = std::max(a.from, b.from), to = std::min(a.to, b.to);
+      const Real from = std::max(a.reach.from, b.reach.from), to = std::min(a.reach.to, b.reach.to);
       if (a.type != b.type || !(from < to)) continue;
       std::vector<Index> both;
-      std::set_intersection(a.nodes.begin(), a.nodes.end(), b.nodes.begin(), b.nodes.end(), std::back_inserter(both));
+      std::set_intersection(a.reach.nodes.begin(), a.reach.nodes.end(), b.reach.nodes.begin(), b.reach.nodes.end(),
+                            std::back_inserter(both));
       if (both.empty()) continue;
       const Entry& ea = *entries[a.entry];
       const Entry& eb = *entries[b.entry];

@@ -392,7 +392,7 @@ void Solver<D>::setup_boundaries(bool warn) {
     }
     // A condition on the pore liquid (rainfall, ponding, porePressure, seepageFace) as a wall.
     if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) {
-      const std::uint64_t n = hydraulic_condition_nodes(*hc, NodeLattice::of(ctx_)).size();
+      const std::uint64_t n = hydraulic_reach(*hc, NodeLattice::of(ctx_)).nodes.size();
       none += n == 0;
       nodes += n;
     }
@@ -403,14 +403,6 @@ void Solver<D>::setup_boundaries(bool warn) {
     if (auto errors = needs_two_phase(*e, *bc, porous_ != nullptr); !errors.empty()) throw errors.front();
     if (const auto* hc = dynamic_cast<const HydraulicCondition*>(bc.get())) porous_->add_condition(hc);
     boundaries_.push_back(std::move(bc));
-  }
-  if (warn && porous_) {  // on the whole grid: every rank finds the same
-    std::vector<const BoundaryCondition*> made;
-    for (const auto& bc : boundaries_) made.push_back(bc.get());
-    const SolverContext whole = plugin_context<D>(case_, global_, Device::cpu);
-    if (auto errors = overlapping_hydraulic_conditions(case_.boundary_entries(), made, NodeLattice::of(whole));
-        !errors.empty())
-      throw InputErrors(std::move(errors));
   }
   has_walls_ = !set.table().empty();
   if (has_walls_) {
