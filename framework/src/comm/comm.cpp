@@ -28,8 +28,11 @@ class SelfComm final : public Comm {
   void sum(std::uint64_t*, int) override {}
   void max(std::uint64_t*, int) override {}
   void broadcast(void*, std::size_t, int) override {}
-  void exchange(int peer, const void*, std::size_t, void*, std::size_t) override {
-    throw std::logic_error("Comm::exchange: rank " + std::to_string(peer) + " does not exist in a one-rank run");
+  using Comm::exchange;
+  void exchange(const Exchange* with, int n) override {
+    if (n > 0)
+      throw std::logic_error("Comm::exchange: rank " + std::to_string(with[0].peer) +
+                             " does not exist in a one-rank run");
   }
   std::vector<std::size_t> all_to_all(const std::vector<char>& send, const std::vector<std::size_t>& counts,
                                       std::vector<char>& recv) override {
@@ -96,18 +99,27 @@ class MpiComm final : public Comm {
       if (bytes == 0) break;
     }
   }
-  void exchange(int peer, const void* send, std::size_t send_bytes, void* recv, std::size_t recv_bytes) override {
-    const char* s = static_cast<const char*>(send);
-    char* r = static_cast<char*>(recv);
-    std::size_t so = 0, ro = 0;
-    do {
-      const int ns = static_cast<int>(std::min(kPiece, send_bytes - so));
-      const int nr = static_cast<int>(std::min(kPiece, recv_bytes - ro));
-      check(MPI_Sendrecv(s + so, ns, MPI_BYTE, peer, 17, r + ro, nr, MPI_BYTE, peer, 17, comm_, MPI_STATUS_IGNORE),
-            "exchange");
-      so += static_cast<std::size_t>(ns);
-      ro += static_cast<std::size_t>(nr);
-    } while (so < send_bytes || ro < recv_bytes);
+  using Comm::exchange;
+  void exchange(const Exchange* with, int n) override {
+    // Receives posted first, then the sends, each in pieces whose count fits an int.
+    std::vector<MPI_Request> req;
+    for (int i = 0; i < n; ++i)
+      for (std::size_t o = 0; o < with[i].recv_bytes; o += kPiece) {
+        req.emplace_back();
+        check(MPI_Irecv(static_cast<char*>(with[i].recv) + o,
+                        static_cast<int>(std::min(kPiece, with[i].recv_bytes - o)), MPI_BYTE, with[i].peer, 17, comm_,
+                        &req.back()),
+              "exchange receive");
+      }
+    for (int i = 0; i < n; ++i)
+      for (std::size_t o = 0; o < with[i].send_bytes; o += kPiece) {
+        req.emplace_back();
+        check(MPI_Isend(static_cast<const char*>(with[i].send) + o,
+                        static_cast<int>(std::min(kPiece, with[i].send_bytes - o)), MPI_BYTE, with[i].peer, 17, comm_,
+                        &req.back()),
+              "exchange send");
+      }
+    check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "exchange");
   }
   std::vector<std::size_t> all_to_all(const std::vector<char>& send, const std::vector<std::size_t>& counts,
                                       std::vector<char>& recv) override {

@@ -149,34 +149,49 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
   if (fields.count == 0) return;
   const int ax = decomp_.axis;
   const int me = comm_->rank();
-  // Two rounds, whatever the number of ranks: even ranks meet their upper neighbour first
-  // and odd ranks their lower one, so the pairs (0, 1), (2, 3), ... exchange at once, then
-  // (1, 2), (3, 4), ... (with the lower neighbour first on every rank, each pair waited for
-  // the one below it: a chain as long as the ranks). A rank's two slabs are disjoint (a box
-  // is at least the halo wide), so the order of their sums changes no bit.
-  const int first = me % 2 == 0 ? me + 1 : me - 1, second = me % 2 == 0 ? me - 1 : me + 1;
-  for (int peer : {first, second}) {
+  // Both neighbours at once: the slabs shared with each are packed side by side into one
+  // block, copied to the host in one copy, exchanged with both in flight together, copied
+  // back in one copy and added. A rank's two slabs are disjoint (a box is at least the halo
+  // wide), so the order of their sums changes no bit, and no pair waits for another.
+  struct Slab {
+    int peer, lo, hi;
+    std::size_t offset, n;
+  };
+  Slab slab[2];
+  int count = 0;
+  std::size_t total = 0;
+  for (int peer : {me - 1, me + 1}) {
     if (peer < 0 || peer >= comm_->size()) continue;
     int lo = 0, hi = 0;
     decomp_.overlap(peer, lo, hi);
     if (hi <= lo) continue;
-    // One contiguous block per neighbour: packed on the backend, sent through the host.
     const std::size_t n = static_cast<std::size_t>(slab_size<D>(grid_, ax, lo, hi) * fields.count);
-    if (halo_buffer_.size() < n) halo_buffer_.resize(n, exec_.device);
-    halo_send_.reserve(n);
-    halo_recv_.reserve(n);
-    pack_slab<D>(exec_, grid_, ax, lo, hi, fields, halo_buffer_.data());
-    mem::synchronize(exec_.device);
-    mem::copy(halo_send_.data(), Device::cpu, halo_buffer_.data(), exec_.device, n * sizeof(Real));
-    comm_->exchange(peer, halo_send_.data(), n * sizeof(Real), halo_recv_.data(), n * sizeof(Real));
-    mem::copy(halo_buffer_.data(), exec_.device, halo_recv_.data(), Device::cpu, n * sizeof(Real));
-    mem::synchronize(exec_.device);  // the copy landed before the stream's kernel reads it
+    slab[count++] = Slab{peer, lo, hi, total, n};
+    total += n;
+  }
+  if (count == 0) return;
+  if (halo_buffer_.size() < total) halo_buffer_.resize(total, exec_.device);
+  halo_send_.reserve(total);
+  halo_recv_.reserve(total);
+  for (int i = 0; i < count; ++i)
+    pack_slab<D>(exec_, grid_, ax, slab[i].lo, slab[i].hi, fields, halo_buffer_.data() + slab[i].offset);
+  mem::synchronize(exec_.device);
+  mem::copy(halo_send_.data(), Device::cpu, halo_buffer_.data(), exec_.device, total * sizeof(Real));
+  Comm::Exchange with[2];
+  for (int i = 0; i < count; ++i)
+    with[i] = Comm::Exchange{slab[i].peer, halo_send_.data() + slab[i].offset, slab[i].n * sizeof(Real),
+                             halo_recv_.data() + slab[i].offset, slab[i].n * sizeof(Real)};
+  comm_->exchange(with, count);
+  mem::copy(halo_buffer_.data(), exec_.device, halo_recv_.data(), Device::cpu, total * sizeof(Real));
+  mem::synchronize(exec_.device);  // the copy landed before the stream's kernel reads it
+  for (int i = 0; i < count; ++i) {
     // Both ranks add the same two partial sums: their copies of a shared node are equal bit for bit.
-    add_slab<D>(exec_, grid_, ax, lo, hi, fields, halo_buffer_.data());
-    if (!policy_.sparse()) continue;
+    add_slab<D>(exec_, grid_, ax, slab[i].lo, slab[i].hi, fields, halo_buffer_.data() + slab[i].offset);
     // The sparse grid update visits only stamped tiles: the shared slab's may hold sums
     // that only the neighbour's points made.
-    stamp_slab_tiles<D>(exec_, grid_, ax, lo, hi, tile_stamps_[set].data(), tile_stamp(host_ctl_.step[parity()]));
+    if (policy_.sparse())
+      stamp_slab_tiles<D>(exec_, grid_, ax, slab[i].lo, slab[i].hi, tile_stamps_[set].data(),
+                          tile_stamp(host_ctl_.step[parity()]));
   }
 }
 

@@ -37,9 +37,22 @@ class SCREE_API Comm {
   virtual void max(std::uint64_t* v, int n) = 0;
   /// `bytes` of `data` from `root` to every rank.
   virtual void broadcast(void* data, std::size_t bytes, int root) = 0;
-  /// Send `send_bytes` to rank `peer` and receive `recv_bytes` from it (both sides call
-  /// with their own sizes; the sizes must match pairwise).
-  virtual void exchange(int peer, const void* send, std::size_t send_bytes, void* recv, std::size_t recv_bytes) = 0;
+  /// One message each way between this rank and `peer`.
+  struct Exchange {
+    int peer;
+    const void* send;
+    std::size_t send_bytes;
+    void* recv;
+    std::size_t recv_bytes;
+  };
+  /// Every message of `with` sent and received at once, each to and from its own peer (both
+  /// sides of a pair call with their own sizes; the sizes must match pairwise). Returns when
+  /// all have arrived: a rank with two neighbours waits for the slower, not for both in turn.
+  virtual void exchange(const Exchange* with, int n) = 0;
+  void exchange(int peer, const void* send, std::size_t send_bytes, void* recv, std::size_t recv_bytes) {
+    const Exchange e{peer, send, send_bytes, recv, recv_bytes};
+    exchange(&e, 1);
+  }
   /// Every rank sends counts[r] bytes of `send` (in rank order) to rank r and receives
   /// into `recv` what every rank sent it, in rank order; returns the bytes from each rank.
   virtual std::vector<std::size_t> all_to_all(const std::vector<char>& send, const std::vector<std::size_t>& counts,
