@@ -65,6 +65,12 @@ std::int64_t series_index(const std::string& file, const std::string& prefix, co
   return std::stoll(std::string(mid));
 }
 
+/// The index of a particle frame of the series: <prefix><k>.vtp (one file) or
+/// <prefix><k>.pvtp (the pieces of a decomposed run); -1 for any other name.
+std::int64_t frame_index(const std::string& file, const std::string& prefix) {
+  return std::max(series_index(file, prefix, ".vtp"), series_index(file, prefix, ".pvtp"));
+}
+
 /// VTK component names: vectors X Y Z; symmetric tensors in VTK's order XX YY ZZ XY YZ XZ
 /// (the snapshot's Voigt order xx yy zz xy yz zx, with zx = xz).
 void name_components(vtkDataArray* a, int components) {
@@ -271,7 +277,7 @@ void VtkWriter::start_series() {
     grid_series_.load();
     const double eps = 1e-9 * std::max(1.0, start_time_);
     for (const auto& e : particles_.entries())
-      if (e.time < start_time_ - eps) index_ = std::max(index_, series_index(e.file, vtp_prefix, ".vtp") + 1);
+      if (e.time < start_time_ - eps) index_ = std::max(index_, frame_index(e.file, vtp_prefix) + 1);
     for (const auto& e : grid_series_.entries())
       if (e.time < start_time_ - eps) index_ = std::max(index_, series_index(e.file, grid_prefix, ".vti") + 1);
     // A run killed between a frame's rename and the rewrite of the .pvd left that frame
@@ -295,17 +301,21 @@ void VtkWriter::start_series() {
       temporary = true;
     }
     const bool series = f == name_ + ".pvd" || f == name_ + "_grid.pvd";
-    const bool frame = series_index(f, vtp_prefix, ".vtp") >= 0 || series_index(f, grid_prefix, ".vti") >= 0;
+    // A decomposed run's frame: <name>_<k>.pvtp and the folder <name>_<k>/ of its pieces.
+    const bool pieces = !temporary && series_index(f, vtp_prefix, "") >= 0 && de.is_directory(ec);
+    const bool frame = frame_index(f, vtp_prefix) >= 0 || series_index(f, grid_prefix, ".vti") >= 0 || pieces;
     if (!series && !frame) continue;
-    const bool stale = temporary || (start_time_ > 0 ? frame && !listed.count(f) : true);
-    if (stale) fs::remove(de.path(), ec);
+    const std::string listed_as = pieces ? f + ".pvtp" : f;
+    const bool stale = temporary || (start_time_ > 0 ? frame && !listed.count(listed_as) : true);
+    if (stale) fs::remove_all(de.path(), ec);
   }
   started_ = true;
 }
 
 void VtkWriter::list_unlisted_frame(PvdSeries& series, const std::string& prefix, const std::string& suffix) {
   std::int64_t last = -1;
-  for (const auto& e : series.entries()) last = std::max(last, series_index(e.file, prefix, suffix));
+  for (const auto& e : series.entries())
+    last = std::max(last, suffix == ".vtp" ? frame_index(e.file, prefix) : series_index(e.file, prefix, suffix));
   const std::string file = prefix + std::to_string(last + 1) + suffix;
   std::ifstream in(dir_ / file, std::ios::binary);
   if (!in) return;
@@ -390,15 +400,10 @@ void VtkWriter::write(const Snapshot& s) {
     if (!resolved_) resolve_fields(s);
     const std::string base = name_ + "_" + std::to_string(index_);
     const fs::path vtp = dir_ / (base + ".vtp");
-    write_file_atomically(vtp, [&](const fs::path& tmp) { write_particles(s, tmp); });
+    write_file_atomically(vtp, [&](const fs::path& tmp) { write_particles(s, tmp, vtp); });
     particles_.put(s.time, vtp.filename().string());
     particles_.save();
-    if (grid_ && s.has_grid) {
-      const fs::path vti = dir_ / (name_ + "_grid_" + std::to_string(index_) + ".vti");
-      write_file_atomically(vti, [&](const fs::path& tmp) { write_grid(s, tmp); });
-      grid_series_.put(s.time, vti.filename().string());
-      grid_series_.save();
-    }
+    write_grid_frame(s);
   } catch (const std::exception& e) {
     throw std::runtime_error("vtk writer '" + name_ + "': " + e.what());
   }
@@ -406,7 +411,94 @@ void VtkWriter::write(const Snapshot& s) {
   last_step_ = s.step;
 }
 
-void VtkWriter::write_particles(const Snapshot& s, const fs::path& tmp) const {
+void VtkWriter::write_grid_frame(const Snapshot& s) {
+  if (!grid_ || !s.has_grid) return;
+  const fs::path vti = dir_ / (name_ + "_grid_" + std::to_string(index_) + ".vti");
+  write_file_atomically(vti, [&](const fs::path& tmp) { write_grid(s, tmp, vti); });
+  grid_series_.put(s.time, vti.filename().string());
+  grid_series_.save();
+}
+
+// ------------------------------------------------------------------ pieces (decomposed runs)
+
+std::string VtkWriter::begin_frame(const Snapshot& header) {
+  if (index_ > 0 && header.step == last_step_) return {};  // the same state again (the final write)
+  try {
+    if (!started_) start_series();
+    if (!resolved_) resolve_fields(header);
+    const std::string frame = name_ + "_" + std::to_string(index_);
+    // A frame written again (a restart) starts from an empty folder: the pieces of another
+    // rank count must not stay beside the new ones.
+    std::error_code ec;
+    fs::remove_all(dir_ / frame, ec);
+    fs::create_directories(dir_ / frame, ec);
+    if (ec) throw std::runtime_error("cannot make " + (dir_ / frame).string() + ": " + ec.message());
+    return frame;
+  } catch (const std::exception& e) {
+    throw std::runtime_error("vtk writer '" + name_ + "': " + e.what());
+  }
+}
+
+void VtkWriter::write_piece(const Snapshot& local, const std::string& frame, int rank) {
+  if (frame.empty()) return;
+  try {
+    if (!resolved_) resolve_fields(local);
+    const fs::path piece = dir_ / frame / piece_name(frame, rank);
+    write_file_atomically(piece, [&](const fs::path& tmp) { write_particles(local, tmp, piece); });
+  } catch (const std::exception& e) {
+    throw std::runtime_error("vtk writer '" + name_ + "': rank " + std::to_string(rank) + ": " + e.what());
+  }
+}
+
+void VtkWriter::end_frame(const Snapshot& header, const std::string& frame, int ranks) {
+  if (frame.empty()) return;
+  try {
+    const fs::path pvtp = dir_ / (frame + ".pvtp");
+    write_file_atomically(pvtp, [&](const fs::path& tmp) { write_pieces_file(tmp, frame, ranks); });
+    particles_.put(header.time, pvtp.filename().string());
+    particles_.save();
+    write_grid_frame(header);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("vtk writer '" + name_ + "': " + e.what());
+  }
+  ++index_;
+  last_step_ = header.step;
+}
+
+std::string VtkWriter::piece_name(const std::string& frame, int rank) {
+  return frame + "_" + std::to_string(rank) + ".vtp";
+}
+
+void VtkWriter::write_pieces_file(const fs::path& tmp, const std::string& frame, int ranks) const {
+  // ParaView's parallel PolyData: the arrays every piece has (as write_particles makes
+  // them), then one Piece per rank, relative to this file.
+  const char* real = single_ ? "Float32" : "Float64";
+  auto has = [&](const char* n) {
+    return std::any_of(columns_.begin(), columns_.end(), [&](const Column& c) { return c.name == n; });
+  };
+  std::ofstream out(tmp);
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      << "  <PPolyData GhostLevel=\"0\">\n"
+      << "    <PPointData" << (has("velocity") ? " Vectors=\"velocity\"" : "")
+      << (has("stress") ? " Tensors=\"stress\"" : "") << ">\n"
+      << "      <PDataArray type=\"Int64\" Name=\"particleId\"/>\n"
+      << "      <PDataArray type=\"Int32\" Name=\"bodyId\"/>\n";
+  for (const Column& c : columns_)
+    out << "      <PDataArray type=\"" << real << "\" Name=\"" << xml_escape(c.name) << "\" NumberOfComponents=\""
+        << c.components << "\"/>\n";
+  out << "    </PPointData>\n"
+      << "    <PPoints>\n"
+      << "      <PDataArray type=\"" << real << "\" NumberOfComponents=\"3\"/>\n"
+      << "    </PPoints>\n";
+  for (int r = 0; r < ranks; ++r)
+    out << "    <Piece Source=\"" << xml_escape(frame + "/" + piece_name(frame, r)) << "\"/>\n";
+  out << "  </PPolyData>\n</VTKFile>\n";
+  out.close();
+  if (!out) throw std::runtime_error("cannot write " + tmp.string());
+}
+
+void VtkWriter::write_particles(const Snapshot& s, const fs::path& tmp, const fs::path& target) const {
   std::vector<const BodySnapshot*> bodies;
   vtkIdType n = 0;
   for (const auto& b : s.bodies) {
@@ -501,10 +593,10 @@ void VtkWriter::write_particles(const Snapshot& s, const fs::path& tmp) const {
   vtkNew<vtkXMLPolyDataWriter> w;
   w->SetInputData(pd);
   configure(w.Get(), ascii_, compression_, level_);
-  run_writer(w.Get(), tmp, dir_ / (name_ + "_" + std::to_string(index_) + ".vtp"));
+  run_writer(w.Get(), tmp, target);
 }
 
-void VtkWriter::write_grid(const Snapshot& s, const fs::path& tmp) const {
+void VtkWriter::write_grid(const Snapshot& s, const fs::path& tmp, const fs::path& target) const {
   const GridSnapshot& g = s.grid;
   vtkNew<vtkImageData> img;
   img->SetDimensions(g.n[0], g.n[1], g.n[2]);
@@ -532,7 +624,7 @@ void VtkWriter::write_grid(const Snapshot& s, const fs::path& tmp) const {
   vtkNew<vtkXMLImageDataWriter> w;
   w->SetInputData(img);
   configure(w.Get(), ascii_, compression_, level_);
-  run_writer(w.Get(), tmp, dir_ / (name_ + "_grid_" + std::to_string(index_) + ".vti"));
+  run_writer(w.Get(), tmp, target);
 }
 
 }  // namespace scree::vtkio

@@ -9,6 +9,12 @@
 // bodyNames) tells them apart. With `grid yes`, the background grid goes to
 // <name>_grid_<index>.vti (image data: nodal mass and velocity) and <name>_grid.pvd.
 //
+// A run decomposed over several ranks writes, at each write time, one piece per rank,
+// <directory>/<name>_<index>/<name>_<index>_<rank>.vtp (the points that rank holds, every
+// array as above), and <directory>/<name>_<index>.pvtp that lists them; the .pvd lists the
+// .pvtp files, so ParaView opens the series as one dataset. The grid is gathered and
+// written whole, as above.
+//
 // Every file is written under a temporary name and renamed into place, so the output
 // directory never holds a half-written file. Point arrays carry the snapshot's fields
 // with their component counts (symmetric tensors: 6 components named XX YY ZZ XY YZ XZ,
@@ -40,6 +46,10 @@ class VtkWriter final : public Writer {
 
   void write(const Snapshot& s) override;
   bool wants_grid() const override { return grid_; }
+  bool writes_pieces() const override { return true; }
+  std::string begin_frame(const Snapshot& header) override;
+  void write_piece(const Snapshot& local, const std::string& frame, int rank) override;
+  void end_frame(const Snapshot& header, const std::string& frame, int ranks) override;
 
   /// A particle field chosen for output (resolved at the first write).
   struct Column {
@@ -54,8 +64,13 @@ class VtkWriter final : public Writer {
   /// never listed (a kill between its rename and the .pvd's rewrite), listed and saved.
   void list_unlisted_frame(PvdSeries& series, const std::string& prefix, const std::string& suffix);
   void resolve_fields(const Snapshot& s);    // first write: the arrays to write
-  void write_particles(const Snapshot& s, const std::filesystem::path& file) const;
-  void write_grid(const Snapshot& s, const std::filesystem::path& file) const;
+  /// `tmp`: the file written; `target`: the name it will have (for messages).
+  void write_particles(const Snapshot& s, const std::filesystem::path& tmp, const std::filesystem::path& target) const;
+  void write_grid(const Snapshot& s, const std::filesystem::path& tmp, const std::filesystem::path& target) const;
+  void write_grid_frame(const Snapshot& s);  // <name>_grid_<index>.vti and its series, when asked
+  /// <frame>_<rank>.vtp, in the folder <frame>/ beside the frame's .pvtp.
+  static std::string piece_name(const std::string& frame, int rank);
+  void write_pieces_file(const std::filesystem::path& tmp, const std::string& frame, int ranks) const;
   bool body_selected(const BodySnapshot& b) const;
 
   std::string name_;            // the writer's name in controlDict (file prefix)

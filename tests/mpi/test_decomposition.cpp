@@ -242,6 +242,99 @@ TEST_P(Decomposed, FollowsTheUndecomposedRunAndKeepsEveryPoint) {
 INSTANTIATE_TEST_SUITE_P(Cases, Decomposed, ::testing::ValuesIn(setups()),
                          [](const auto& info) { return info.param.name; });
 
+/// The text of a file ("" when it cannot be read).
+std::string slurp(const fs::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// The values of attribute `name` of every element that has one, in order.
+std::vector<std::string> attributes(const std::string& xml, const std::string& name) {
+  std::vector<std::string> out;
+  const std::string key = " " + name + "=\"";
+  for (std::size_t at = xml.find(key); at != std::string::npos; at = xml.find(key, at + 1)) {
+    const std::size_t b = at + key.size();
+    out.push_back(xml.substr(b, xml.find('"', b) - b));
+  }
+  return out;
+}
+
+/// The numbers of the ASCII DataArray named `name` of a .vtp.
+std::vector<double> ascii_array(const std::string& vtp, const std::string& name) {
+  std::vector<double> v;
+  const std::size_t at = vtp.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) return v;
+  const std::size_t b = vtp.find('>', at) + 1, e = vtp.find("</DataArray>", b);
+  std::istringstream in(vtp.substr(b, e - b));
+  for (double x; in >> x;) v.push_back(x);
+  return v;
+}
+
+/// Every file a .pvd lists exists, and every piece of a listed .pvtp; returns the files.
+std::vector<std::string> expect_complete_series(const fs::path& pvd) {
+  const std::vector<std::string> files = attributes(slurp(pvd), "file");
+  for (const std::string& f : files) {
+    const fs::path frame = pvd.parent_path() / f;
+    EXPECT_TRUE(fs::exists(frame)) << pvd << " lists " << f << ", which is missing";
+    if (frame.extension() == ".pvtp")
+      for (const std::string& piece : attributes(slurp(frame), "Source"))
+        EXPECT_TRUE(fs::exists(pvd.parent_path() / piece)) << frame << " lists " << piece << ", which is missing";
+  }
+  return files;
+}
+
+TEST(DecomposedOutput, EveryRankWritesItsPointsAsAPieceOfOneDataset) {
+  // The vtk writer of a decomposed run: one piece per rank and a .pvtp per write time that
+  // lists them, the .pvtp files in one .pvd. Over the pieces of a frame, every id once, and
+  // each piece the points of one rank only (positions in disjoint ranges along the cut).
+  Variant s = setups()[0];
+  s.control = "endTime 0.1; deltaT 2e-4; writeInterval 0.05; writers { particles { type vtk; format ascii; "
+              "fields (velocity); } }";
+  SharedCase c("pieces");
+  write_case(c, s);
+  Snapshot whole;
+  {
+    Case cs = Case::read(c.dir(), runtime());
+    Simulation sim(cs, runtime(), opts(world(), true));
+    sim.run();
+    whole = sim.snapshot();
+  }
+  if (!is_root()) return;
+  const int R = world_comm().size();
+  const std::vector<std::string> frames = expect_complete_series(c.dir() / "VTK/particles.pvd");
+  ASSERT_EQ(frames.size(), 3u) << "t = 0, 0.05, 0.1";
+  for (const std::string& f : frames) {
+    ASSERT_EQ(fs::path(f).extension(), ".pvtp") << f;
+    const std::vector<std::string> pieces = attributes(slurp(c.dir() / "VTK" / f), "Source");
+    ASSERT_EQ(pieces.size(), static_cast<std::size_t>(R)) << f;
+    std::vector<std::int64_t> ids;
+    std::vector<std::pair<double, double>> range;  // each piece's extent along x
+    for (const std::string& p : pieces) {
+      const std::string vtp = slurp(c.dir() / "VTK" / p);
+      const std::vector<double> id = ascii_array(vtp, "particleId");
+      const std::vector<double> xyz = ascii_array(vtp, "Points");
+      ASSERT_EQ(xyz.size(), 3 * id.size()) << p;
+      double lo = INFINITY, hi = -INFINITY;
+      for (std::size_t k = 0; k < id.size(); ++k) {
+        ids.push_back(static_cast<std::int64_t>(id[k]));
+        lo = std::min(lo, xyz[3 * k]);
+        hi = std::max(hi, xyz[3 * k]);
+      }
+      if (!id.empty()) range.emplace_back(lo, hi);
+    }
+    std::sort(ids.begin(), ids.end());
+    std::vector<std::int64_t> expect = whole.bodies[0].id;
+    std::sort(expect.begin(), expect.end());
+    EXPECT_EQ(ids, expect) << f << ": the pieces do not hold every point once";
+    std::sort(range.begin(), range.end());
+    for (std::size_t k = 1; k < range.size(); ++k)
+      EXPECT_LE(range[k - 1].second, range[k].first) << f << ": two pieces overlap along the cut";
+    EXPECT_GE(range.size(), 2u) << f << ": the points were not shared among the ranks";
+  }
+}
+
 TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
   Variant s = setups()[0];
   s.control =
@@ -282,6 +375,7 @@ TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
   std::stringstream ss;
   ss << in.rdbuf();
   EXPECT_EQ(ss.str(), front_whole) << "the run-out CSV after the restart";
+  EXPECT_EQ(expect_complete_series(c.dir() / "VTK/particles.pvd").size(), 5u) << "t = 0, 0.05, ..., 0.2";
 }
 
 TEST(DecomposedRestart, ContinuesOnOneRankWithinRoundOff) {

@@ -74,11 +74,25 @@ OutputSchedule::Due OutputSchedule::due(double t, std::int64_t step, bool force_
   return d;
 }
 
+std::vector<Writer*> OutputSchedule::piece_writers() const {
+  std::vector<Writer*> ws;
+  for (auto& w : writers_)
+    if (w->writes_pieces()) ws.push_back(w.get());
+  return ws;
+}
+
+bool OutputSchedule::gathers(const Due& d) const {
+  if (!d.functions.empty()) return true;
+  if (!d.write) return false;
+  return std::any_of(writers_.begin(), writers_.end(), [&](auto& w) { return !decomposed_ || !w->writes_pieces(); });
+}
+
 void OutputSchedule::submit(const Due& d, std::shared_ptr<Snapshot> snap,
                             std::vector<std::function<void(BodySnapshot&)>> finish) {
   std::vector<Writer*> ws;
   if (d.write)
-    for (auto& w : writers_) ws.push_back(w.get());
+    for (auto& w : writers_)
+      if (!decomposed_ || !w->writes_pieces()) ws.push_back(w.get());
   std::vector<FunctionObject*> fs;
   for (auto i : d.functions) fs.push_back(functions_[i].get());
   thread_->submit([snap, finish = std::move(finish), ws, fs] {

@@ -52,6 +52,15 @@ class OutputSchedule {
   };
   Due due(double t, std::int64_t step, bool force_all) const;
 
+  /// A run decomposed over several ranks: the writers that write pieces (Writer::writes_pieces)
+  /// are driven by the solver on every rank, and submit() leaves them out.
+  void set_decomposed() { decomposed_ = true; }
+  /// The writers of pieces (in the case's order), for the solver to drive.
+  std::vector<Writer*> piece_writers() const;
+  /// Whether what is due needs the whole case on the root: a function object, or a writer
+  /// that does not write pieces (every writer in a run of one rank).
+  bool gathers(const Due& d) const;
+
   /// Run what is due on the output thread. `finish[i]`, if given, completes body i of the
   /// snapshot there first (an asynchronous copy off the device).
   void submit(const Due& d, std::shared_ptr<Snapshot> snap,
@@ -87,6 +96,7 @@ class OutputSchedule {
   std::vector<Scheduled> function_schedule_;
   Scheduled write_schedule_;
   bool wants_grid_ = false;
+  bool decomposed_ = false;
   std::unique_ptr<OutputThread> thread_;
 };
 

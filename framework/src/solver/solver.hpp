@@ -193,6 +193,13 @@ class Solver {
   std::int64_t migration_steps() const;
   /// The whole snapshot on the root rank (each rank's points; the grid's owned nodes).
   void gather_snapshot(Snapshot& s);
+  /// The writers of pieces at a write time (Writer::begin_frame, write_piece): every rank
+  /// writes the points it holds; returns the frames, in the order of piece_writers_, once
+  /// every rank's piece is in place.
+  std::vector<std::string> write_pieces(const Snapshot& local);
+  /// A collective: when any rank's `error` is not empty, every rank throws the first such
+  /// rank's, named by its rank.
+  void agree_error(const std::string& error);
   /// Every rank's blocks of the bodies concatenated (root), and the clock's sums.
   void gather_checkpoint(Checkpoint& ck);
   void gather_grid(Snapshot& s);
@@ -272,6 +279,10 @@ class Solver {
 
   // Output, progress and statistics
   std::unique_ptr<OutputSchedule> output_;
+  // A decomposed run's writers of pieces (Writer::writes_pieces): the root's are in output_,
+  // the other ranks own theirs.
+  std::vector<Writer*> piece_writers_;
+  std::vector<std::unique_ptr<Writer>> own_piece_writers_;
   std::int64_t writes_ = 0;          // write times since startTime (the first not counted)
   bool first_output_ = true;         // the run's first output (the initial or restart state)
   double checkpoint_time_ = -1;      // the time of the last checkpoint this run wrote

@@ -72,9 +72,12 @@ void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
 
 template <int D>
 void Solver<D>::output_ranks(const OutputSchedule::Due& due, bool checkpoint, const std::vector<double>& schedule) {
+  // What the root's schedule found due: the writers of pieces write on every rank; the
+  // function objects and any other writer get the whole case gathered on the root.
   struct {
-    bool write, grid, checkpoint;
-  } agreed{due.any(), due.with_grid, checkpoint};
+    bool write, pieces, gather, grid, checkpoint;
+  } agreed{due.any(), due.write && !piece_writers_.empty(), output_ && output_->gathers(due), due.with_grid,
+           checkpoint};
   comm_->broadcast(&agreed, sizeof agreed, 0);
   if (agreed.write || agreed.checkpoint) {  // the state written, every point in its owner's box
     flush();
@@ -83,12 +86,63 @@ void Solver<D>::output_ranks(const OutputSchedule::Due& due, bool checkpoint, co
   }
   const auto t0 = std::chrono::steady_clock::now();
   if (agreed.write) {
-    auto snap = std::make_shared<Snapshot>(snapshot(agreed.grid));  // gathered on the root
-    if (output_) output_->submit(due, std::move(snap), {});
+    auto snap = std::make_shared<Snapshot>(local_snapshot(agreed.grid));
+    std::vector<std::string> frames;
+    if (agreed.pieces) frames = write_pieces(*snap);
+    if (agreed.gather)
+      gather_snapshot(*snap);
+    else if (agreed.grid)
+      gather_grid(*snap);
+    if (root())
+      for (std::size_t i = 0; i < frames.size(); ++i) piece_writers_[i]->end_frame(*snap, frames[i], comm_->size());
+    if (agreed.gather && output_) output_->submit(due, std::move(snap), {});
   }
   if (agreed.checkpoint) write_checkpoint(schedule);
   output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (output_) output_->done(due, time(), step_);
+}
+
+template <int D>
+std::vector<std::string> Solver<D>::write_pieces(const Snapshot& local) {
+  std::vector<std::string> frames(piece_writers_.size());
+  std::string error;
+  if (root()) try {
+      for (std::size_t i = 0; i < frames.size(); ++i) frames[i] = piece_writers_[i]->begin_frame(local);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  agree_error(error);
+  for (std::string& f : frames) {  // each frame's name from the root
+    std::uint64_t len = f.size();
+    comm_->broadcast(&len, sizeof len, 0);
+    f.resize(len);
+    comm_->broadcast(f.data(), len, 0);
+  }
+  try {
+    for (std::size_t i = 0; i < frames.size(); ++i) piece_writers_[i]->write_piece(local, frames[i], comm_->rank());
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  agree_error(error);  // every rank's piece is in place
+  return frames;
+}
+
+template <int D>
+void Solver<D>::agree_error(const std::string& error) {
+  const int R = comm_->size();
+  std::vector<std::uint64_t> failed(static_cast<std::size_t>(R), 0);
+  failed[static_cast<std::size_t>(comm_->rank())] = error.empty() ? 0 : 1;
+  comm_->sum(failed.data(), R);
+  int who = -1;
+  for (int r = 0; r < R && who < 0; ++r)
+    if (failed[static_cast<std::size_t>(r)] != 0) who = r;
+  if (who < 0) return;
+  std::string msg = comm_->rank() == who ? error : std::string();
+  std::uint64_t len = msg.size();
+  comm_->broadcast(&len, sizeof len, who);
+  msg.resize(len);
+  comm_->broadcast(msg.data(), len, who);
+  throw std::runtime_error("rank " + std::to_string(who) + " of " + std::to_string(R) + ": " + msg);
 }
 
 template <int D>
@@ -138,6 +192,7 @@ void Solver<D>::finish_output(CheckpointWhen checkpoint) {
   if (!opt_.output) return;
   output_due(true, checkpoint);
   if (output_) output_->finish();
+  for (auto& w : own_piece_writers_) w->finish();
 }
 
 template <int D>
@@ -224,6 +279,10 @@ template void Solver<2>::output_due(bool, CheckpointWhen);
 template void Solver<3>::output_due(bool, CheckpointWhen);
 template void Solver<2>::output_ranks(const OutputSchedule::Due&, bool, const std::vector<double>&);
 template void Solver<3>::output_ranks(const OutputSchedule::Due&, bool, const std::vector<double>&);
+template std::vector<std::string> Solver<2>::write_pieces(const Snapshot&);
+template std::vector<std::string> Solver<3>::write_pieces(const Snapshot&);
+template void Solver<2>::agree_error(const std::string&);
+template void Solver<3>::agree_error(const std::string&);
 template void Solver<2>::write_checkpoint(const std::vector<double>&);
 template void Solver<3>::write_checkpoint(const std::vector<double>&);
 template void Solver<2>::finish_output(CheckpointWhen);

@@ -71,7 +71,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   if (decomposed()) tuner_.reset();  // the ranks take the same kernels: no per-rank timing decides
   setup_boundaries();
   energy_ledger_ = opt_.energy_ledger;
-  if (opt_.output && root()) setup_output();  // a decomposed run writes from its root rank
+  if (opt_.output) setup_output();  // a decomposed run: the root's, and every rank's writers of pieces
   if (decomposed()) energy_ledger_ = comm_->max(static_cast<std::uint64_t>(energy_ledger_)) != 0;
   if (energy_ledger_ && split_ && !policy_.ledger_split) {  // the ledger's whole-pass kernel: no split to tune
     split_ = false;
@@ -181,6 +181,7 @@ void Solver<D>::restore(const Checkpoint& ck) {
 template <int D>
 Solver<D>::~Solver() {
   output_.reset();  // joins the output thread: writers finish before they are destroyed
+  own_piece_writers_.clear();
   graphs_.reset();
 #if defined(SCREE_HAVE_CUDA)
   if (stream_) cudaStreamDestroy(static_cast<cudaStream_t>(stream_));
@@ -353,6 +354,11 @@ void Solver<D>::setup_output() {
   std::vector<std::unique_ptr<Writer>> writers;
   for (const Entry* e : case_.writer_entries())
     writers.push_back(plugin_of(reg, PluginKind::writer, e->dict()).writer(e->dict(), named(ctx_, e->key())));
+  if (!root()) {  // a decomposed run's other ranks: only the writers of pieces
+    for (auto& w : writers)
+      if (w->writes_pieces()) piece_writers_.push_back(own_piece_writers_.emplace_back(std::move(w)).get());
+    return;
+  }
   std::vector<OutputSchedule::Function> functions;
   for (const Entry* e : case_.function_entries()) {
     const Dictionary& d = e->dict();
@@ -371,6 +377,10 @@ void Solver<D>::setup_output() {
   output_ = std::make_unique<OutputSchedule>(std::move(writers), std::move(functions),
                                              cs.write_control == WriteControl::timeStep, cs.write_interval,
                                              cs.time.start_time);
+  if (decomposed()) {
+    output_->set_decomposed();
+    piece_writers_ = output_->piece_writers();
+  }
 }
 
 template <int D>

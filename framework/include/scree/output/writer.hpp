@@ -40,6 +40,32 @@ class SCREE_API Writer {
   virtual void finish() {}
   /// Whether the writer wants grid fields in its snapshots.
   virtual bool wants_grid() const { return false; }
+
+  // A run decomposed over several ranks (docs/multi-gpu.md). A writer whose
+  // writes_pieces() is true writes each rank's points as a piece of its own and a file
+  // that lists the pieces (ParaView's parallel formats), so that no rank holds the whole
+  // case; every rank has one. Any other writer gets the whole case gathered on the root
+  // and is called through write(). The solver drives a writer of pieces at a write time:
+  //
+  //   root:        frame = begin_frame(header)        "" skips the time (already written)
+  //   every rank:  write_piece(local, frame, rank)    the points the rank holds
+  //   root, once every rank's piece is in place:  end_frame(header, frame, ranks)
+  //
+  // `header` has the time, the step, the root's own points and, when wants_grid(), the
+  // whole grid. begin_frame and end_frame run on the root only; write_piece may throw
+  // (the run then stops on every rank with the message). None of them talks to the other
+  // ranks: the solver carries the frame's name and waits for the pieces.
+  virtual bool writes_pieces() const { return false; }
+  virtual std::string begin_frame(const Snapshot& header) {
+    (void)header;
+    return {};
+  }
+  virtual void write_piece(const Snapshot& local, const std::string& frame, int rank) {
+    (void)local, (void)frame, (void)rank;
+  }
+  virtual void end_frame(const Snapshot& header, const std::string& frame, int ranks) {
+    (void)header, (void)frame, (void)ranks;
+  }
 };
 
 /// Write a file through `fill(temporary_path)` then rename it into place, so that the
