@@ -376,6 +376,30 @@ TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
   ss << in.rdbuf();
   EXPECT_EQ(ss.str(), front_whole) << "the run-out CSV after the restart";
   EXPECT_EQ(expect_complete_series(c.dir() / "VTK/particles.pvd").size(), 5u) << "t = 0, 0.05, ..., 0.2";
+
+  // The checkpoints: a manifest with no points and one piece per rank.
+  const int R = world_comm().size();
+  const fs::path mid = checkpoint_file(c.dir(), 0.1), early = checkpoint_file(c.dir(), 0.05);
+  const Checkpoint manifest = Checkpoint::read(early, 0, 1);
+  EXPECT_EQ(manifest.pieces.size(), static_cast<std::size_t>(R));
+  for (int r = 0; r < R; ++r) EXPECT_TRUE(fs::exists(checkpoint_piece(early, r))) << "piece " << r;
+  EXPECT_LT(fs::file_size(early), fs::file_size(checkpoint_piece(early, 0))) << "the manifest holds points";
+  EXPECT_EQ(manifest.bodies[0].particles, static_cast<std::uint64_t>(whole.bodies[0].n));
+  // A piece lost: the checkpoint is refused, naming it.
+  fs::remove(checkpoint_piece(early, R - 1));
+  try {
+    Checkpoint::read(early, 0, 1);
+    ADD_FAILURE() << "a checkpoint with a piece missing was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(checkpoint_piece(early, R - 1).string() + " is missing"), std::string::npos)
+        << e.what();
+  }
+  // A run killed between the pieces and the manifest: the pieces without a manifest, older
+  // than the newest, go with the next purge; the newest's stay.
+  fs::remove(mid);
+  purge_checkpoints(c.dir(), 10);
+  EXPECT_FALSE(fs::exists(checkpoint_piece(mid, 0).parent_path()));
+  EXPECT_TRUE(fs::exists(checkpoint_piece(checkpoint_file(c.dir(), 0.2), 0)));
 }
 
 TEST(DecomposedRestart, ContinuesOnOneRankWithinRoundOff) {

@@ -153,6 +153,8 @@ void Checkpoint::write(const fs::path& file) const {
     o.text(key);
     o.text(value);
   }
+  o.pod<std::uint64_t>(pieces.size());
+  for (const std::string& p : pieces) o.text(p);
   Fnv sum;
   sum.add(o.buffer().data(), o.buffer().size());
   o.pod(sum.h);
@@ -179,7 +181,57 @@ void Checkpoint::write(const fs::path& file) const {
   });
 }
 
-Checkpoint Checkpoint::read(const fs::path& file) {
+namespace {
+Checkpoint read_one(const fs::path& file);
+}  // namespace
+
+Checkpoint Checkpoint::read(const fs::path& file, int rank, int ranks) {
+  Checkpoint c = read_one(file);
+  if (c.pieces.empty()) return c;
+  auto fail = [&](const std::string& why) {
+    throw std::runtime_error(file.string() + ": " + why + " (the checkpoint of a run over " +
+                             std::to_string(c.pieces.size()) + " ranks: a manifest and its pieces in " +
+                             checkpoint_piece(file, 0).parent_path().string() + ")");
+  };
+  // On as many ranks, each reads its own piece; otherwise every piece, in rank order.
+  const bool own = ranks > 1 && c.pieces.size() == static_cast<std::size_t>(ranks);
+  const std::size_t first = own ? static_cast<std::size_t>(rank) : 0;
+  const std::size_t last = own ? first + 1 : c.pieces.size();
+  std::vector<Checkpoint> part;
+  for (std::size_t r = first; r < last; ++r) {
+    const fs::path pf = file.parent_path() / c.pieces[r];
+    if (!fs::exists(pf)) fail("its piece " + pf.string() + " is missing");
+    part.push_back(read_one(pf));
+    const Checkpoint& p = part.back();
+    if (p.time != c.time || p.step != c.step || p.bodies.size() != c.bodies.size() || !p.pieces.empty())
+      fail("its piece " + pf.string() + " belongs to another checkpoint");
+    for (std::size_t b = 0; b < c.bodies.size(); ++b)
+      if (p.bodies[b].columns != c.bodies[b].columns)
+        fail("body '" + c.bodies[b].name + "' has another number of columns in " + pf.string());
+  }
+  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
+    Body& body = c.bodies[b];
+    std::uint64_t total = 0;
+    for (const Checkpoint& p : part) total += p.bodies[b].particles;
+    if (!own && total != body.particles)
+      fail("its pieces hold " + std::to_string(total) + " points of body '" + body.name + "', the manifest " +
+           std::to_string(body.particles));
+    // Column by column: every piece's points of the column, in rank order.
+    const std::size_t C = static_cast<std::size_t>(body.columns);
+    body.data.assign(static_cast<std::size_t>(total) * C, 0.0);
+    std::size_t at = 0;
+    for (const Checkpoint& p : part) {
+      const std::size_t n = static_cast<std::size_t>(p.bodies[b].particles);
+      for (std::size_t col = 0; col < C; ++col)
+        std::copy_n(p.bodies[b].data.data() + col * n, n, body.data.data() + col * total + at);
+      at += n;
+    }
+  }
+  return c;
+}
+
+namespace {
+Checkpoint read_one(const fs::path& file) {
   std::vector<unsigned char> buf;
   {
     std::ifstream in(file, std::ios::binary);
@@ -205,9 +257,9 @@ Checkpoint Checkpoint::read(const fs::path& file) {
     if (stored != sum.h) in.fail("its checksum does not match (the file was altered or cut)");
   }
   const auto version = in.pod<std::uint32_t>();
-  if (version < 1 || version > kVersion)
+  if (version < 1 || version > Checkpoint::kVersion)
     in.fail("format version " + std::to_string(version) + ", this scree reads versions 1 to " +
-            std::to_string(kVersion));
+            std::to_string(Checkpoint::kVersion));
   if (in.pod<std::uint32_t>() != sizeof(Real)) in.fail("written with another size of Real");
   if (in.pod<std::uint32_t>() != sizeof(StepControl))
     in.fail("written by a scree with another clock layout (StepControl): restart with the scree that wrote it");
@@ -223,15 +275,12 @@ Checkpoint Checkpoint::read(const fs::path& file) {
   const auto nb = in.pod<std::uint64_t>();
   if (nb > buf.size()) in.fail("a body count exceeds the file");
   for (std::uint64_t i = 0; i < nb; ++i) {
-    Body b;
+    Checkpoint::Body b;
     b.name = in.text();
     b.material_type = in.text();
     b.particles = in.pod<std::uint64_t>();
     b.columns = in.pod<std::uint64_t>();
     b.data = in.array<Real>();
-    if (b.columns == 0 || b.data.size() / b.columns != b.particles || b.data.size() % b.columns != 0)
-      in.fail("body '" + b.name + "' has " + std::to_string(b.data.size()) + " values, not " +
-              std::to_string(b.columns) + " x " + std::to_string(b.particles));
     c.bodies.push_back(std::move(b));
   }
   c.liquid = in.array<Real>();
@@ -247,8 +296,20 @@ Checkpoint Checkpoint::read(const fs::path& file) {
       c.physics.emplace_back(std::move(key), in.text());
     }
   }
+  if (version >= 4) {
+    const auto n = in.pod<std::uint64_t>();
+    if (n > buf.size()) in.fail("a piece count exceeds the file");
+    for (std::uint64_t i = 0; i < n; ++i) c.pieces.push_back(in.text());
+  }
+  for (const Checkpoint::Body& b : c.bodies) {  // a manifest's points are in its pieces
+    const std::uint64_t n = c.pieces.empty() ? b.particles : 0;
+    if (b.columns == 0 || b.data.size() / b.columns != n || b.data.size() % b.columns != 0)
+      in.fail("body '" + b.name + "' has " + std::to_string(b.data.size()) + " values, not " +
+              std::to_string(b.columns) + " x " + std::to_string(n));
+  }
   return c;
 }
+}  // namespace
 
 namespace {
 /// The dictionaries that define what a case computes (case_physics), by their file.
@@ -305,6 +366,20 @@ std::vector<InputError> physics_changes(const std::vector<std::pair<std::string,
 
 fs::path checkpoint_dir(const fs::path& case_dir) { return case_dir / "checkpoints"; }
 
+namespace {
+constexpr const char* kPieces = ".ranks";
+}  // namespace
+
+fs::path checkpoint_piece(const fs::path& file, int rank) {
+  return file.parent_path() / checkpoint_piece_relative(file, rank);
+}
+
+std::string checkpoint_piece_relative(const fs::path& file, int rank) {
+  const std::string name = file.filename().string();
+  const std::string stem = name.ends_with(kSuffix) ? name.substr(0, name.size() - std::strlen(kSuffix)) : name;
+  return stem + kPieces + "/" + std::to_string(rank) + kSuffix;
+}
+
 fs::path checkpoint_file(const fs::path& case_dir, double t) {
   return checkpoint_dir(case_dir) / (time_text(t) + kSuffix);
 }
@@ -325,7 +400,23 @@ std::vector<fs::path> list_checkpoints(const fs::path& case_dir) {
 void purge_checkpoints(const fs::path& case_dir, std::size_t keep) {
   const auto all = list_checkpoints(case_dir);
   std::error_code ec;
-  for (std::size_t i = 0; i + keep < all.size(); ++i) fs::remove(all[i], ec);
+  for (std::size_t i = 0; i + keep < all.size(); ++i) {
+    fs::remove(all[i], ec);
+    fs::remove_all(checkpoint_piece(all[i], 0).parent_path(), ec);
+  }
+  // Pieces whose manifest is gone, or was never written (a run killed in between), up to the
+  // newest manifest kept: a later checkpoint's pieces may be being written now. keep 0
+  // clears them all.
+  double newest = -1;
+  if (keep > 0 && !all.empty()) checkpoint_time(all.back(), newest);
+  for (const auto& de : fs::directory_iterator(checkpoint_dir(case_dir), ec)) {
+    const std::string name = de.path().filename().string();
+    if (!name.ends_with(kPieces) || !de.is_directory(ec)) continue;
+    const fs::path manifest = de.path().parent_path() / (name.substr(0, name.size() - std::strlen(kPieces)) + kSuffix);
+    double t = 0;
+    if (!checkpoint_time(manifest, t)) continue;
+    if (keep == 0 || (!fs::exists(manifest) && t < newest)) fs::remove_all(de.path(), ec);
+  }
   // Temporaries of a killed run: ".<time>.ckpt.tmp<pid>_<n>" (write_file_atomically).
   for (const auto& de : fs::directory_iterator(checkpoint_dir(case_dir), ec)) {
     const std::string target = atomic_temporary_target(de.path().filename().string());

@@ -460,27 +460,7 @@ void Solver<D>::gather_grid(Snapshot& s) {
 }
 
 template <int D>
-void Solver<D>::gather_checkpoint(Checkpoint& ck) {
-  for (Checkpoint::Body& b : ck.bodies) {
-    std::vector<std::size_t> counts;
-    std::vector<Real> all = comm_->gather_vector(b.data, 0, &counts);
-    if (!root()) continue;
-    // Column by column: every rank's points of the column, in rank order.
-    const std::size_t C = static_cast<std::size_t>(b.columns);
-    std::uint64_t total = 0;
-    for (std::size_t c : counts) total += c / C;
-    std::vector<Real> block(static_cast<std::size_t>(total) * C);
-    std::size_t at = 0, first = 0;
-    for (std::size_t r = 0; r < counts.size(); ++r) {
-      const std::size_t n = counts[r] / C;
-      for (std::size_t c = 0; c < C; ++c)
-        std::memcpy(block.data() + c * total + first, all.data() + at + c * n, n * sizeof(Real));
-      at += counts[r];
-      first += n;
-    }
-    b.data = std::move(block);
-    b.particles = total;
-  }
+void Solver<D>::reduce_checkpoint_clock(Checkpoint& ck) {
   // The clock's per-rank counts summed: the lost points and the energy ledger; its speed the largest.
   StepControl c{};
   std::memcpy(&c, ck.clock.data(), sizeof c);
@@ -521,7 +501,7 @@ template void Solver<2>::gather_snapshot(Snapshot&);
 template void Solver<3>::gather_snapshot(Snapshot&);
 template void Solver<2>::gather_grid(Snapshot&);
 template void Solver<3>::gather_grid(Snapshot&);
-template void Solver<2>::gather_checkpoint(Checkpoint&);
-template void Solver<3>::gather_checkpoint(Checkpoint&);
+template void Solver<2>::reduce_checkpoint_clock(Checkpoint&);
+template void Solver<3>::reduce_checkpoint_clock(Checkpoint&);
 
 }  // namespace scree

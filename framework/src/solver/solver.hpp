@@ -200,8 +200,9 @@ class Solver {
   /// A collective: when any rank's `error` is not empty, every rank throws the first such
   /// rank's, named by its rank.
   void agree_error(const std::string& error);
-  /// Every rank's blocks of the bodies concatenated (root), and the clock's sums.
-  void gather_checkpoint(Checkpoint& ck);
+  /// The clock of a checkpoint over the ranks: the lost points and the energy ledger
+  /// summed, the signal speed the largest.
+  void reduce_checkpoint_clock(Checkpoint& ck);
   void gather_grid(Snapshot& s);
   void sync_control_from_device();
   void sync_control_to_device();

@@ -172,14 +172,34 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
   }
   if (porous_) ck->liquid = porous_->save_state();
   checkpoint_time_ = ck->time;
+  const std::filesystem::path file = checkpoint_file(case_.dir(), ck->time), dir = case_.dir();
   if (decomposed()) {
     ck->cut_axis = decomp_.axis;
     ck->cuts.assign(decomp_.cuts.begin(), decomp_.cuts.end());
-    gather_checkpoint(*ck);  // one checkpoint of the whole case, written by the root
+    reduce_checkpoint_clock(*ck);
+    // Every rank writes the points it holds now; the root writes the manifest once every
+    // piece is on disk (agree_error waits for all), so a killed run leaves either the
+    // whole new checkpoint or none of it.
+    const std::filesystem::path piece = checkpoint_piece(file, comm_->rank());
+    std::string error;
+    try {
+      std::filesystem::create_directories(piece.parent_path());
+      ck->write(piece);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    agree_error(error);
+    std::vector<std::uint64_t> totals;
+    for (const Checkpoint::Body& b : ck->bodies) totals.push_back(b.particles);
+    comm_->sum(totals.data(), static_cast<int>(totals.size()));
     if (!output_) return;
+    for (std::size_t i = 0; i < ck->bodies.size(); ++i) {
+      ck->bodies[i].particles = totals[i];
+      ck->bodies[i].data.clear();
+    }
+    for (int r = 0; r < comm_->size(); ++r) ck->pieces.push_back(checkpoint_piece_relative(file, r));
   }
   // Written after the frames of this time (the output thread runs its jobs in order).
-  const std::filesystem::path file = checkpoint_file(case_.dir(), ck->time), dir = case_.dir();
   const std::size_t keep = static_cast<std::size_t>(settings_.control.checkpoint_keep);
   output_->submit_job([ck, file, dir, keep] {
     ck->write(file);

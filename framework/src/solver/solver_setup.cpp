@@ -48,7 +48,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   run_start_ = settings_.control.time.start_time;
   std::optional<Checkpoint> restart;
   if (!opt_.restart.empty()) {  // read first: the writers continue their series from its time
-    restart = Checkpoint::read(opt_.restart);
+    restart = Checkpoint::read(opt_.restart, comm_->rank(), comm_->size());
     run_start_ = ctx_.start_time = restart->time;
   }
   host_ctl_ = time_.initial();
@@ -142,7 +142,7 @@ void Solver<D>::restore(const Checkpoint& ck) {
                      std::to_string(columns));
     if (decomposed()) {  // this rank's points of the whole body
       Index kept = 0;
-      std::vector<Real> mine = keep_own(b.data, static_cast<Index>(b.particles), kept);
+      std::vector<Real> mine = keep_own(b.data, static_cast<Index>(b.data.size() / b.columns), kept);
       bodies_[i]->replace_state(mine, kept);
     } else {
       bodies_[i]->restore_state(b.data);

@@ -12,7 +12,8 @@
 // as it is in a fresh grid. A restarted CPU run on one thread equals the uninterrupted run
 // bit for bit (tests/verification/restart).
 //
-// Where: <case>/checkpoints/<time>.ckpt, <time> as %.12g ("0.25.ckpt"). Written at every
+// Where: <case>/checkpoints/<time>.ckpt, <time> as %.12g ("0.25.ckpt"); a decomposed run's
+// pieces in <case>/checkpoints/<time>.ranks/ (Checkpoint::pieces). Written at every
 // checkpointInterval-th write time, at endTime and when a run is stopped by a signal
 // (not after a failure: the newest checkpoint is then the last healthy write, the one to
 // restart from with a smaller step); the newest checkpointKeep are kept.
@@ -37,8 +38,9 @@
 namespace scree {
 
 struct SCREE_API Checkpoint {
-  /// 2: the decomposition's cuts; 3: the case's physics (versions 1 and 2 are read too).
-  static constexpr std::uint32_t kVersion = 3;
+  /// 2: the decomposition's cuts; 3: the case's physics; 4: the pieces of a decomposed run
+  /// (earlier versions are read too).
+  static constexpr std::uint32_t kVersion = 4;
 
   int dimension = 0;
   double time = 0;              ///< the clock [s]
@@ -64,12 +66,23 @@ struct SCREE_API Checkpoint {
   /// physics changed since (physics_changes). Empty in a checkpoint of version 1 or 2.
   std::vector<std::pair<std::string, std::string>> physics;
 
+  /// A decomposed run's checkpoint is a manifest and one piece per rank. Each rank writes
+  /// the points it holds to <time>.ranks/<rank>.ckpt (a checkpoint of its own, with the
+  /// same header); once every piece is on disk the root writes <time>.ckpt, the manifest:
+  /// the header, each body's total count and no points, and `pieces`, the pieces' paths
+  /// relative to its folder. A run killed before the manifest leaves the previous
+  /// checkpoint the newest; the pieces without a manifest are removed by the next purge.
+  std::vector<std::string> pieces;
+
   /// Write atomically (temporary, fsync, rename). Throws std::runtime_error naming the file
   /// on an I/O failure (disk full, not writable).
   void write(const std::filesystem::path& file) const;
   /// Read and verify (magic, version, sizes, checksum). Throws std::runtime_error naming the
-  /// file and what is wrong with it.
-  static Checkpoint read(const std::filesystem::path& file);
+  /// file and what is wrong with it. A manifest's pieces are read too, and each body's
+  /// points concatenated in rank order: all of them, or, when the manifest has `ranks`
+  /// pieces (a restart on as many ranks), only piece `rank`'s (Body::particles stays the
+  /// body's total; its data hold data.size() / columns points).
+  static Checkpoint read(const std::filesystem::path& file, int rank = 0, int ranks = 1);
 };
 
 class Case;
@@ -90,6 +103,10 @@ SCREE_API std::vector<InputError> physics_changes(const std::vector<std::pair<st
 
 /// <case>/checkpoints
 SCREE_API std::filesystem::path checkpoint_dir(const std::filesystem::path& case_dir);
+/// The piece of rank `rank` of the checkpoint `file` (<time>.ckpt): <time>.ranks/<rank>.ckpt
+/// beside it, and its path relative to the manifest's folder (Checkpoint::pieces).
+SCREE_API std::filesystem::path checkpoint_piece(const std::filesystem::path& file, int rank);
+SCREE_API std::string checkpoint_piece_relative(const std::filesystem::path& file, int rank);
 /// The file of a checkpoint at time t: <case>/checkpoints/<t as %.12g>.ckpt
 SCREE_API std::filesystem::path checkpoint_file(const std::filesystem::path& case_dir, double t);
 /// The time of a checkpoint file from its name (<time>.ckpt), or false when it is not one.
@@ -97,7 +114,9 @@ SCREE_API bool checkpoint_time(const std::filesystem::path& file, double& t);
 /// The checkpoints of a case (files named <time>.ckpt), oldest first by their time.
 SCREE_API std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& case_dir);
 /// Remove all but the newest `keep` checkpoints of a case (keep 0: every one; a run from
-/// startTime clears those of an earlier run), and the temporaries a killed run left.
+/// startTime clears those of an earlier run), with their pieces, and the temporaries a
+/// killed run left, with the pieces of a checkpoint whose manifest it never wrote (those
+/// older than the newest manifest: later ones may be being written).
 SCREE_API void purge_checkpoints(const std::filesystem::path& case_dir, std::size_t keep);
 
 }  // namespace scree
