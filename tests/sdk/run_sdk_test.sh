@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install Scree from the build tree into a temporary prefix, build the out-of-tree
 # neoHookean plugin against it, and run a small case with the installed scree loading
-# the plugin through SCREE_PLUGIN_PATH. Fails on any step.
+# the plugin through SCREE_PLUGIN_PATH; then a material from a shipped parameter set
+# (#includeEtc) checked by the installed scree. Fails on any step.
 #   run_sdk_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1; src=$2
@@ -33,4 +34,11 @@ echo 'floor { type fixed; face yMin; }' > "$case_dir/constant/boundaryConditions
 "$work/prefix/bin/scree" --case "$case_dir" --device cpu --threads 1
 test -f "$case_dir/VTK/particles.pvd"
 grep -q volumeRatio "$case_dir"/VTK/particles_1.vtp || { echo "plugin field missing in output"; exit 1; }
-echo "SDK test passed: installed Scree, out-of-tree plugin built, loaded and run"
+# The installed scree finds its shipped parameter sets (#includeEtc), away from the sources.
+cat > "$case_dir/constant/materialProperties" <<'D'
+rubber { type neoHookean; shearModulus 1e5; lameLambda 2e5; rho 1000; }
+sand { #includeEtc "materials/feng2025/table3-columnCollapse" integrationTolerance 1e-2; }
+D
+"$work/prefix/bin/scree" --case "$case_dir" --check > "$work/check.log" 2>&1 || { cat "$work/check.log"; exit 1; }
+test -f "$work/prefix/share/scree/etc/materials/feng2025/table3-columnCollapse"
+echo "SDK test passed: installed Scree, out-of-tree plugin built, loaded and run; its parameter sets found"

@@ -2,12 +2,14 @@
 
 #include "files.hpp"
 
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -115,6 +117,27 @@ fs::path identity_of(const fs::path& p) {
 const fs::path& OpenFile::identity() {
   if (!canonical) canonical = identity_of(path);
   return *canonical;
+}
+
+fs::path library_dir() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&library_dir), &info) && info.dli_fname)
+    return fs::absolute(fs::path(info.dli_fname)).parent_path();
+  return {};
+}
+
+std::vector<fs::path> etc_search_path() {
+  std::vector<fs::path> dirs;
+  if (const char* env = std::getenv("SCREE_ETC")) {
+    const std::string s(env);
+    for (std::size_t start = 0; start <= s.size();) {
+      const std::size_t end = std::min(s.find(':', start), s.size());
+      if (end > start) dirs.emplace_back(s.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  if (const fs::path lib = library_dir(); !lib.empty()) dirs.push_back((lib / SCREE_ETC_FROM_LIB).lexically_normal());
+  return dirs;
 }
 
 }  // namespace scree::reader

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace scree::reader {
 
@@ -29,6 +30,14 @@ std::string link_chain(const std::filesystem::path& path, const std::string& sho
 
 /// `p` made absolute and normal, for messages.
 std::string absolute_text(const std::filesystem::path& p);
+
+/// The folder of libscree itself: an installed tree, and the build tree that mirrors its
+/// layout, find the plugins (<lib>/scree/plugins) and the shipped dictionaries from it.
+std::filesystem::path library_dir();
+
+/// Where `#includeEtc "file"` looks, in order: the folders of SCREE_ETC (separated by
+/// ':'), then the shipped dictionaries (<prefix>/share/scree/etc, found from library_dir()).
+std::vector<std::filesystem::path> etc_search_path();
 
 /// A file being read: for include cycles, relative includes and display names.
 struct OpenFile {

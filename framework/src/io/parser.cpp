@@ -25,6 +25,7 @@
 // Every problem is reported as an InputError located at the offending token (or, for a
 // missing ';', just after the value that lacks it).
 
+#include <algorithm>
 #include <cstddef>
 #include <iterator>
 #include <memory>
@@ -157,8 +158,9 @@ class Parser {
   /// is replaced (a variant includes its base and changes a few entries).
   void add_written(const Token& key, Entry e) {
     Scope& scope = scopes_.back();
-    if (const Entry* earlier = scope.dict->find(key.text)) {
-      int& source = scope.sources[static_cast<std::size_t>(earlier - scope.dict->entries().data())];
+    if (const std::size_t at = scope.dict->position(key.text); at != Dictionary::npos) {
+      const Entry* earlier = &scope.dict->entries()[at];
+      int& source = scope.sources[at];
       if (source == source_ && !overwrite_)
         fail(key.where, shorten(key.text) + ": duplicate entry, already set at " + earlier->where().str() +
                             " (a key is set once per dictionary: remove one of them, or write "
@@ -173,8 +175,8 @@ class Parser {
   /// An entry copied by a `$name;` merge (source: that merge).
   void add_merged(Entry e, int source) {
     Scope& scope = scopes_.back();
-    if (const Entry* earlier = scope.dict->find(e.key()))
-      scope.sources[static_cast<std::size_t>(earlier - scope.dict->entries().data())] = source;
+    if (const std::size_t at = scope.dict->position(e.key()); at != Dictionary::npos)
+      scope.sources[at] = source;
     else
       scope.sources.push_back(source);
     scope.dict->set(std::move(e));
@@ -453,6 +455,12 @@ class Parser {
         fail(d.where, "expected a quoted file name after '#include', found " + describe(file));
       if (file.text.empty()) fail(file.where, "empty file name after '#include'");
       include(d, file.text);
+    } else if (d.text == "includeEtc") {
+      Token file = lx.next();
+      if (file.kind != Tok::string)
+        fail(d.where, "expected a quoted file name after '#includeEtc', found " + describe(file));
+      if (file.text.empty()) fail(file.where, "empty file name after '#includeEtc'");
+      include(d, etc_file(d, file.text).string());
     } else if (d.text == "inputMode") {
       Token mode = lx.next();
       if (mode.kind != Tok::word || (mode.text != "merge" && mode.text != "overwrite" && mode.text != "error"))
@@ -463,9 +471,32 @@ class Parser {
       overwrite_ = mode.text != "error";
     } else {
       fail(d.where, "unknown directive '#" + shorten(d.text) +
-                        "' (supported: #include \"file\"; #inputMode overwrite|merge|error)");
+                        "' (supported: #include \"file\"; #includeEtc \"file\"; #inputMode overwrite|merge|error)");
     }
     if (lx.peek().kind == Tok::semicolon) lx.next();
+  }
+
+  /// `#includeEtc "name"`: the first folder of etc_search_path() that has it.
+  fs::path etc_file(const Token& directive, const std::string& name) {
+    const std::vector<fs::path> dirs = etc_search_path();
+    std::string looked, shipped;
+    for (const fs::path& dir : dirs) {
+      std::error_code ec;
+      if (fs::is_regular_file(dir / name, ec)) return dir / name;
+      looked += (looked.empty() ? "" : ", ") + absolute_text(dir / name);
+      if (!fs::is_directory(dir, ec)) continue;
+      std::vector<std::string> files;
+      for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+           it.increment(ec))
+        if (it->is_regular_file(ec) && it->path().filename().string().rfind("README", 0) != 0)
+          files.push_back(it->path().lexically_relative(dir).string());
+      std::sort(files.begin(), files.end());
+      for (const std::string& f : files) shipped += (shipped.empty() ? "" : ", ") + f;
+    }
+    fail(directive.where, "cannot find '#includeEtc' file '" + name + "' (looked for " +
+                              (looked.empty() ? std::string("it nowhere: no folder is known") : looked) +
+                              "; SCREE_ETC adds folders, separated by ':')" +
+                              (shipped.empty() ? std::string() : ". Shipped: " + shipped));
   }
 
   void include(const Token& directive, const std::string& name) {

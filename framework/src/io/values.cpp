@@ -3,6 +3,7 @@
 // lookup by key.
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -467,18 +468,99 @@ std::size_t key_hash(std::string_view key) noexcept { return std::hash<std::stri
 
 }  // namespace
 
-const Entry* Dictionary::find(std::string_view key) const noexcept {
+// ---------------------------------------------------------------------------------------
+
+Entry* EntryList::slot(std::size_t i) const noexcept {
+  if (i < kSmall) return small_ + i;
+  // Block b starts at entry 2^(b + kSmallBits): the bit length of i gives it.
+  const int b = static_cast<int>(std::bit_width(i)) - 1;
+  return blocks_[static_cast<std::size_t>(b - kSmallBits)] + (i - (std::size_t(1) << b));
+}
+
+void EntryList::push_back(Entry e) {
+  if (size_ < kSmall) {
+    if (size_ == small_capacity_) {  // grown as a vector grows: moved into twice the room
+      const std::size_t room = std::min(kSmall, std::max<std::size_t>(1, 2 * small_capacity_));
+      auto* grown = static_cast<Entry*>(::operator new(room * sizeof(Entry)));
+      for (std::size_t k = 0; k < size_; ++k) {
+        new (grown + k) Entry(std::move(small_[k]));
+        small_[k].~Entry();
+      }
+      ::operator delete(small_);
+      small_ = grown;
+      small_capacity_ = room;
+    }
+    new (small_ + size_) Entry(std::move(e));
+  } else {
+    const int b = static_cast<int>(std::bit_width(size_)) - 1;
+    if (static_cast<std::size_t>(b - kSmallBits) == blocks_.size())  // a new block: its pages touched as filled
+      blocks_.push_back(static_cast<Entry*>(::operator new(sizeof(Entry) << b)));
+    new (blocks_.back() + (size_ - (std::size_t(1) << b))) Entry(std::move(e));
+  }
+  ++size_;
+}
+
+void EntryList::clear() noexcept {
+  for (std::size_t i = 0; i < size_; ++i) slot(i)->~Entry();
+  ::operator delete(small_);
+  for (Entry* b : blocks_) ::operator delete(b);
+  small_ = nullptr;
+  small_capacity_ = 0;
+  blocks_.clear();
+  size_ = 0;
+}
+
+EntryList::~EntryList() { clear(); }
+
+EntryList::EntryList(const EntryList& other) {
+  for (const Entry& e : other) push_back(e);
+}
+
+EntryList::EntryList(EntryList&& other) noexcept
+    : small_(std::exchange(other.small_, nullptr)),
+      small_capacity_(std::exchange(other.small_capacity_, 0)),
+      blocks_(std::move(other.blocks_)),
+      size_(std::exchange(other.size_, 0)) {
+  other.blocks_.clear();
+}
+
+EntryList& EntryList::operator=(const EntryList& other) {
+  if (this != &other) {
+    EntryList copy(other);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+
+EntryList& EntryList::operator=(EntryList&& other) noexcept {
+  if (this != &other) {
+    clear();
+    small_ = std::exchange(other.small_, nullptr);
+    small_capacity_ = std::exchange(other.small_capacity_, 0);
+    blocks_ = std::move(other.blocks_);
+    other.blocks_.clear();
+    size_ = std::exchange(other.size_, 0);
+  }
+  return *this;
+}
+
+std::size_t Dictionary::position(std::string_view key) const noexcept {
   if (index_.empty()) {
-    for (const Entry& e : entries_)
-      if (e.key() == key) return &e;
-    return nullptr;
+    for (std::size_t p = 0; p < entries_.size(); ++p)
+      if (entries_[p].key() == key) return p;
+    return npos;
   }
   const std::size_t mask = index_.size() - 1;
   for (std::size_t slot = key_hash(key) & mask;; slot = (slot + 1) & mask) {
     const std::uint32_t p = index_[slot];
-    if (p == 0) return nullptr;
-    if (entries_[p - 1].key() == key) return &entries_[p - 1];
+    if (p == 0) return npos;
+    if (entries_[p - 1].key() == key) return p - 1;
   }
+}
+
+const Entry* Dictionary::find(std::string_view key) const noexcept {
+  const std::size_t p = position(key);
+  return p == npos ? nullptr : &entries_[p];
 }
 
 /// Slots for all entries at most three quarters full (linear probing stays short).

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <set>
 
+#include "../io/files.hpp"
 #include "scree/plugin/plugin_api_names.hpp"
 
 namespace fs = std::filesystem;
@@ -55,13 +56,6 @@ std::string dlopen_refusal(const fs::path& path, const std::string& fallback) {
   if (why.compare(0, prefix.size(), prefix) == 0) why.erase(0, prefix.size());
   return why;
 }
-/// Directory of libscree.so itself (so an installed tree finds <prefix>/lib/scree/plugins).
-fs::path core_library_dir() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&core_library_dir), &info) && info.dli_fname)
-    return fs::absolute(fs::path(info.dli_fname)).parent_path();
-  return {};
-}
 }  // namespace
 
 std::vector<fs::path> PluginRuntime::search_path() const {
@@ -75,7 +69,7 @@ std::vector<fs::path> PluginRuntime::search_path() const {
       start = end + 1;
     }
   }
-  const fs::path lib = core_library_dir();
+  const fs::path lib = reader::library_dir();
   if (!lib.empty()) dirs.push_back(lib / "scree" / "plugins");
   return dirs;
 }

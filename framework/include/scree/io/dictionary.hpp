@@ -16,6 +16,10 @@
 //                                 a sub-dictionary's entries are merged in.
 //                                 `${name}` is the same as `$name`.
 //   #include "file"               file relative to the including file's directory
+//   #includeEtc "file"            a file shipped with scree (share/scree/etc of the
+//                                 installation, or a folder of SCREE_ETC): documented
+//                                 parameter sets, `#includeEtc "materials/feng2025/
+//                                 table3-columnCollapse"` inside a material's { }
 //   #inputMode overwrite|merge|error   how the rest of this file treats a repeated key
 //
 // A key may be set once per dictionary by the file that writes it: a second `endTime`
@@ -37,6 +41,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <span>
@@ -219,6 +224,74 @@ class SCREE_API Entry {
   Item value_;
 };
 
+/// The entries of a dictionary, in order. The first kSmall are held as a vector holds them
+/// (a dictionary of a few entries costs what a vector costs); beyond, in blocks of
+/// kSmall, 2 kSmall, 4 kSmall, ... entries that never move once made, so that a dictionary
+/// of millions of entries grows without copying them: its peak memory is its size, not the
+/// twice its size of a vector that reallocates.
+class SCREE_API EntryList {
+ public:
+  EntryList() = default;
+  EntryList(const EntryList& other);
+  EntryList(EntryList&& other) noexcept;
+  EntryList& operator=(const EntryList& other);
+  EntryList& operator=(EntryList&& other) noexcept;
+  ~EntryList();
+
+  std::size_t size() const noexcept { return size_; }
+  bool empty() const noexcept { return size_ == 0; }
+  const Entry& operator[](std::size_t i) const noexcept { return *slot(i); }
+  Entry& operator[](std::size_t i) noexcept { return *slot(i); }
+  const Entry& front() const noexcept { return *slot(0); }
+  const Entry& back() const noexcept { return *slot(size_ - 1); }
+  void push_back(Entry e);
+
+  template <class E, class L>
+  class basic_iterator {
+   public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = Entry;
+    using difference_type = std::ptrdiff_t;
+    using pointer = E*;
+    using reference = E&;
+    basic_iterator() = default;
+    basic_iterator(L* list, std::size_t i) : list_(list), i_(i) {}
+    reference operator*() const { return (*list_)[i_]; }
+    pointer operator->() const { return &(*list_)[i_]; }
+    basic_iterator& operator++() {
+      ++i_;
+      return *this;
+    }
+    basic_iterator operator++(int) {
+      basic_iterator t = *this;
+      ++i_;
+      return t;
+    }
+    bool operator==(const basic_iterator& o) const { return i_ == o.i_; }
+    bool operator!=(const basic_iterator& o) const { return i_ != o.i_; }
+
+   private:
+    L* list_ = nullptr;
+    std::size_t i_ = 0;
+  };
+  using iterator = basic_iterator<Entry, EntryList>;
+  using const_iterator = basic_iterator<const Entry, const EntryList>;
+  iterator begin() noexcept { return {this, 0}; }
+  iterator end() noexcept { return {this, size_}; }
+  const_iterator begin() const noexcept { return {this, 0}; }
+  const_iterator end() const noexcept { return {this, size_}; }
+
+ private:
+  static constexpr int kSmallBits = 12;
+  static constexpr std::size_t kSmall = std::size_t(1) << kSmallBits;
+  Entry* slot(std::size_t i) const noexcept;
+  void clear() noexcept;
+  Entry* small_ = nullptr;      // entries 0 .. kSmall - 1 (capacity small_capacity_)
+  std::size_t small_capacity_ = 0;
+  std::vector<Entry*> blocks_;  // block b holds entries 2^(b + kSmallBits) .. 2^(b + kSmallBits + 1) - 1
+  std::size_t size_ = 0;
+};
+
 class SCREE_API Dictionary {
  public:
   Dictionary() = default;
@@ -238,11 +311,14 @@ class SCREE_API Dictionary {
   const SourceLocation& where() const noexcept { return where_; }
 
   /// Entries in file order (the FoamFile header is not among them).
-  const std::vector<Entry>& entries() const noexcept { return entries_; }
+  const EntryList& entries() const noexcept { return entries_; }
   /// The FoamFile header, if the file had one.
   const Dictionary* header() const noexcept { return header_.get(); }
 
   const Entry* find(std::string_view key) const noexcept;
+  /// The index of `key` in entries(), or npos.
+  std::size_t position(std::string_view key) const noexcept;
+  static constexpr std::size_t npos = static_cast<std::size_t>(-1);
   bool has(std::string_view key) const noexcept { return find(key) != nullptr; }
   /// The entry; throws InputError at this dictionary's location:
   /// "missing required entry 'key' in dictionary 'name'".
@@ -273,7 +349,7 @@ class SCREE_API Dictionary {
   void rebuild_index();
   std::string name_;
   SourceLocation where_;
-  std::vector<Entry> entries_;
+  EntryList entries_;
   std::shared_ptr<const Dictionary> header_;
   /// Open addressing over entries_' keys (find() and set() in constant time, even for
   /// huge files): a power-of-two number of slots, each 0 (free) or a position + 1; empty
