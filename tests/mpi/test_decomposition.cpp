@@ -108,6 +108,14 @@ Snapshot run_to(const fs::path& dir, std::shared_ptr<Comm> comm, double t, RunSt
   return sim.snapshot();
 }
 
+/// The case run to its endTime over every rank, with its writers, function objects and checkpoints.
+Snapshot run_with_output(const fs::path& dir) {
+  Case c = Case::read(dir, runtime());
+  Simulation sim(c, runtime(), opts(world(), true));
+  sim.run();
+  return sim.snapshot();
+}
+
 /// Point p's row of a snapshot field, found through the ids.
 struct ById {
   explicit ById(const BodySnapshot& b) : b(b) {
@@ -294,13 +302,7 @@ TEST(DecomposedOutput, EveryRankWritesItsPointsAsAPieceOfOneDataset) {
               "fields (velocity); } }";
   SharedCase c("pieces");
   write_case(c, s);
-  Snapshot whole;
-  {
-    Case cs = Case::read(c.dir(), runtime());
-    Simulation sim(cs, runtime(), opts(world(), true));
-    sim.run();
-    whole = sim.snapshot();
-  }
+  const Snapshot whole = run_with_output(c.dir());
   if (!is_root()) return;
   const int R = world_comm().size();
   const std::vector<std::string> frames = expect_complete_series(c.dir() / "VTK/particles.pvd");
@@ -403,19 +405,14 @@ TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
 }
 
 TEST(DecomposedRestart, ContinuesOnOneRankWithinRoundOff) {
-  // The checkpoint of a decomposed run is the whole case: one process continues it, and
-  // ends where the decomposed run ends, within the bounds of the comparison above.
+  // The checkpoint of a decomposed run (a manifest and a piece per rank) is the whole case:
+  // one process reads every piece, continues it, and ends where the decomposed run ends,
+  // within the bounds of the comparison above.
   Variant s = setups()[1];
   s.control = "endTime 0.2; deltaT 2e-4; writeInterval 0.1; checkpointKeep 10; writers { particles { type vtk; } }";
   SharedCase c("restartOne");
   write_case(c, s);
-  Snapshot whole;
-  {
-    Case cs = Case::read(c.dir(), runtime());
-    Simulation sim(cs, runtime(), opts(world(), true));
-    sim.run();
-    whole = sim.snapshot();
-  }
+  const Snapshot whole = run_with_output(c.dir());
   if (!is_root()) return;
   Case cs = Case::read(c.dir(), runtime());
   RunOptions o = opts(self(), true);
