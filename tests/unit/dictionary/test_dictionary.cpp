@@ -1410,8 +1410,9 @@ TEST(DictionaryBrackets, MismatchedBracketsAreErrors) {
 // #includeEtc: the shipped parameter sets (etc/materials/feng2025), found from libscree.
 
 namespace {
-/// Feng et al. (2025) Table 3 and Table 1, as printed (SI units; ERRATA.md of the seeds:
-/// the density is in kg/m^3, p_at 101.3 kPa; T0 need only be negligibly small).
+/// Feng et al. (2025) Table 3 and Table 1 in SI units. Decisions where the table misprints:
+/// the particle density is in kg/m^3 (printed kg/m^2), p_at = 101.3 kPa; T0 need only be
+/// negligibly small, so its value is not checked.
 struct Column {
   const char* file;
   const char* type;
