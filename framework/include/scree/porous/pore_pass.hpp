@@ -55,6 +55,9 @@ struct PorePass {
   Shape shape;
   /// Column c (PoreColumn order) of point p.
   SCREE_INLINE Real& col(int c, Index p) const { return lp.extra[static_cast<std::size_t>(c) * pa.n + p]; }
+  /// The volume of point p at x^k from the porosity n the last scatter wrote:
+  /// J = (1 - n0) / (1 - n).
+  SCREE_INLINE Real volume_at(Index p, Real n) const { return pa.volume0[p] * (1 - lp.pore.n0) / (1 - n); }
 };
 
 }  // namespace scree
