@@ -3,6 +3,8 @@
 // of the mixture's momentum by the rainfall correction, and the time step of a dry column.
 // CPU in CI; with --device=cuda the same on the GPU.
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -335,6 +337,71 @@ TEST(TwoPhase, SoftColumnUnderRainTakesTheRainAndNoMore) {
     EXPECT_NEAR(gained, rain, 0.02 * rain) << skeleton << ": kg/m: the stored liquid's gain against the rain";
     EXPECT_NEAR(surface->value, rain, 0.02 * rain) << skeleton << ": kg/m: the liquid that entered against the rain";
   }
+}
+
+// ---------------------------------------------------------------------------------
+// The liquid's mass balance closes through a drained base. Liquid is conserved: the stored
+// liquid sum rho_l (1 + p/K_l) n S_l V changes by what entered through the surfaces (net of
+// what left through them) plus what the prescribed pore pressures added, the solver's
+// counters liquidInflowSurface and liquidInflowPrescribed; the waterBalance function object
+// writes the three and their difference. cases/infiltration1D's ponding reading, coarsened:
+// Table A's soft skeleton (E = 5 MPa), kappa = 2e-10 m^2 (K_sat 1.96e-3 m/s), h = 50 mm (84
+// points), the top ponded, the base drained with the water table held in the bottom cell
+// (porePressure). The water crosses the held cell and leaves: the front reaches the base at
+// about 0.5 s, and by 1 s the held cell has taken out 0.038 kg/m, 15% of the stored change.
+// At every written time (every 0.1 s) the imbalance is within 0.5% of the liquid that came
+// in (the acceptance bound). Measured: 0.24% at 0.1 s falling to 0.11% at 1 s, the scheme's
+// own error at the onset of ponding on soil at 10 kPa of suction (the storage linearised
+// over a step, C dp against the stored rho_l n S_l(p) V, a residue that shrinks with dt; the
+// same with the base closed and nothing held). The held cell's own count must not add to it:
+// counted against the nonlinear storage at the unheld pressure (PorePressure), the balance
+// was off by 2.1% at 0.1 s and 6.5% at 1 s.
+TEST(TwoPhase, WaterBalanceClosesThroughADrainedBase) {
+  TempCase tc("balance_drained");
+  write_column(tc, 0.05, 1.05, 1.1, 0.05,
+               "porosity 0.33; liquidDensity 1000; liquidBulkModulus 2e8; viscosity 1e-3; "
+               "intrinsicPermeability 2e-10; "
+               "retention { type vanGenuchten; p0 22295; lambda 0.671; Smin 0.23; Smax 1; } "
+               "permeability { type mualemVanGenuchten; } initialPorePressure { type hydrostatic; waterTable 0; }",
+               "", "", "soil { type linearElastic; E 5e6; nu 0; rho 2700; }", "gimp");
+  tc.write("constant/boundaryConditions",
+           "base { type fixed; face yMin; drained yes; } "
+           "waterTable { type porePressure; min (-1 -1); max (1 0.01); waterTable 0; } "
+           "left { type slip; face xMin; } right { type slip; face xMax; } "
+           "pond { type ponding; box { min (-1 1.0); max (1 1.2); } }");
+  tc.write("system/controlDict", "endTime 1; deltaT 1e-5; adjustTimeStep yes; maxCo 0.5; maxDeltaT 1e-3; "
+                                 "writeInterval 0.1; functions { water { type waterBalance; } }");
+  Case cs = Case::read(tc.dir(), runtime());
+  RunOptions o = options();
+  o.output = true;
+  Simulation sim(cs, runtime(), o);
+  sim.run();
+
+  std::ifstream in(tc.dir() / "postProcessing" / "water" / "waterBalance.csv");
+  ASSERT_TRUE(in) << "no postProcessing/water/waterBalance.csv";
+  std::string line;
+  std::getline(in, line);
+  ASSERT_EQ(line.rfind("time [s],stored [kg/m],storedChange [kg/m],inflowSurface [kg/m],inflowPrescribed [kg/m]", 0),
+            0u) << line;
+  int rows = 0;
+  double last_prescribed = 0;
+  while (std::getline(in, line)) {
+    std::vector<double> c;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(std::stod(cell));
+    ASSERT_GE(c.size(), 5u) << line;
+    const double t = c[0], change = c[2], entered = c[3] + c[4];
+    last_prescribed = c[4];
+    if (t == 0) continue;
+    ++rows;
+    EXPECT_GT(entered, 0) << "t = " << t << " s";
+    EXPECT_NEAR(change, entered, 0.005 * entered)
+        << "t = " << t << " s: stored change against the liquid that came in (surfaces " << c[3]
+        << " kg/m, prescribed " << c[4] << " kg/m)";
+  }
+  EXPECT_EQ(rows, 10);
+  // The water crossed the held cell and left (else the base's bookkeeping went untested).
+  EXPECT_LT(last_prescribed, -0.02) << "kg/m";
 }
 
 // ---------------------------------------------------------------------------------
