@@ -152,9 +152,18 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
     value = ir.scalar("value");
   }
   auto pore_pressure = [&](Real z) { return hydrostatic ? P.rho_l * g * (table - z) : value; };
-  auto saturation = [&](Real p) {
-    return b.retention ? (p >= 0 ? b.retention->s_max() : b.retention->saturation(-p)) : Real(1);
-  };
+  // S_l(p) as the kernels take it, from the same table (read back to the host): the first step
+  // re-evaluates every point's S_l, and with the retention curve itself here (the table is
+  // 1e-5 from it) that re-evaluation changed the stored liquid without any flow.
+  HydraulicTable curve = P.table;
+  std::vector<Real> sat_table;
+  if (!curve.saturated) {
+    sat_table.resize(HydraulicTable::kSuction);
+    mem::copy(sat_table.data(), Device::cpu, curve.sat, exec_.device, sat_table.size() * sizeof(Real));
+    curve.sat = sat_table.data();
+    curve.dsat = curve.krel = nullptr;  // saturation() alone reads the table here
+  }
+  auto saturation = [&](Real p) { return curve.saturation(p); };
   for (std::size_t p = 0; p < n; ++p) {
     pw[p] = pore_pressure(s.x[p][vertical_]);
     sat[p] = saturation(pw[p]);
