@@ -42,6 +42,6 @@ using Index = std::int64_t;
 
 /// Version of the binary interface between the core and plugins. A plugin built
 /// against another version is refused on load with a message naming both.
-inline constexpr int kPluginAbiVersion = 6;  // 2: Body::save_state, restore_state (checkpoints); 3: Body::replace_state (migration); 4: PassParams split, EnergyLedger by term; 5: PluginEntry::output_fields as FieldInfo (units), compact dictionary Item and Entry (accessors, 12-byte SourcePos); 6: Writer pieces (begin_frame, write_piece, end_frame)
+inline constexpr int kPluginAbiVersion = 7;  // 2: Body::save_state, restore_state (checkpoints); 3: Body::replace_state (migration); 4: PassParams split, EnergyLedger by term; 5: PluginEntry::output_fields as FieldInfo (units), compact dictionary Item and Entry (accessors, 12-byte SourcePos); 6: Writer pieces (begin_frame, write_piece, end_frame); 7: BodySetup::ids
 
 }  // namespace scree

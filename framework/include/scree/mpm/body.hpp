@@ -35,7 +35,11 @@ struct BodySetup {
   std::vector<Real> volume;    ///< volumes [m^3] (areas in 2D: per unit thickness)
   std::vector<Sym3> sigma;     ///< initial stress (tension positive) [Pa]
   Mat<D> velocity_gradient = Mat<D>::zero();  ///< of the initial velocity field (APIC's C_p) [1/s]
-  std::int64_t first_id = 0;   ///< particle ids are first_id, first_id + 1, ...
+  std::int64_t first_id = 0;   ///< particle ids are first_id, first_id + 1, ... unless `ids` is given
+  /// The points' ids when they are not consecutive: a rank of a decomposed run generates
+  /// only the points of its box, each with the id it has in the whole body (first_id plus
+  /// its place in the body's generation order).
+  std::vector<std::int64_t> ids;
   /// Particle mass = mass_factor x the material's density x volume. A two-phase body's
   /// material is its skeleton, whose density is the grains' rho_s: its points carry the
   /// solid mass (1 - n0) rho_s V0 (porous/two_phase.hpp).

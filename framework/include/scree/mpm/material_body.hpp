@@ -76,7 +76,7 @@ class MaterialBody final : public Body<D> {
       for (int c = 0; c < kSig; ++c) col(store_.c_sig() + c)[p] = sigma[c];
       col(store_.c_mass())[p] = s.mass_factor == 1 ? rho * s.volume[p] : s.mass_factor * rho * s.volume[p];
       col(store_.c_vol0())[p] = s.volume[p];
-      col(store_.c_id())[p] = static_cast<Real>(s.first_id + p);
+      col(store_.c_id())[p] = static_cast<Real>(s.ids.empty() ? s.first_id + p : s.ids[static_cast<std::size_t>(p)]);
       if constexpr (K > 0) {
         Real tmp[K > 0 ? K : 1];
         std::memcpy(tmp, &st, sizeof(State));
