@@ -60,6 +60,19 @@ void Decomposition<D>::overlap(int peer, int& lo, int& hi) const {
 template <int D>
 Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& positions, int ranks, int rank, int a,
                            int b, int slack) {
+  std::array<std::vector<std::uint64_t>, D> hist;
+  for (int d = 0; d < D; ++d) hist[d].assign(static_cast<std::size_t>(g.cells[d]), 0);
+  if (ranks > 1) {
+    const std::size_t n = positions.size() / D;
+    for (std::size_t p = 0; p < n; ++p)
+      for (int d = 0; d < D; ++d) ++hist[d][static_cast<std::size_t>(domain_cell(g, d, positions[p * D + d]))];
+  }
+  return decompose_layers<D>(g, hist, ranks, rank, a, b, slack);
+}
+
+template <int D>
+Decomposition<D> decompose_layers(const GlobalGrid<D>& g, const std::array<std::vector<std::uint64_t>, D>& hist,
+                                  int ranks, int rank, int a, int b, int slack) {
   Decomposition<D> dc;
   dc.ranks = ranks;
   dc.rank = rank;
@@ -71,12 +84,7 @@ Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& posi
     dc.owned = {0, g.n[0]};
     return dc;
   }
-  // The points per cell layer along every axis; the axis of the widest span is cut.
-  const std::size_t n = positions.size() / D;
-  std::vector<std::vector<std::uint64_t>> hist(D);
-  for (int d = 0; d < D; ++d) hist[d].assign(static_cast<std::size_t>(g.cells[d]), 0);
-  for (std::size_t p = 0; p < n; ++p)
-    for (int d = 0; d < D; ++d) ++hist[d][static_cast<std::size_t>(domain_cell(g, d, positions[p * D + d]))];
+  // The axis of the widest span of points is cut.
   int best = -1;
   for (int d = 0; d < D; ++d) {
     const auto& h = hist[d];
@@ -168,6 +176,10 @@ template struct Decomposition<2>;
 template struct Decomposition<3>;
 template Decomposition<2> decompose<2>(const GlobalGrid<2>&, const std::vector<Real>&, int, int, int, int, int);
 template Decomposition<3> decompose<3>(const GlobalGrid<3>&, const std::vector<Real>&, int, int, int, int, int);
+template Decomposition<2> decompose_layers<2>(const GlobalGrid<2>&, const std::array<std::vector<std::uint64_t>, 2>&,
+                                             int, int, int, int, int);
+template Decomposition<3> decompose_layers<3>(const GlobalGrid<3>&, const std::array<std::vector<std::uint64_t>, 3>&,
+                                             int, int, int, int, int);
 template Decomposition<2> slabs_from_cuts<2>(const GlobalGrid<2>&, int, const std::vector<int>&, int, int, int, int);
 template Decomposition<3> slabs_from_cuts<3>(const GlobalGrid<3>&, int, const std::vector<int>&, int, int, int, int);
 template Decomposition<2> cut_slabs<2>(const GlobalGrid<2>&, const std::vector<std::uint64_t>&, int, int, int, int, int,

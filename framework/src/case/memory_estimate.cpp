@@ -22,9 +22,10 @@ double MemoryEstimate::backend_bytes() const {
   return b;
 }
 double MemoryEstimate::host_bytes() const {
-  double b = device == Device::cpu ? backend_bytes() : 0;
-  for (const MemoryPart& p : parts) b += p.host();
-  return b * std::max(1, layout.per_node);
+  const int per_node = std::max(1, layout.per_node);
+  double b = device == Device::cpu ? backend_bytes() * per_node : 0;
+  for (const MemoryPart& p : parts) b += p.node_host(per_node);
+  return b;
 }
 double MemoryEstimate::device_bytes() const { return device == Device::cuda ? backend_bytes() : 0; }
 
@@ -48,6 +49,7 @@ struct Model {
   Device device = Device::cpu;
   RankLayout layout;
   bool output = false;  ///< snapshots are taken (writers or function objects)
+  bool gathers = false;  ///< function objects: a decomposed run's first rank gathers the case for them
   GridSettings grid;
   std::filesystem::path case_dir;  ///< an stl region's file is relative to it
   SourceLocation cell_size_where;
@@ -63,6 +65,7 @@ Model read_model(const Case& c, const Registry& reg, Device device, bool with_ou
   m.case_dir = c.dir();
   m.device = device;
   m.output = with_output && (c.control().has("writers") || c.control().has("functions"));
+  m.gathers = with_output && c.control().has("functions");
   m.grid = s.grid;
   m.cell_size_where = c.grid().has("cellSize") ? c.grid().at("cellSize").where() : c.grid().where();
   m.walls = !c.boundary_entries().empty();
@@ -169,8 +172,11 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     // deviatoric stress, volume, mass, density, bodyId, the material's and a two-phase
     // body's (4 scalars, 2 vectors of 3).
     const double fields = (3 + 1 + 3 + 3 + 6 + 6 + b.output_reals + (b.two_phase ? 10 : 0)) * kReal;
+    // A decomposed run: each rank writes its own points as a piece; the first also gathers
+    // the whole case when function objects are due.
     const double output = m.output ? block + 3 * fields : block /* the time step's check reads a host copy */;
     p.host_each = std::max(setup, output);
+    if (R > 1 && m.gathers) p.host_root_each = block + 3 * fields;
     e.parts.push_back(p);
   }
   return e;
@@ -254,12 +260,15 @@ std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device 
         : space == Device::cuda
             ? " per rank (one GPU each, " + std::to_string(R) + " ranks)"
             : " on each machine (its " + std::to_string(std::max(1, layout.per_node)) + " rank(s) of " +
-                  std::to_string(R) + ", each generating every body and the first gathering the case's output)";
+                  std::to_string(R) + ", each making its own points" +
+                  (m.gathers ? ", the first gathering the case for the function objects)" : ")");
     std::string msg = driver.key + ": the run needs about " + mem::format_bytes(need) + " of " + space_name +
                       " memory" + whose + ", more than the " + mem::format_bytes(free) + " free (" + a.source + "): ";
     for (std::size_t i = 0; i < e.parts.size(); ++i) {
       const MemoryPart& p = e.parts[i];
-      const double bytes = part_bytes(p, space, device) * (space == Device::cpu ? std::max(1, layout.per_node) : 1);
+      const double bytes = space == Device::cpu ? (device == Device::cpu ? p.backend() * std::max(1, layout.per_node) : 0) +
+                                                      p.node_host(std::max(1, layout.per_node))
+                                                : p.backend();
       msg += i ? ", " : "";
       if (i == 0)
         msg += "the grid's " + count_text(p.count) + " nodes (cellSize " + number_text(m.grid.cell_size) + " m at " +

@@ -261,7 +261,8 @@ std::string region_dimension_mismatch(const std::string& type, int dimension) {
 
 template <int D>
 GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& g, Real density,
-                                         const Vec<D>& gravity, const std::filesystem::path& case_dir) {
+                                         const Vec<D>& gravity, const std::filesystem::path& case_dir,
+                                         const PointFilter<D>& keep) {
   GeneratedParticles<D> out;
   const Dictionary& region = body.sub("region");
   const int n = BodySettings::read(body).particles_per_cell;
@@ -269,13 +270,34 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   const Real sub = g.h / n;
   Real vol = 1;
   for (int d = 0; d < D; ++d) vol *= sub;
+  out.point_volume = vol;
+  // What depends on every point of the body, kept or not: the first point outside the
+  // domain, the centroid (a rotation's default centre) and the highest point (the
+  // geostatic surface), each summed or compared in the generation order.
+  const Real gn = norm(gravity);
+  const Vec<D> up = gn > 0 ? gravity * (-1 / gn) : Vec<D>::zero();  // unit vector against gravity
+  Vec<D> sum = Vec<D>::zero();
+  Real top = -1e300;
+  bool outside = false;
+  Vec<D> first_outside = Vec<D>::zero();
+  std::uint64_t total = 0;
   for_each_position(shape, g, n, [&](const Vec<D>& x) {
-    out.x.push_back(x);
-    out.volume.push_back(vol);
+    if (!outside && outside_domain(x, g)) {
+      outside = true;
+      first_outside = x;
+    }
+    sum += x;
+    top = std::max(top, dot(x, up));
+    if (!keep || keep(x)) {
+      out.x.push_back(x);
+      out.volume.push_back(vol);
+      if (keep) out.index.push_back(static_cast<std::int64_t>(total));
+    }
+    ++total;
   });
-  if (out.x.empty()) throw empty_region<D>(region, n);
-  for (auto& x : out.x)
-    if (outside_domain(x, g)) throw region_outside(region, x, g);
+  out.total = total;
+  if (total == 0) throw empty_region<D>(region, n);
+  if (outside) throw region_outside(region, first_outside, g);
 
   // Initial velocity.
   Vec<D> v0 = Vec<D>::zero();
@@ -292,8 +314,7 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
       const auto cc = ce->as_scalar_list();
       for (int d = 0; d < D; ++d) c[d] = cc[d];
     } else {
-      for (auto& x : out.x) c += x;
-      c *= Real(1) / static_cast<Real>(out.x.size());
+      c = sum * (Real(1) / static_cast<Real>(total));
     }
     // Omega (skew) with Omega r = w x r.
     Mat<D> W = Mat<D>::zero();
@@ -321,16 +342,9 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   if (const Entry* e = body.find("initialStress"); e && e->dict().get_word("type") == "geostatic") {
     const Dictionary& s = e->dict();
     const Real K0 = ParamReader(*CoreSpecs::get().body->find("initialStress")->sub(), s).scalar("K0");
-    const Real gn = norm(gravity);
     if (gn > 0) {
-      Vec<D> up = gravity * (-1 / gn);  // unit vector against gravity
-      Real surface = -1e300;
-      if (s.has("surface")) {
-        surface = s.get_scalar("surface");
-      } else {
-        for (auto& x : out.x) surface = std::max(surface, dot(x, up));
-        surface += Real(0.5) * sub;  // the top particle sits half a spacing below the surface
-      }
+      // The top particle sits half a spacing below the surface.
+      const Real surface = s.has("surface") ? s.get_scalar("surface") : top + Real(0.5) * sub;
       for (std::size_t p = 0; p < out.x.size(); ++p) {
         const Real depth = std::max(Real(0), surface - dot(out.x[p], up));
         const Real sv = -density * gn * depth, sh = K0 * sv;
@@ -449,10 +463,22 @@ void check_bodies(const Dictionary& bodies, const GridGeometry<D>& g, std::vecto
     }
 }
 
+template <int D>
+void for_each_particle_position(const Dictionary& body, const GridGeometry<D>& g,
+                                const std::function<void(const Vec<D>&)>& f, const std::filesystem::path& case_dir) {
+  for_each_position(read_shape<D>(body, case_dir), g, BodySettings::read(body).particles_per_cell, f);
+}
+
 template GeneratedParticles<2> generate_particles<2>(const Dictionary&, const GridGeometry<2>&, Real,
-                                                     const Vec<2>&, const std::filesystem::path&);
+                                                     const Vec<2>&, const std::filesystem::path&,
+                                                     const PointFilter<2>&);
 template GeneratedParticles<3> generate_particles<3>(const Dictionary&, const GridGeometry<3>&, Real,
-                                                     const Vec<3>&, const std::filesystem::path&);
+                                                     const Vec<3>&, const std::filesystem::path&,
+                                                     const PointFilter<3>&);
+template void for_each_particle_position<2>(const Dictionary&, const GridGeometry<2>&,
+                                            const std::function<void(const Vec<2>&)>&, const std::filesystem::path&);
+template void for_each_particle_position<3>(const Dictionary&, const GridGeometry<3>&,
+                                            const std::function<void(const Vec<3>&)>&, const std::filesystem::path&);
 template double estimate_particle_count<2>(const Dictionary&, Real, int, const std::filesystem::path&);
 template double estimate_particle_count<3>(const Dictionary&, Real, int, const std::filesystem::path&);
 template void check_bodies<2>(const Dictionary&, const GridGeometry<2>&, std::vector<InputError>&,

@@ -8,11 +8,13 @@
 // short enough that no point moves past the halo within it (migration_steps). Output and
 // checkpoints gather every rank's part on the root rank, which writes them as one case.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
 #include <sstream>
 
+#include "scree/case/particle_generation.hpp"
 #include "scree/mpm/halo_slab.hpp"
 #include "scree/mpm/particle_storage.hpp"
 #include "solver.hpp"
@@ -20,37 +22,34 @@
 namespace scree {
 
 template <int D>
-void Solver<D>::decompose_bodies() {
-  body_totals_.clear();
-  for (auto& b : bodies_) body_totals_.push_back(static_cast<std::uint64_t>(b->size()));
-  if (comm_->size() == 1) return;
+void Solver<D>::decompose_case() {
   if (porous_)
     throw InputError(case_.bodies().where(),
                      "a case with two-phase bodies runs on one rank; this run has " + std::to_string(comm_->size()) +
                          " (run it without mpirun, or with -np 1)");
-  using S = ParticleStorage<D>;
-  std::vector<Real> positions;
-  std::vector<std::vector<Real>> blocks;
-  for (auto& b : bodies_) {
-    blocks.push_back(b->save_state());
-    const Index n = b->size();
-    const std::vector<Real>& blk = blocks.back();
-    for (Index p = 0; p < n; ++p)
-      for (int d = 0; d < D; ++d) positions.push_back(blk[static_cast<std::size_t>(S::kColX + d) * n + p]);
-  }
+  // The points per cell layer along every axis, from the positions generate_particles
+  // makes, in the whole grid's lattice.
+  std::array<std::vector<std::uint64_t>, D> layers;
+  for (int d = 0; d < D; ++d) layers[d].assign(static_cast<std::size_t>(global_.cells[d]), 0);
+  for (const Entry* e : case_.body_entries())
+    for_each_particle_position<D>(
+        e->dict(), global_,
+        [&](const Vec<D>& x) {
+          for (int d = 0; d < D; ++d) ++layers[d][static_cast<std::size_t>(domain_cell(global_, d, x[d]))];
+        },
+        case_.dir());
   int a = 0, b = 0;
   stencil_reach(settings_.schemes.shape, a, b);
   try {
-    decomp_ = decompose<D>(global_, positions, comm_->size(), comm_->rank(), a, b, kSlackCells);
+    decomp_ = decompose_layers<D>(global_, layers, comm_->size(), comm_->rank(), a, b, kSlackCells);
   } catch (const std::invalid_argument& e) {
     throw InputError(case_.grid().where(), std::string("system/gridDict: cellSize: ") + e.what());
   }
   set_local_grid();
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    Index kept = 0;
-    std::vector<Real> mine = keep_own(blocks[i], bodies_[i]->size(), kept);
-    bodies_[i]->replace_state(mine, kept);
-  }
+}
+
+template <int D>
+void Solver<D>::report_decomposition() {
   std::ostringstream m;
   m << "Decomposed over " << comm_->size() << " ranks (" << comm_->describe() << "): slabs across axis "
     << decomp_.axis << ", cells";
@@ -477,8 +476,10 @@ template void Solver<2>::adopt(Decomposition<2>);
 template void Solver<3>::adopt(Decomposition<3>);
 template void Solver<2>::apply_recut();
 template void Solver<3>::apply_recut();
-template void Solver<2>::decompose_bodies();
-template void Solver<3>::decompose_bodies();
+template void Solver<2>::decompose_case();
+template void Solver<3>::decompose_case();
+template void Solver<2>::report_decomposition();
+template void Solver<3>::report_decomposition();
 template std::vector<Real> Solver<2>::keep_own(const std::vector<Real>&, Index, Index&) const;
 template std::vector<Real> Solver<3>::keep_own(const std::vector<Real>&, Index, Index&) const;
 template void Solver<2>::exchange_before_grid(int, unsigned);

@@ -155,9 +155,12 @@ class Solver {
   // a decomposed run (decomposed.cpp): what the ranks exchange and agree on
   bool decomposed() const { return comm_->size() > 1; }
   bool root() const { return comm_->rank() == 0; }
-  /// Cut the grid into boxes from the bodies' points (every rank made every body whole),
-  /// set up this rank's grid, and keep each body's points in this rank's box.
-  void decompose_bodies();
+  /// Cut the grid into boxes from the points the bodies will have (counted alike on every
+  /// rank, not made) and set up this rank's grid; setup_body then makes only the points of
+  /// this rank's box, so no rank holds more of the case than its own part.
+  void decompose_case();
+  /// Log how the grid was cut and the points each rank holds.
+  void report_decomposition();
   /// Make decomp_'s box this rank's grid: its geometry, its grid sets, the plugins' context.
   void set_local_grid();
   /// Take up the slabs `d` (a rebalance, a restart's): this rank's grid, the boundary

@@ -55,7 +55,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   ctl_.resize(1, exec_.device);
   sync_control_to_device();
   setup_bodies();
-  decompose_bodies();
+  if (decomposed()) report_decomposition();
   ctx_.start_time = run_start_;
   {  // health: the run stops once more than maxLostFraction of the points left the grid
     const double f = settings_.control.max_lost_fraction;
@@ -269,6 +269,8 @@ void Solver<D>::setup_bodies() {
     }
     break;
   }
+  body_totals_.clear();
+  if (decomposed()) decompose_case();  // this rank's box first: each rank makes only its points
   std::size_t part = 0;  // the body's part of the memory estimate (0: the grid)
   for (const Entry* e : case_.body_entries()) {
     ++part;
@@ -311,7 +313,12 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   const PluginEntry& pe = reg.get(PluginKind::material, type.as_word(), type.where());
   const Real density = pe.material.point(mat)->density();
 
-  GeneratedParticles<D> gp = generate_particles<D>(b, grid_, density, gravity_, case_.dir());
+  // Generated in the whole grid's lattice (grid_ is this rank's part of it in a decomposed run).
+  PointFilter<D> mine;
+  if (decomposed())
+    mine = [this](const Vec<D>& x) { return decomp_.owner(x[decomp_.axis], global_) == comm_->rank(); };
+  GeneratedParticles<D> gp = generate_particles<D>(b, global_, density, gravity_, case_.dir(), mine);
+  body_totals_.push_back(gp.total);
   BodySetup<D> s;
   s.name = e.key();
   s.body_id = id++;
@@ -327,9 +334,12 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   s.sigma = std::move(gp.sigma);
   s.velocity_gradient = gp.velocity_gradient;
   s.first_id = next_id;
-  next_id += static_cast<std::int64_t>(s.x.size());
+  for (std::int64_t i : gp.index) s.ids.push_back(next_id + i);
+  next_id += static_cast<std::int64_t>(gp.total);
   const bool porous = porous_ && porous_->prepare(b, s, density);
-  for (Real v : s.volume) min_mass = std::min(min_mass, v * density * s.mass_factor);
+  // Every point of a body has the same volume: the same smallest mass on every rank,
+  // whether it holds points of the body or not.
+  min_mass = std::min(min_mass, gp.point_volume * density * s.mass_factor);
   std::unique_ptr<Body<D>> body;
   if constexpr (D == 2) body = pe.material.body2(mat, s);
   else body = pe.material.body3(mat, s);

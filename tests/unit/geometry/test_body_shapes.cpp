@@ -317,6 +317,50 @@ TEST(Geostatic3D, UprightCylinderHasRhoGDepthVerticallyAndK0TimesThatAcross) {
   expect_geostatic("region { type cylinder; p1 (0 -0.5 0); p2 (0 0.1 0); radius 0.3; }", 0.1);
 }
 
+// ---- a rank's part of a body ------------------------------------------------------------
+//
+// A rank of a decomposed run makes only the points of its box (generate_particles with a
+// filter). Whatever depends on the whole body must not depend on the filter: the geostatic
+// surface (the body's top), a rotation's centre (its centroid), the order and so the ids.
+// Cut into three slabs across x, a sphere turning about its centroid under its geostatic
+// stress: the parts, put together in the order of their places, are the whole body's
+// points bit for bit, and each part's total is the whole body's count.
+TEST(RankPart, ThePartsOfThreeSlabsAreTheWholeBodysPointsBitForBit) {
+  const std::string body = "region { type sphere; centre (0.1 -0.2 0.05); radius 0.3; } angularVelocity (0 0 2); "
+                           "initialStress { type geostatic; K0 0.5; }";
+  const GeneratedParticles<3> whole = generate(body);
+  const Dictionary d = Dictionary::parse("b { material soil; particlesPerCell " + std::to_string(kPpc) + "; " + body +
+                                             " }",
+                                         "constant/bodies");
+  Vec<3> g;
+  g[0] = 0;
+  g[1] = -9.81;
+  g[2] = 0;
+  const double cuts[4] = {-1e9, 0.0, 0.2, 1e9};
+  std::vector<int> seen(whole.x.size(), 0);
+  for (int r = 0; r < 3; ++r) {
+    const PointFilter<3> mine = [&](const Vec<3>& x) { return x[0] >= cuts[r] && x[0] < cuts[r + 1]; };
+    const GeneratedParticles<3> part = generate_particles<3>(d.sub("b"), grid(), kRho, g, {}, mine);
+    EXPECT_EQ(part.total, whole.x.size());
+    ASSERT_EQ(part.index.size(), part.x.size());
+    EXPECT_GT(part.x.size(), 0u) << r;
+    for (std::size_t k = 0; k < part.x.size(); ++k) {
+      const std::size_t p = static_cast<std::size_t>(part.index[k]);
+      ASSERT_LT(p, whole.x.size());
+      ++seen[p];
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(part.x[k][a], whole.x[p][a]);
+        EXPECT_EQ(part.v[k][a], whole.v[p][a]);
+      }
+      for (int c = 0; c < 6; ++c) EXPECT_EQ(part.sigma[k][c], whole.sigma[p][c]);
+      EXPECT_EQ(part.volume[k], whole.volume[p]);
+      if (k > 0) EXPECT_LT(part.index[k - 1], part.index[k]);  // in the whole body's order
+    }
+  }
+  for (std::size_t p = 0; p < seen.size(); ++p) ASSERT_EQ(seen[p], 1) << "point " << p;
+  EXPECT_TRUE(whole.index.empty());  // without a filter every point is kept, in order
+}
+
 // ---- errors: file:line and key, before anything runs -----------------------------------
 
 void write_case(const TempCase& tc, int dim, const std::string& region_line, const std::string& extra = "") {

@@ -157,10 +157,10 @@ TEST(MemoryEstimate, TooManyPointsNameTheBodysParticlesPerCellAndWhatFits) {
 // A run over ranks: each rank's backend holds its slab of the grid with the halo (a
 // quarter of 1000 cells plus 5 node layers on each side, the widest shape's reach and the
 // migration slack) and at most kRebalanceRatio times a quarter of the points before the
-// cuts move; its host holds the whole case (every rank generates every body, the root
-// gathers the output), and the ranks of one machine share that machine's memory. A case
-// too big for one process fits on four machines, and not on four ranks of one.
-TEST(MemoryEstimate, ARunOverRanksNeedsItsShareOfTheBackendAndTheWholeCaseOnEachRanksHost) {
+// cuts move; so does its host, since each rank makes only the points of its box (and
+// writes them as its own piece); the ranks of one machine share that machine's memory. A
+// case too big for one process fits on four machines, and not on four ranks of one.
+TEST(MemoryEstimate, ARunOverRanksNeedsItsShareOfTheBackendAndOfTheHost) {
   TempCase tc("memory_ranks");
   write_block(tc, "0.001", "1");  // 1,010,025 nodes, 250,000 points
   const Case c = Case::read(tc.dir(), runtime());
@@ -170,7 +170,7 @@ TEST(MemoryEstimate, ARunOverRanksNeedsItsShareOfTheBackendAndTheWholeCaseOnEach
   const MemoryEstimate shared = estimate_memory(c, reg, Device::cpu, true, {4, 4});
   EXPECT_NEAR(four.parts[0].backend() / one.parts[0].backend(), 0.25 + 2 * 5 / 1000.0, 1e-12);
   EXPECT_NEAR(four.parts[1].backend() / one.parts[1].backend(), kRebalanceRatio / 4, 1e-12);
-  for (std::size_t i = 0; i < one.parts.size(); ++i) EXPECT_DOUBLE_EQ(four.parts[i].host(), one.parts[i].host());
+  EXPECT_NEAR(four.parts[1].host() / one.parts[1].host(), kRebalanceRatio / 4, 1e-12);
   EXPECT_DOUBLE_EQ(shared.host_bytes(), 4 * four.host_bytes());
   EXPECT_LT(four.host_bytes(), one.host_bytes());
 
@@ -183,10 +183,28 @@ TEST(MemoryEstimate, ARunOverRanksNeedsItsShareOfTheBackendAndTheWholeCaseOnEach
   EXPECT_EQ(refused.size(), 1u);
   EXPECT_TRUE(fits.empty()) << fits.front().what();
   ASSERT_EQ(crowded.size(), 1u);
-  EXPECT_NE(std::string(crowded[0].what()).find("of host memory on each machine (its 4 rank(s) of 4, each generating "
-                                                "every body and the first gathering the case's output)"),
+  EXPECT_NE(std::string(crowded[0].what()).find("of host memory on each machine (its 4 rank(s) of 4, each making its "
+                                                "own points)"),
             std::string::npos)
       << crowded[0].what();
+}
+
+// Function objects compute on the whole case, which the first rank gathers when they are
+// due: its host holds the whole case's output copy besides its own share; the other ranks
+// of its machine only their shares.
+TEST(MemoryEstimate, TheFirstRankGathersTheWholeCaseForFunctionObjects) {
+  TempCase tc("memory_gather");
+  write_block(tc, "0.001", "1");
+  tc.write("system/controlDict", "endTime 0.01; deltaT 1e-5; writeInterval 0.01; functions { e { type energies; } }");
+  const Case c = Case::read(tc.dir(), runtime());
+  const auto& reg = runtime().registry();
+  const MemoryPart one = estimate_memory(c, reg, Device::cuda, true).parts[1];
+  const MemoryPart four = estimate_memory(c, reg, Device::cuda, true, {4, 1}).parts[1];
+  EXPECT_EQ(one.host_root_each, 0);  // one rank: its own points are the whole case
+  EXPECT_GT(four.host_root_each, 0);
+  EXPECT_DOUBLE_EQ(four.host(), four.count * (four.rank_share * four.host_each + four.host_root_each));
+  EXPECT_GT(four.host(), four.count * four.host_root_each);
+  EXPECT_DOUBLE_EQ(four.node_host(4) - four.node_host(1), 3 * four.count * four.rank_share * four.host_each);
 }
 
 TEST(MemoryEstimate, ALargeGridNamesCellSizeAndTheSmallestThatFits) {

@@ -3,8 +3,8 @@
 //
 // The boxes are slabs cut on cell boundaries along one axis: the axis along which the
 // points extend over the most cells, cut so that each slab holds about the same number of
-// points (from the histogram of the points per cell layer, which every rank has: every
-// rank generates every body). A rank's grid is its box widened by `e_lo`/`e_hi` cells and
+// points (from the histogram of the points per cell layer, which every rank counts
+// alike before any point is made; each rank then makes only the points of its box). A rank's grid is its box widened by `e_lo`/`e_hi` cells and
 // the `ghost` node layers around it (GlobalGrid::sub_box): wide enough for the stencil of
 // every point that lies up to `slack` cells outside its box, since points move between
 // migrations (Solver: they migrate at the end of every chunk of steps). As the mass moves
@@ -20,6 +20,7 @@
 // B-spline a = 1, b = 2.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -81,6 +82,12 @@ struct Decomposition {
 template <int D>
 SCREE_API Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& positions, int ranks, int rank,
                                      int a, int b, int slack);
+
+/// decompose() from the points per cell layer along every axis (layers[d][c]: the points
+/// in domain cell c along axis d, domain_cell), which a run counts before it makes them.
+template <int D>
+SCREE_API Decomposition<D> decompose_layers(const GlobalGrid<D>& g, const std::array<std::vector<std::uint64_t>, D>& layers,
+                                            int ranks, int rank, int a, int b, int slack);
 
 /// The slabs across `axis` for the points per cell layer `layers` along it (a rebalance
 /// keeps the axis and moves the cuts), as decompose() cuts them.

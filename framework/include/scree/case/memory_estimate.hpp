@@ -38,9 +38,10 @@ namespace scree {
 /// How a run is spread: over `ranks` processes (mpirun; one GPU each), `per_node` of them
 /// on one machine. A rank's backend holds its slab of the grid with the halo and about
 /// 1/ranks of the points, up to kRebalanceRatio times that before the cuts move
-/// (case/decomposition.hpp). Every rank generates every body, and the root gathers the
-/// whole case for its output: a rank's host peak is the whole case's, and the ranks of one
-/// machine share its host memory.
+/// (case/decomposition.hpp). Each rank makes only the points of its box and writes them
+/// as its own piece; the first rank also gathers the whole case when function objects
+/// are due (they compute on the whole case), and the ranks of one machine share its host
+/// memory.
 struct RankLayout {
   int ranks = 1;
   int per_node = 1;
@@ -53,10 +54,14 @@ struct MemoryPart {
   SourceLocation where;  ///< that entry's file:line (its dictionary's where it is defaulted)
   double count = 0;      ///< nodes or points
   double backend_each = 0;  ///< bytes per node or point in the backend's memory (mem::allocate)
-  double host_each = 0;     ///< bytes per node or point on the host at the peak, besides the backend's
-  double rank_share = 1;    ///< the fraction of `count` one rank holds in the backend's memory
+  double host_each = 0;     ///< bytes per node or point a rank holds on the host at the peak, besides the backend's
+  double host_root_each = 0;  ///< bytes per node or point of the whole count the first rank gathers besides
+  double rank_share = 1;    ///< the fraction of `count` one rank holds (backend and host)
   double backend() const { return count * rank_share * backend_each; }
-  double host() const { return count * host_each; }
+  /// The first rank's host bytes (a run on one rank: the run's).
+  double host() const { return count * (rank_share * host_each + host_root_each); }
+  /// The host bytes of a machine running `per_node` ranks, the first among them.
+  double node_host(int per_node) const { return count * (per_node * rank_share * host_each + host_root_each); }
 };
 
 struct SCREE_API MemoryEstimate {

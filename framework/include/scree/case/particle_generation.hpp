@@ -23,7 +23,9 @@
 // Bodies may not overlap unless one of them says `allowOverlap yes` (check_bodies).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,7 +41,17 @@ struct GeneratedParticles {
   std::vector<Real> volume;
   std::vector<Sym3> sigma;
   Mat<D> velocity_gradient = Mat<D>::zero();  ///< of the initial velocity field
+  /// With a filter: each kept point's place in the whole body's order (from 0); empty
+  /// without one (every point kept, in order).
+  std::vector<std::int64_t> index;
+  std::uint64_t total = 0;  ///< the points of the whole body, kept or not
+  Real point_volume = 0;    ///< (h/n)^D, every point's volume
 };
+
+/// Which of a body's points a run keeps: a rank of a decomposed run generates only the
+/// points of its own box (Solver, case/decomposition.hpp).
+template <int D>
+using PointFilter = std::function<bool(const Vec<D>&)>;
 
 /// "" if region type `type` fits a case of `dimension` (rectangle, polygon: 2D; box,
 /// cylinder, sphere, extrudedPolygon, stl: 3D), else the message "type: region type ...
@@ -50,10 +62,23 @@ SCREE_API std::string region_dimension_mismatch(const std::string& type, int dim
 /// `density` is the material's initial mass density (for the geostatic stress). Throws
 /// InputError, at the region's file:line, for a region that does not fit the case or
 /// the grid (see check_bodies). `case_dir`: what an stl region's file is relative to.
+/// With `keep`, only the points it accepts are made; what depends on the whole body (the
+/// geostatic surface, the centroid of a rotation, the checks against the domain) is still
+/// taken over every point, so a kept point is made exactly as without the filter.
 template <int D>
 SCREE_API GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& grid,
                                                    Real density, const Vec<D>& gravity,
-                                                   const std::filesystem::path& case_dir = {});
+                                                   const std::filesystem::path& case_dir = {},
+                                                   const PointFilter<D>& keep = {});
+
+/// Calls f(x) for every particle position of `body`, in generate_particles' order, without
+/// keeping them (a decomposed run cuts its boxes from their histogram before any rank
+/// makes its points). Throws InputError as generate_particles for a region that does not
+/// fit the case.
+template <int D>
+SCREE_API void for_each_particle_position(const Dictionary& body, const GridGeometry<D>& grid,
+                                          const std::function<void(const Vec<D>&)>& f,
+                                          const std::filesystem::path& case_dir = {});
 
 /// The number of particles generate_particles makes for `body` with `particles_per_cell`
 /// points per cell along each axis on cells of size `cell_size`, estimated without making
