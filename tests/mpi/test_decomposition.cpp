@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -84,12 +85,42 @@ struct Variant {
   /// point's force is taken that step, and differences grow a hundredfold more than with
   /// the smooth shapes (measured: 1.2e-12, 5.9e-11, 1.5e-9 after 1000 steps on 2 ranks).
   double tol_x = 1e-12, tol_v = 1e-9, tol_s = 1e-9;
+  std::vector<std::pair<std::string, std::string>> files = {};  ///< other files of the case: path, text
 };
 
 void PrintTo(const Variant& v, std::ostream* os) { *os << v.name; }
 
 void write_case(const SharedCase& c, const Variant& s) {
   write_case_files(c, CaseFiles{s.control, s.schemes, s.grid, s.g, s.materials, s.bodies, s.boundaries});
+  for (const auto& [path, text] : s.files) c.write(path, text);
+}
+
+/// An ASCII STL of the solid under the ground z = z0 - tan(slope) x, from z = -0.3 m, over
+/// x in [-0.1, 0.9] and y in [-0.1, 0.22]: the ground of a terrain condition.
+std::string inclined_ground_stl(double z0, double slope_degrees) {
+  const double t = std::tan(slope_degrees * 3.14159265358979323846 / 180);
+  auto corner = [&](int i, int j, int k) {
+    const double x = i ? 0.9 : -0.1, y = j ? 0.22 : -0.1;
+    return std::array<double, 3>{x, y, k ? z0 - t * x : -0.3};
+  };
+  // Each face's corners counter-clockwise seen from outside.
+  static const int quads[6][4][3] = {{{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}}, {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}},
+                                     {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}}, {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}},
+                                     {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}, {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}};
+  std::ostringstream o;
+  o.precision(17);
+  o << "solid ground\n";
+  for (const auto& q : quads)
+    for (const std::array<int, 3> idx : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{0, 2, 3}}) {
+      o << " facet normal 0 0 0\n  outer loop\n";
+      for (int v : idx) {
+        const auto p = corner(q[v][0], q[v][1], q[v][2]);
+        o << "   vertex " << p[0] << " " << p[1] << " " << p[2] << "\n";
+      }
+      o << "  endloop\n endfacet\n";
+    }
+  o << "endsolid ground\n";
+  return o.str();
 }
 
 RunOptions opts(std::shared_ptr<Comm> comm, bool output = false) {
@@ -206,6 +237,16 @@ std::vector<Variant> setups() {
        "dimension 3; lower (0 0 0); upper (0.8 0.12 0.12); cellSize 0.02;", kElastic,
        "b { material m; velocity (2 0 0); region { type box; lower (0.06 0.02 0); upper (0.3 0.1 0.06); } }",
        "floor { type slip; face zMin; }", "value (0 0 -9.81);"},
+      // 3D: a block sliding down a 25-degree ground read from an STL solid (the terrain
+      // condition on each rank's part of the grid), across the cut. A step of Courant
+      // number 0.08: at 0.2 and above the contact rings the block off the ground (also on a
+      // friction halfSpace wall: the contact, not the terrain).
+      {"terrain3D", "endTime 0.15; deltaT 1e-4; writeInterval 1;", "updateScheme USL;",
+       "dimension 3; lower (0 0 0); upper (0.8 0.12 0.4); cellSize 0.02;", kElastic,
+       "b { material m; region { type extrudedPolygon; axis y; range (0.02 0.1); "
+       "points ((0.322022 0.06) (0.210108 0.3) (0.270108 0.3) (0.382022 0.06)); } }",
+       "ground { type terrain; file \"ground.stl\"; coefficient 0.2; }", "value (0 0 -9.81);", 1e-12, 1e-9, 1e-9,
+       {{"ground.stl", inclined_ground_stl(0.35, 25)}}},
   };
 }
 

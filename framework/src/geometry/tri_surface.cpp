@@ -466,17 +466,17 @@ std::shared_ptr<const TriSurface> TriSurface::from_triangles(std::vector<Triangl
   return s;
 }
 
-int TriSurface::RayGrid::crossings(const std::vector<Triangle>& tris, const Point3& x) const {
+template <class F>
+void TriSurface::RayGrid::each_crossing(const std::vector<Triangle>& tris, const Point3& x, F&& f) const {
   const int u = (axis + 1) % 3, v = (axis + 2) % 3;
   const double pu = x[u], pv = x[v];
   const int iu = static_cast<int>(std::floor((pu - u0) / du)), iv = static_cast<int>(std::floor((pv - v0) / dv));
   // Outside the projected bounds (the top bound belongs to the last bucket).
-  if (pu < u0 || pv < v0 || iu > nu || iv > nv) return 0;
+  if (pu < u0 || pv < v0 || iu > nu || iv > nv) return;
   const auto& bucket = buckets[static_cast<std::size_t>(std::min(iv, nv - 1)) * nu + std::min(iu, nu - 1)];
   // A point on an edge belongs to the triangle whose (counter-clockwise) edge points "up",
   // or exactly left: of two triangles sharing an edge, traversed both ways, exactly one.
   auto owns = [](double eu, double ev) { return ev > 0 || (ev == 0 && eu < 0); };
-  int count = 0;
   for (int i : bucket) {
     const Triangle& t = tris[static_cast<std::size_t>(i)];
     const Point3* a = &t.v[0];
@@ -501,8 +501,13 @@ int TriSurface::RayGrid::crossings(const std::vector<Triangle>& tris, const Poin
     }
     if (!inside) continue;
     const double height = (w[0] * (*a)[axis] + w[1] * (*b)[axis] + w[2] * (*c)[axis]) / area2;
-    if (height > x[axis]) ++count;
+    f(i, height);
   }
+}
+
+int TriSurface::RayGrid::crossings(const std::vector<Triangle>& tris, const Point3& x) const {
+  int count = 0;
+  each_crossing(tris, x, [&](int, double height) { count += height > x[axis]; });
   return count;
 }
 
@@ -511,6 +516,25 @@ bool TriSurface::contains(const Point3& x) const {
   int votes = 0;
   for (const RayGrid& g : rays_) votes += g.crossings(tris_, x) % 2;
   return votes >= 2;
+}
+
+bool TriSurface::top(const Point3& x, int axis, Crossing& out) const {
+  int best = -1;
+  double highest = -kUnbounded;
+  rays_[axis].each_crossing(tris_, x, [&](int i, double height) {
+    if (height > highest) {
+      highest = height;
+      best = i;
+    }
+  });
+  if (best < 0) return false;
+  const Triangle& t = tris_[static_cast<std::size_t>(best)];
+  Point3 n = cross(t.v[1] - t.v[0], t.v[2] - t.v[0]);
+  const double scale = (n[axis] < 0 ? -1 : 1) / std::sqrt(dot(n, n));
+  for (int d = 0; d < 3; ++d) n[d] *= scale;
+  out.height = highest;
+  out.normal = n;
+  return true;
 }
 
 }  // namespace scree::geometry

@@ -406,6 +406,8 @@ void Solver<D>::setup_boundaries(bool warn) {
     bc->constrain(set);
     // A decomposed run: the nodes of every rank (whose wall tables may differ: one sum per condition).
     std::uint64_t none = 0, nodes = 0;
+    // Walls and conditions on the pore liquid are counted; a node law selects its own nodes.
+    bool counted = set.table().size() > before;
     for (std::size_t i = before; i < set.table().size(); ++i) {
       none += set.count(static_cast<int>(i)) == 0;
       nodes += static_cast<std::uint64_t>(set.count(static_cast<int>(i)));
@@ -415,8 +417,9 @@ void Solver<D>::setup_boundaries(bool warn) {
       const std::uint64_t n = hydraulic_reach(*hc, NodeLattice::of(ctx_)).nodes.size();
       none += n == 0;
       nodes += n;
+      counted = true;
     }
-    if ((decomposed() ? comm_->sum(nodes) == 0 : none > 0) && warn)
+    if (counted && (decomposed() ? comm_->sum(nodes) == 0 : none > 0) && warn)
       log_ << "warning: " << d.where().str() << ": boundary condition '" << e->key() << "' selects no grid node\n";
     if (bc->has_node_law()) node_laws_.push_back(bc.get());
     // A condition on the pore liquid (porous/hydraulic_condition.hpp) goes to the porous media.

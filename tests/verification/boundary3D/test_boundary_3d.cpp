@@ -100,6 +100,13 @@ std::vector<Velocity> slide(const std::string& wall, const std::vector<double>& 
                   }));
   tc.write("constant/bodies",
            "block { material soil; region { type stl; file \"constant/triSurface/block.stl\"; } particlesPerCell 2; }");
+  // The ground of the terrain condition: the solid under the plane, from y = -1 to the
+  // plane, over more than the domain's footprint.
+  write_ascii_stl((tc.dir() / "constant/triSurface/ground.stl").string(), hexahedron([](int i, int j, int k) {
+                    const double x = -0.1 + 0.8 * i, z = -0.1 + 0.8 * k;
+                    const double y = j ? kP0[1] - (kN[0] * (x - kP0[0]) + kN[2] * (z - kP0[2])) / kN[1] : -1.0;
+                    return P3{x, y, z};
+                  }));
   tc.write("constant/boundaryConditions", "plane { " + wall + " }");
   std::vector<Velocity> out;
   for (const BodyMotion& mo : body_motion(tc, times))
@@ -159,6 +166,19 @@ TEST(InclinedPlane3D, CoulombFrictionOnAHalfSpaceTakesMuGCosTheta) {
 }
 
 TEST(InclinedPlane3D, FrictionAboveTanThetaHoldsTheBlock) { expect_stays(half_space(friction(0.7))); }
+
+// The terrain condition (boundary/terrain) on the same plane, read as the top of an STL
+// solid: its nodes are those of the half-space (the nodes at or below the plane), each
+// with the normal of the triangle above it, so the block slides as on the half-space wall.
+std::string terrain(double mu) {
+  return "type terrain; file \"constant/triSurface/ground.stl\"; coefficient " + std::to_string(mu) + ";";
+}
+
+TEST(Terrain3D, AGroundReadFromAnStlSolidSlidesTheBlockAtGSinThetaMinusMuGCosTheta) {
+  for (double mu : {0.0, 0.4}) expect_slides(terrain(mu), mu);
+}
+
+TEST(Terrain3D, FrictionAboveTanThetaHoldsTheBlock) { expect_stays(terrain(0.7)); }
 
 TEST(InclinedPlanePlugin3D, SlipAndCoulombFriction) {
   expect_slides(inclined_plane("condition slip;"), 0);

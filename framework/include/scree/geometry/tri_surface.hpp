@@ -51,6 +51,15 @@ class SCREE_API TriSurface {
                                                           const SourceLocation& key, bool binary = false);
 
   bool contains(const Point3& x) const;
+  /// Where the line through x along `axis` crosses the surface last (at the largest
+  /// coordinate along axis): that coordinate, and the unit normal of the triangle crossed
+  /// there, oriented along +axis. Seen from above, the top of a solid: a terrain's ground.
+  struct Crossing {
+    double height = 0;
+    Point3 normal = Point3::zero();
+  };
+  /// False where the line misses the surface (and `out` is left as it was).
+  bool top(const Point3& x, int axis, Crossing& out) const;
   const Box3& bounds() const { return bounds_; }
   /// |sum over triangles of v0 . (v1 x v2)| / 6 (the divergence theorem), where the
   /// triangles are oriented alike; else sampled on 48^3 midpoints of the bounds.
@@ -63,6 +72,9 @@ class SCREE_API TriSurface {
     double u0 = 0, v0 = 0, du = 1, dv = 1;
     std::vector<std::vector<int>> buckets;
     int crossings(const std::vector<Triangle>& tris, const Point3& x) const;
+    /// f(triangle index, coordinate along axis) for every triangle the line through x crosses.
+    template <class F>
+    void each_crossing(const std::vector<Triangle>& tris, const Point3& x, F&& f) const;
   };
   std::vector<Triangle> tris_;
   Box3 bounds_;

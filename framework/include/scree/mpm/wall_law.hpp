@@ -28,6 +28,30 @@ namespace scree {
 inline constexpr int kMaxWalls = 32;
 using WallMask = std::uint32_t;
 
+/// Contact of a node moving at v (D components, relative to the surface) with a rigid
+/// surface of unit normal n pointing into the material: the normal part v.n n is removed
+/// (always, or only while the node approaches, v.n < 0, when `separable`), and the
+/// tangential part reduced by mu |v.n|, not past zero (Coulomb friction; Bardenhagen,
+/// Brackbill & Sulsky 2000). mu = 0 is a frictionless roller.
+template <int D>
+SCREE_INLINE void coulomb_contact(Real* v, const Real* n, Real mu, bool separable) {
+  Real vn = 0;
+  for (int d = 0; d < D; ++d) vn += v[d] * n[d];
+  if (separable && vn >= 0) return;  // moving away from a separable surface: free
+  if (mu == 0) {
+    for (int d = 0; d < D; ++d) v[d] -= vn * n[d];
+    return;
+  }
+  Real vt[3], vt2 = 0;
+  for (int d = 0; d < D; ++d) {
+    vt[d] = v[d] - vn * n[d];
+    vt2 += vt[d] * vt[d];
+  }
+  const Real vtn = sqrt(vt2);
+  const Real scale = vtn > 0 ? fmax(Real(0), vtn - mu * fabs(vn)) / vtn : Real(0);
+  for (int d = 0; d < D; ++d) v[d] = vt[d] * scale;
+}
+
 struct Wall {
   enum class Mode : int { stick = 0, contact = 1 };
   Mode mode = Mode::stick;
@@ -71,22 +95,7 @@ struct Wall {
       wall_velocity<D>(w, x);
       for (int d = 0; d < D; ++d) v[d] -= w[d];
     }
-    Real vn = 0;
-    for (int d = 0; d < D; ++d) vn += v[d] * normal[d];
-    if (!(separable && vn >= 0)) {  // moving away from a separable wall: free
-      if (mu == 0) {
-        for (int d = 0; d < D; ++d) v[d] -= vn * normal[d];
-      } else {
-        Real vt[3], vt2 = 0;
-        for (int d = 0; d < D; ++d) {
-          vt[d] = v[d] - vn * normal[d];
-          vt2 += vt[d] * vt[d];
-        }
-        const Real vtn = sqrt(vt2);
-        const Real scale = vtn > 0 ? fmax(Real(0), vtn - mu * fabs(vn)) / vtn : Real(0);
-        for (int d = 0; d < D; ++d) v[d] = vt[d] * scale;
-      }
-    }
+    coulomb_contact<D>(v, normal, mu, separable != 0);
     if (moves)
       for (int d = 0; d < D; ++d) v[d] += w[d];
   }
