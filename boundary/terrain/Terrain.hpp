@@ -2,6 +2,7 @@
 // Coulomb friction.
 //
 //   ground { type terrain; file "constant/triSurface/valley.stl"; coefficient 0.47; }
+//   ground { type terrain; file "constant/triSurface/valley.stl"; condition noSlip; }
 //
 // The file is a closed solid whose top is the ground: a digital elevation model's surface
 // closed by side walls and a base, as terrain tools export it (and as an stl region of
@@ -10,9 +11,11 @@
 // z_g(x, y) there, and the triangle crossed there gives the ground's unit normal n
 // (pointing up, into the flow). Every node at or below the ground level of its column is
 // a ground node. On each ground node that carries mass, after every grid update, the
-// velocity the update produced is held by Coulomb contact with a surface at rest of
-// normal n (mpm/wall_law.hpp, coulomb_contact): its approach along n is stopped and its
-// tangential part reduced by mu |v.n|; the flow may lift off (separable, by default).
+// velocity the update produced is held by the ground's `condition`: friction (the
+// default), Coulomb contact with a surface at rest of normal n (mpm/wall_law.hpp,
+// coulomb_contact): its approach along n is stopped and its tangential part reduced by
+// mu |v.n|, and the flow may lift off (separable, by default); slip, the same with mu = 0;
+// noSlip, the velocity set to zero (the flow sticks to the ground).
 // Nodes at or below the ground act alike whatever their depth, so a point that comes
 // within a cell of the ground is stopped by the nodes it maps to.
 //
@@ -42,6 +45,7 @@ struct TerrainKernel {
   const Real* normals;
   Real mu;
   int separable;
+  int stick;  ///< noSlip: the velocity is set to zero
   GridNodes<3> g;
   SCREE_HD void operator()(Index i) const {
     const Index I = nodes[i];
@@ -49,13 +53,13 @@ struct TerrainKernel {
     const Real* n = normals + 3 * i;
     Real v[3];
     if (g.velocity) {
-      for (int d = 0; d < 3; ++d) v[d] = g.fields.velocity[d][I];
-      coulomb_contact<3>(v, n, mu, separable != 0);
+      for (int d = 0; d < 3; ++d) v[d] = stick ? Real(0) : g.fields.velocity[d][I];
+      if (!stick) coulomb_contact<3>(v, n, mu, separable != 0);
       for (int d = 0; d < 3; ++d) g.fields.velocity[d][I] = v[d];
     }
     if (g.velocity_new) {
-      for (int d = 0; d < 3; ++d) v[d] = g.fields.velocity_new[d][I];
-      coulomb_contact<3>(v, n, mu, separable != 0);
+      for (int d = 0; d < 3; ++d) v[d] = stick ? Real(0) : g.fields.velocity_new[d][I];
+      if (!stick) coulomb_contact<3>(v, n, mu, separable != 0);
       for (int d = 0; d < 3; ++d) g.fields.velocity_new[d][I] = v[d];
     }
   }
@@ -65,10 +69,16 @@ class Terrain final : public BoundaryCondition {
  public:
   static constexpr const char* type_name = "terrain";
   static ParamSpec spec() {
-    ParamSpec s(type_name, "the ground under a 3D flow, read from an STL solid; Coulomb friction on the nodes at or below it");
+    ParamSpec s(type_name, "the ground under a 3D flow, read from an STL solid: friction, slip or no slip on the nodes at or "
+                           "below it");
     s.word("file", "STL file relative to the case: a closed solid whose top is the ground, e.g. "
                    "\"constant/triSurface/valley.stl\"");
-    s.scalar("coefficient", "-", "Coulomb friction coefficient mu = tan(basal friction angle)").non_negative();
+    s.word("condition", "friction: Coulomb friction (coefficient); slip: frictionless; noSlip: the flow sticks")
+        .choices({"friction", "slip", "noSlip"})
+        .default_value("friction");
+    s.scalar("coefficient", "-", "Coulomb friction coefficient mu = tan(basal friction angle) (condition friction)")
+        .non_negative()
+        .optional();
     s.word("up", "the vertical axis the ground is seen along (default: the axis gravity points against)")
         .choices({"x", "y", "z"})
         .optional();
@@ -76,7 +86,16 @@ class Terrain final : public BoundaryCondition {
     return s;
   }
 
-  Terrain(const ParamReader& r, const SolverContext& ctx) : mu_(static_cast<Real>(r.scalar("coefficient"))) {
+  Terrain(const ParamReader& r, const SolverContext& ctx) {
+    const std::string condition = r.word("condition");
+    if (condition == "friction" && !r.has("coefficient"))
+      throw InputError(r.dict().where(), "'" + ctx.name + "': coefficient: missing; condition friction (the default) "
+                                         "needs the Coulomb coefficient mu >= 0 (or condition slip or noSlip)");
+    if (condition != "friction" && r.has("coefficient"))
+      throw InputError(r.entry("coefficient").where(), "coefficient: condition " + condition +
+                                                           " takes no coefficient; expected it only with condition friction");
+    mu_ = condition == "friction" ? static_cast<Real>(r.scalar("coefficient")) : Real(0);
+    stick_ = condition == "noSlip" ? 1 : 0;
     separable_ = r.boolean("separable") ? 1 : 0;
     const Entry& file = r.entry("file");
     if (ctx.dimension != 3)
@@ -132,7 +151,7 @@ class Terrain final : public BoundaryCondition {
       normals_.resize(hosted_normals_.size(), ex.device);
       normals_.copy_from_host(hosted_normals_);
     }
-    parallel_for(ex, count_, TerrainKernel{nodes_.data(), normals_.data(), mu_, separable_, g});
+    parallel_for(ex, count_, TerrainKernel{nodes_.data(), normals_.data(), mu_, separable_, stick_, g});
   }
 
  private:
@@ -155,6 +174,7 @@ class Terrain final : public BoundaryCondition {
 
   Real mu_ = 0;
   int separable_ = 1;
+  int stick_ = 0;
   std::vector<Index> hosted_;   // the ground nodes (flat indices of the grid)
   std::vector<Real> hosted_normals_;  // 3 per ground node
   mutable Buffer<Index> nodes_;

@@ -178,7 +178,14 @@ TEST(Terrain3D, AGroundReadFromAnStlSolidSlidesTheBlockAtGSinThetaMinusMuGCosThe
   for (double mu : {0.0, 0.4}) expect_slides(terrain(mu), mu);
 }
 
-TEST(Terrain3D, FrictionAboveTanThetaHoldsTheBlock) { expect_stays(terrain(0.7)); }
+TEST(Terrain3D, FrictionAboveTanThetaOrNoSlipHoldsTheBlock) {
+  expect_stays(terrain(0.7));
+  expect_stays("type terrain; file \"constant/triSurface/ground.stl\"; condition noSlip;");
+}
+
+TEST(Terrain3D, ConditionSlipIsFrictionless) {
+  expect_slides("type terrain; file \"constant/triSurface/ground.stl\"; condition slip;", 0);
+}
 
 // A block in a V-shaped valley. The valley runs along x, its flanks rise at alpha = 30
 // degrees on either side of the thalweg (z = 0.05 + tan(alpha) |y - 0.3|), and gravity is
