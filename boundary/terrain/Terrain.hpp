@@ -143,6 +143,7 @@ class Terrain final : public BoundaryCondition {
   }
 
   bool has_node_law() const override { return true; }
+  using BoundaryCondition::apply;  // 2D: never constructed (3D only)
   void apply(const Exec& ex, const GridNodes<3>& g) const override {
     if (count_ == 0 || !(g.velocity || g.velocity_new)) return;
     if (nodes_.size() != hosted_.size()) {  // the lists on the backend, once (before any capture)
