@@ -1,8 +1,9 @@
-// terrain: the ground under a 3D flow, a rigid surface read from an STL file, with
-// Coulomb friction.
+// terrain: the ground under a flow, a rigid surface read from an STL file (3D) or a
+// polyline (2D), with Coulomb friction, slip or no slip.
 //
 //   ground { type terrain; file "constant/triSurface/valley.stl"; coefficient 0.47; }
 //   ground { type terrain; file "constant/triSurface/valley.stl"; condition noSlip; }
+//   ground { type terrain; points ((0 0.7) (0.5 0.41) (1.2 0)); coefficient 0.3; }   // 2D
 //
 // The file is a closed solid whose top is the ground: a digital elevation model's surface
 // closed by side walls and a base, as terrain tools export it (and as an stl region of
@@ -19,12 +20,18 @@
 // Nodes at or below the ground act alike whatever their depth, so a point that comes
 // within a cell of the ground is stopped by the nodes it maps to.
 //
+// In 2D the ground is the polyline `points`, seen from above alike: over each column of
+// nodes, its highest crossing and the unit normal of the segment crossed there (a
+// vertical segment, which no column crosses, is a step of the height field).
+//
 // The ground is a height field of the grid's node columns: an overhang of the solid is
 // filled below its top, and the ground is resolved to a cell, as every wall on grid nodes
 // is. It is a node law (boundary/node_law.hpp) on the ground nodes of the grid a rank
-// holds, so a decomposed run applies it on each rank's part. 3D only.
+// holds, so a decomposed run applies it on each rank's part.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -38,29 +45,30 @@
 
 namespace scree::boundary {
 
-/// Coulomb contact on the listed ground nodes: node i of the list is grid node nodes[i],
-/// its ground normal normals[3 i .. 3 i + 2].
+/// The ground's law on the listed ground nodes: node i of the list is grid node nodes[i],
+/// its ground normal normals[D i .. D i + D - 1].
+template <int D>
 struct TerrainKernel {
   const Index* nodes;
   const Real* normals;
   Real mu;
   int separable;
   int stick;  ///< noSlip: the velocity is set to zero
-  GridNodes<3> g;
+  GridNodes<D> g;
   SCREE_HD void operator()(Index i) const {
     const Index I = nodes[i];
     if (!(g.fields.mass[I] > 0)) return;  // no material at the node: no velocity
-    const Real* n = normals + 3 * i;
-    Real v[3];
+    const Real* n = normals + D * i;
+    Real v[D];
     if (g.velocity) {
-      for (int d = 0; d < 3; ++d) v[d] = stick ? Real(0) : g.fields.velocity[d][I];
-      if (!stick) coulomb_contact<3>(v, n, mu, separable != 0);
-      for (int d = 0; d < 3; ++d) g.fields.velocity[d][I] = v[d];
+      for (int d = 0; d < D; ++d) v[d] = stick ? Real(0) : g.fields.velocity[d][I];
+      if (!stick) coulomb_contact<D>(v, n, mu, separable != 0);
+      for (int d = 0; d < D; ++d) g.fields.velocity[d][I] = v[d];
     }
     if (g.velocity_new) {
-      for (int d = 0; d < 3; ++d) v[d] = stick ? Real(0) : g.fields.velocity_new[d][I];
-      if (!stick) coulomb_contact<3>(v, n, mu, separable != 0);
-      for (int d = 0; d < 3; ++d) g.fields.velocity_new[d][I] = v[d];
+      for (int d = 0; d < D; ++d) v[d] = stick ? Real(0) : g.fields.velocity_new[d][I];
+      if (!stick) coulomb_contact<D>(v, n, mu, separable != 0);
+      for (int d = 0; d < D; ++d) g.fields.velocity_new[d][I] = v[d];
     }
   }
 };
@@ -69,10 +77,12 @@ class Terrain final : public BoundaryCondition {
  public:
   static constexpr const char* type_name = "terrain";
   static ParamSpec spec() {
-    ParamSpec s(type_name, "the ground under a 3D flow, read from an STL solid: friction, slip or no slip on the nodes at or "
-                           "below it");
-    s.word("file", "STL file relative to the case: a closed solid whose top is the ground, e.g. "
-                   "\"constant/triSurface/valley.stl\"");
+    ParamSpec s(type_name, "the ground under a flow, read from an STL solid (3D) or a polyline (2D): friction, slip or "
+                           "no slip on the nodes at or below it");
+    s.word("file", "3D: STL file relative to the case, a closed solid whose top is the ground, e.g. "
+                   "\"constant/triSurface/valley.stl\"")
+        .optional();
+    s.list("points", "2D: the ground's profile ((x0 y0) (x1 y1) ...), a polyline seen from above").optional();
     s.word("condition", "friction: Coulomb friction (coefficient); slip: frictionless; noSlip: the flow sticks")
         .choices({"friction", "slip", "noSlip"})
         .default_value("friction");
@@ -97,54 +107,85 @@ class Terrain final : public BoundaryCondition {
     mu_ = condition == "friction" ? static_cast<Real>(r.scalar("coefficient")) : Real(0);
     stick_ = condition == "noSlip" ? 1 : 0;
     separable_ = r.boolean("separable") ? 1 : 0;
-    const Entry& file = r.entry("file");
-    if (ctx.dimension != 3)
-      throw InputError(r.dict().where(), "'" + ctx.name + "': type terrain is a 3D condition (a ground read from an STL "
-                                         "surface); in 2D, draw the ground as a friction wall on a halfSpace or box");
+    dimension_ = ctx.dimension;
+    const bool three = dimension_ == 3;
+    if (three ? !r.has("file") : !r.has("points"))
+      throw InputError(r.dict().where(), "'" + ctx.name + "': " + (three ? "file" : "points") + ": missing; a " +
+                                             (three ? "3D ground is read from an STL solid (file)"
+                                                    : "2D ground is a polyline (points ((x0 y0) (x1 y1) ...))"));
+    if (three ? r.has("points") : r.has("file")) {
+      const char* key = three ? "points" : "file";
+      throw InputError(r.entry(key).where(), std::string(key) + ": a " + (three ? "3D" : "2D") + " ground takes " +
+                                                 (three ? "file (an STL solid), not points" : "points (a polyline), not file"));
+    }
     const int up = up_axis(r, ctx);
-    const std::string name = file.as_word();
-    const auto surface = geometry::TriSurface::load(ctx.case_dir / name, name, file.where());
     const NodeLattice lattice = NodeLattice::of(ctx);
-    // The ground over each column of nodes: the solid's top and the normal there.
-    const int u = (up + 1) % 3, w = (up + 2) % 3;
-    const int nu = lattice.nodes[u], nw = lattice.nodes[w];
+    // The ground over each column of nodes (the axes across `up`): its level and normal.
+    const int u = three ? (up + 1) % 3 : 1 - up, w = three ? (up + 2) % 3 : 2;
+    const int nu = lattice.nodes[u], nw = three ? lattice.nodes[w] : 1;
     std::vector<Real> level(static_cast<std::size_t>(nu) * nw, -kUnbounded);
-    std::vector<Real> normal(3 * level.size(), 0);
-    for (int j = 0; j < nw; ++j)
+    std::vector<Real> normal(static_cast<std::size_t>(dimension_) * level.size(), 0);
+    if (three) {
+      const Entry& file = r.entry("file");
+      const std::string name = file.as_word();
+      const auto surface = geometry::TriSurface::load(ctx.case_dir / name, name, file.where());
+      for (int j = 0; j < nw; ++j)
+        for (int i = 0; i < nu; ++i) {
+          geometry::Point3 x = geometry::Point3::zero();
+          x[u] = lattice.origin[u] + i * lattice.h;
+          x[w] = lattice.origin[w] + j * lattice.h;
+          geometry::TriSurface::Crossing c;
+          if (!surface->top(x, up, c)) continue;  // the ground does not reach this column
+          const std::size_t k = static_cast<std::size_t>(j) * nu + i;
+          level[k] = static_cast<Real>(c.height);
+          for (int d = 0; d < 3; ++d) normal[3 * k + d] = static_cast<Real>(c.normal[d]);
+        }
+    } else {
+      const auto line = polyline(r.entry("points"));
       for (int i = 0; i < nu; ++i) {
-        geometry::Point3 x = geometry::Point3::zero();
-        x[u] = lattice.origin[u] + i * lattice.h;
-        x[w] = lattice.origin[w] + j * lattice.h;
-        geometry::TriSurface::Crossing c;
-        if (!surface->top(x, up, c)) continue;  // the ground does not reach this column
-        const std::size_t k = static_cast<std::size_t>(j) * nu + i;
-        level[k] = static_cast<Real>(c.height);
-        for (int d = 0; d < 3; ++d) normal[3 * k + d] = static_cast<Real>(c.normal[d]);
+        const Real x = lattice.origin[u] + i * lattice.h;
+        for (std::size_t s = 0; s + 1 < line.size(); ++s) {  // the highest crossing
+          const auto &a = line[s], &b = line[s + 1];
+          if (a[0] == b[0] || x < std::min(a[0], b[0]) || x > std::max(a[0], b[0])) continue;
+          const Real y = a[1] + (x - a[0]) * (b[1] - a[1]) / (b[0] - a[0]);
+          if (!(y > level[static_cast<std::size_t>(i)])) continue;
+          level[static_cast<std::size_t>(i)] = y;
+          Real n[2];  // the segment's normal, pointing up
+          n[u] = -(b[1] - a[1]);
+          n[up] = b[0] - a[0];
+          const Real scale = (n[up] < 0 ? -1 : 1) / std::sqrt(n[0] * n[0] + n[1] * n[1]);
+          for (int d = 0; d < 2; ++d) normal[2 * static_cast<std::size_t>(i) + d] = n[d] * scale;
+        }
       }
+    }
     auto column = [&](const Real* x) {
       const long i = std::lround((x[u] - lattice.origin[u]) / lattice.h);
-      const long j = std::lround((x[w] - lattice.origin[w]) / lattice.h);
+      const long j = three ? std::lround((x[w] - lattice.origin[w]) / lattice.h) : 0;
       return static_cast<std::size_t>(j) * nu + static_cast<std::size_t>(i);
     };
     hosted_ = select_nodes(lattice, [&](const Real* x) { return x[up] <= level[column(x)]; });
     // Each ground node's normal, in the order of the list (select_nodes' flat node order).
-    hosted_normals_.reserve(3 * hosted_.size());
+    hosted_normals_.reserve(static_cast<std::size_t>(dimension_) * hosted_.size());
     for (Index I : hosted_) {
       Index rest = I;
-      Real x[3];
-      for (int d = 0; d < 3; ++d) {
+      Real x[3] = {0, 0, 0};
+      for (int d = 0; d < dimension_; ++d) {
         x[d] = lattice.origin[d] + static_cast<Real>(rest % lattice.nodes[d]) * lattice.h;
         rest /= lattice.nodes[d];
       }
       const std::size_t k = column(x);
-      for (int d = 0; d < 3; ++d) hosted_normals_.push_back(normal[3 * k + d]);
+      for (int d = 0; d < dimension_; ++d) hosted_normals_.push_back(normal[static_cast<std::size_t>(dimension_) * k + d]);
     }
     count_ = static_cast<Index>(hosted_.size());
   }
 
   bool has_node_law() const override { return true; }
-  using BoundaryCondition::apply;  // 2D: never constructed (3D only)
-  void apply(const Exec& ex, const GridNodes<3>& g) const override {
+  void apply(const Exec& ex, const GridNodes<2>& g) const override { run(ex, g); }
+  void apply(const Exec& ex, const GridNodes<3>& g) const override { run(ex, g); }
+
+ private:
+  template <int D>
+  void run(const Exec& ex, const GridNodes<D>& g) const {
     if (count_ == 0 || !(g.velocity || g.velocity_new)) return;
     if (nodes_.size() != hosted_.size()) {  // the lists on the backend, once (before any capture)
       nodes_.resize(hosted_.size(), ex.device);
@@ -152,14 +193,32 @@ class Terrain final : public BoundaryCondition {
       normals_.resize(hosted_normals_.size(), ex.device);
       normals_.copy_from_host(hosted_normals_);
     }
-    parallel_for(ex, count_, TerrainKernel{nodes_.data(), normals_.data(), mu_, separable_, stick_, g});
+    parallel_for(ex, count_, TerrainKernel<D>{nodes_.data(), normals_.data(), mu_, separable_, stick_, g});
   }
 
- private:
+  /// The 2D ground's vertices: at least two (x y) pairs.
+  static std::vector<std::array<Real, 2>> polyline(const Entry& e) {
+    std::vector<std::array<Real, 2>> line;
+    for (const Item& p : e.single_item().list()) {
+      if (p.kind() != Item::Kind::list || p.list().size() != 2 || p.list()[0].kind() != Item::Kind::number ||
+          p.list()[1].kind() != Item::Kind::number)
+        throw InputError(p.where(), "points: each vertex must be (x y), found " + p.to_string());
+      line.push_back({static_cast<Real>(p.list()[0].number()), static_cast<Real>(p.list()[1].number())});
+    }
+    if (line.size() < 2)
+      throw InputError(e.where(), "points: a ground profile needs at least 2 vertices, found " + std::to_string(line.size()));
+    return line;
+  }
+
   /// `up`, or the axis of gravity's largest component (gravity points down it).
   static int up_axis(const ParamReader& r, const SolverContext& ctx) {
-    if (r.has("up")) return r.word("up")[0] - 'x';
-    int axis = 2;
+    if (r.has("up")) {
+      const int axis = r.word("up")[0] - 'x';
+      if (axis >= ctx.dimension)
+        throw InputError(r.entry("up").where(), "up: a 2D case has the axes x and y; expected up x or up y");
+      return axis;
+    }
+    int axis = ctx.dimension - 1;
     Real largest = 0;
     for (int d = 0; d < static_cast<int>(ctx.gravity.size()) && d < 3; ++d)
       if (std::fabs(ctx.gravity[static_cast<std::size_t>(d)]) > largest) {
@@ -176,8 +235,9 @@ class Terrain final : public BoundaryCondition {
   Real mu_ = 0;
   int separable_ = 1;
   int stick_ = 0;
+  int dimension_ = 3;
   std::vector<Index> hosted_;   // the ground nodes (flat indices of the grid)
-  std::vector<Real> hosted_normals_;  // 3 per ground node
+  std::vector<Real> hosted_normals_;  // D per ground node
   mutable Buffer<Index> nodes_;
   mutable Buffer<Real> normals_;
   Index count_ = 0;

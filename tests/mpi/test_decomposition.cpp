@@ -239,8 +239,8 @@ std::vector<Variant> setups() {
        "floor { type slip; face zMin; }", "value (0 0 -9.81);"},
       // 3D: a block sliding down a 25-degree ground read from an STL solid (the terrain
       // condition on each rank's part of the grid), across the cut. A step of Courant
-      // number 0.08: at 0.2 and above the contact rings the block off the ground (also on a
-      // friction halfSpace wall: the contact, not the terrain).
+      // number 0.08: at 0.2 and above this USL update blew the block up, on a friction
+      // halfSpace wall alike (USL's own: tests/verification/boundary/test_inclined_plane.cpp).
       {"terrain3D", "endTime 0.15; deltaT 1e-4; writeInterval 1;", "updateScheme USL;",
        "dimension 3; lower (0 0 0); upper (0.8 0.12 0.4); cellSize 0.02;", kElastic,
        "b { material m; region { type extrudedPolygon; axis y; range (0.02 0.1); "

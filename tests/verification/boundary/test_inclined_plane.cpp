@@ -5,7 +5,7 @@
 // angle, made twice: with the `slip` and `friction` walls on a half-space (every node behind
 // the plane; mpm/wall_law.hpp), and with the `inclinedPlane` plugin (the contact law on the
 // nodes behind the plane that points in front of it reach, the nodes further behind held:
-// boundary/inclinedPlane).
+// boundary/inclinedPlane), and once more with a `terrain` ground drawn as a polyline.
 //
 // The block (0.2 m x 0.05 m, E = 1e7 Pa) is stiff: its normal and bending modes ring at
 // hundreds of Hz and average out of a least-squares fit of its mean along-slope velocity over
@@ -148,6 +148,25 @@ TEST(InclinedPlanePlugin, CoulombFrictionTakesMuGCosTheta) {
 TEST(InclinedPlanePlugin, FrictionAboveTanThetaOrNoSlipHoldsTheBlock) {
   for (const char* scheme : {"USF", "MUSL"}) expect_stays(inclined_plane(coulomb(0.7)), scheme);
   expect_stays(inclined_plane("condition noSlip;"), "USF");
+}
+
+// The terrain condition (boundary/terrain) with the plane as a 2D ground, a polyline of
+// three collinear vertices from above the domain's left edge to below its right one: its
+// nodes are the half-space's (the nodes at or below the line), each with the segment's
+// normal, so the block slides as on the half-space wall, within the same 1%.
+std::string terrain(const std::string& condition) {
+  return "type terrain; points (" + point(-0.2, 0) + " " + point(0.6, 0) + " " + point(1.6, 0) + "); " + condition;
+}
+
+TEST(Terrain2D, APolylineGroundSlidesTheBlockAsTheInclinedPlane) {
+  expect_slides(terrain("condition slip;"), 0, "USF");
+  for (double mu : {0.2, 0.4}) expect_slides(terrain(coulomb(mu)), mu, "USF");
+  expect_slides(terrain(coulomb(0.2)), 0.2, "MUSL");
+}
+
+TEST(Terrain2D, FrictionAboveTanThetaOrNoSlipHoldsTheBlock) {
+  expect_stays(terrain(coulomb(0.7)), "USF");
+  expect_stays(terrain("condition noSlip;"), "USF");
 }
 
 /// The context of this test's grid: 1.2 m x 0.8 m of 0.01 m cells, one ghost layer.
