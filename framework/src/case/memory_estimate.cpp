@@ -172,9 +172,11 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     // deviatoric stress, volume, mass, density, bodyId, the material's and a two-phase
     // body's (4 scalars, 2 vectors of 3).
     const double fields = (3 + 1 + 3 + 3 + 6 + 6 + b.output_reals + (b.two_phase ? 10 : 0)) * kReal;
-    // A decomposed run: each rank writes its own points as a piece; the first also gathers
-    // the whole case when function objects are due.
-    const double output = m.output ? block + 3 * fields : block /* the time step's check reads a host copy */;
+    // A decomposed run: each rank writes its own points as a piece, on its main thread (one
+    // snapshot at a time, and the writer's copy of it); the first also gathers the whole
+    // case when function objects are due.
+    const double output =
+        m.output ? block + (R > 1 ? 2 : 3) * fields : block /* the time step's check reads a host copy */;
     p.host_each = std::max(setup, output);
     if (R > 1 && m.gathers) p.host_root_each = block + 3 * fields;
     e.parts.push_back(p);
