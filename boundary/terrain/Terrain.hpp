@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "scree/boundary/boundary_condition.hpp"
+#include "scree/boundary/node_law.hpp"
 #include "scree/core/constants.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/geometry/tri_surface.hpp"
@@ -163,10 +164,11 @@ class Terrain final : public BoundaryCondition {
       const long j = three ? std::lround((x[w] - lattice.origin[w]) / lattice.h) : 0;
       return static_cast<std::size_t>(j) * nu + static_cast<std::size_t>(i);
     };
-    hosted_ = select_nodes(lattice, [&](const Real* x) { return x[up] <= level[column(x)]; });
+    nodes_.host() = select_nodes(lattice, [&](const Real* x) { return x[up] <= level[column(x)]; });
     // Each ground node's normal, in the order of the list (select_nodes' flat node order).
-    hosted_normals_.reserve(static_cast<std::size_t>(dimension_) * hosted_.size());
-    for (Index I : hosted_) {
+    std::vector<Real>& normals = normals_.host();
+    normals.reserve(static_cast<std::size_t>(dimension_) * nodes_.host().size());
+    for (Index I : nodes_.host()) {
       Index rest = I;
       Real x[3] = {0, 0, 0};
       for (int d = 0; d < dimension_; ++d) {
@@ -174,9 +176,8 @@ class Terrain final : public BoundaryCondition {
         rest /= lattice.nodes[d];
       }
       const std::size_t k = column(x);
-      for (int d = 0; d < dimension_; ++d) hosted_normals_.push_back(normal[static_cast<std::size_t>(dimension_) * k + d]);
+      for (int d = 0; d < dimension_; ++d) normals.push_back(normal[static_cast<std::size_t>(dimension_) * k + d]);
     }
-    count_ = static_cast<Index>(hosted_.size());
   }
 
   bool has_node_law() const override { return true; }
@@ -186,14 +187,9 @@ class Terrain final : public BoundaryCondition {
  private:
   template <int D>
   void run(const Exec& ex, const GridNodes<D>& g) const {
-    if (count_ == 0 || !(g.velocity || g.velocity_new)) return;
-    if (nodes_.size() != hosted_.size()) {  // the lists on the backend, once (before any capture)
-      nodes_.resize(hosted_.size(), ex.device);
-      nodes_.copy_from_host(hosted_);
-      normals_.resize(hosted_normals_.size(), ex.device);
-      normals_.copy_from_host(hosted_normals_);
-    }
-    parallel_for(ex, count_, TerrainKernel<D>{nodes_.data(), normals_.data(), mu_, separable_, stick_, g});
+    const Index n = static_cast<Index>(nodes_.host().size());
+    if (n == 0 || !(g.velocity || g.velocity_new)) return;
+    parallel_for(ex, n, TerrainKernel<D>{nodes_.on(ex), normals_.on(ex), mu_, separable_, stick_, g});
   }
 
   /// The 2D ground's vertices: at least two (x y) pairs.
@@ -236,11 +232,8 @@ class Terrain final : public BoundaryCondition {
   int separable_ = 1;
   int stick_ = 0;
   int dimension_ = 3;
-  std::vector<Index> hosted_;   // the ground nodes (flat indices of the grid)
-  std::vector<Real> hosted_normals_;  // D per ground node
-  mutable Buffer<Index> nodes_;
-  mutable Buffer<Real> normals_;
-  Index count_ = 0;
+  HostedList<Index> nodes_;  // the ground nodes (flat indices of the grid)
+  HostedList<Real> normals_;  // D per ground node
 };
 
 }  // namespace scree::boundary

@@ -23,6 +23,28 @@
 
 namespace scree {
 
+/// What a node law keeps per node (the nodes' flat indices, a plugin's own data per node):
+/// made on the host at setup, copied to the backend once, at the first grid update (before
+/// any capture of the step in a graph).
+template <class T>
+class HostedList {
+ public:
+  std::vector<T>& host() { return host_; }
+  const std::vector<T>& host() const { return host_; }
+  /// The list on `ex`'s backend.
+  const T* on(const Exec& ex) const {
+    if (backend_.size() != host_.size()) {
+      backend_.resize(host_.size(), ex.device);
+      backend_.copy_from_host(host_);
+    }
+    return backend_.data();
+  }
+
+ private:
+  std::vector<T> host_;
+  mutable Buffer<T> backend_;
+};
+
 namespace detail {
 /// The law over the listed nodes: node i of the list is grid node nodes[i].
 template <class Law, int D>
@@ -57,8 +79,7 @@ class NodeLawCondition : public BoundaryCondition {
  public:
   NodeLawCondition(const ParamReader& r, const SolverContext& ctx, const Law& law)
       : region_(Region::read(r, ctx)), law_(law) {
-    hosted_ = select_nodes(NodeLattice::of(ctx), [this](const Real* x) { return region_.contains(x); });
-    count_ = static_cast<Index>(hosted_.size());
+    nodes_.host() = select_nodes(NodeLattice::of(ctx), [this](const Real* x) { return region_.contains(x); });
   }
 
   bool has_node_law() const override { return true; }
@@ -67,19 +88,14 @@ class NodeLawCondition : public BoundaryCondition {
  private:
   template <int D>
   void run(const Exec& ex, const GridNodes<D>& g) const {
-    if (count_ == 0 || !(g.velocity || g.velocity_new)) return;
-    if (nodes_.size() != hosted_.size()) {  // the node list on the backend, once (before any capture)
-      nodes_.resize(hosted_.size(), ex.device);
-      nodes_.copy_from_host(hosted_);
-    }
-    parallel_for(ex, count_, detail::NodeLawKernel<Law, D>{nodes_.data(), law_, g});
+    const Index n = static_cast<Index>(nodes_.host().size());
+    if (n == 0 || !(g.velocity || g.velocity_new)) return;
+    parallel_for(ex, n, detail::NodeLawKernel<Law, D>{nodes_.on(ex), law_, g});
   }
 
   Region region_;
   Law law_;
-  std::vector<Index> hosted_;       // the region's nodes (flat indices)
-  mutable Buffer<Index> nodes_;     // ... on the backend
-  Index count_ = 0;
+  HostedList<Index> nodes_;  // the region's nodes (flat indices)
 };
 
 }  // namespace scree
