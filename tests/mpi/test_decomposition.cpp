@@ -32,6 +32,7 @@
 #include <unistd.h>
 
 #include "scree/case/checkpoint.hpp"
+#include "scree/case/memory_estimate.hpp"
 #include "scree/comm/comm.hpp"
 #include "scree_test.hpp"
 
@@ -464,6 +465,48 @@ TEST(DecomposedRestart, ContinuesOnOneRankWithinRoundOff) {
   expect_same_points(one.bodies[0], whole.bodies[0]);
   EXPECT_LT(difference(one.bodies[0], whole.bodies[0], "velocity"), s.tol_v);
   EXPECT_LT(difference(one.bodies[0], whole.bodies[0], "stress"), s.tol_s);
+}
+
+// A rank whose slab lies over empty space holds most of the grid. The memory estimate
+// before the run assumes equal shares; once the slabs are cut every rank checks every
+// rank's grid and points against that rank's free memory, before anything of the slabs
+// is allocated. A block in the first 6% of a 4 m channel: with the free memory at 60% of
+// what the whole case takes on one rank, the last rank (the empty 94% of the grid) is
+// refused by name, on every rank; with 120%, the run sets up.
+TEST(DecomposedMemory, ARankWhoseSlabDoesNotFitIsRefusedBeforeAllocation) {
+  SharedCase c("memory_slab");
+  write_case_files(c, CaseFiles{"endTime 0.01; deltaT 1e-4; writeInterval 1;", "updateScheme USL;",
+                                "dimension 2; lower (0 0); upper (4 0.2); cellSize 0.01;", "value (0 -9.81);", kElastic,
+                                "b { material m; region { type rectangle; lower (0.02 0); upper (0.22 0.1); } }",
+                                "floor { type slip; face yMin; }"});
+  Case cs = Case::read(c.dir(), runtime());
+  const double whole = estimate_memory(cs, runtime().registry(), test_device(), false).backend_bytes();
+  const int R = world_comm().size();
+  RunOptions o = opts(world());
+  o.check_setup = false;  // as scree does after its own check with the ranks' layout: the slabs' check alone
+  std::string what;
+  ::setenv("SCREE_TEST_FREE_MEMORY", std::to_string(0.6 * whole).c_str(), 1);
+  try {
+    Simulation sim(cs, runtime(), o);
+  } catch (const InputError& e) {
+    what = e.what();
+  }
+  ::setenv("SCREE_TEST_FREE_MEMORY", std::to_string(1.2 * whole).c_str(), 1);
+  bool fits = true;
+  try {
+    Simulation sim(cs, runtime(), o);
+  } catch (const InputError& e) {
+    fits = false;
+    ADD_FAILURE() << "refused with 120% of the whole case free: " << e.what();
+  }
+  ::unsetenv("SCREE_TEST_FREE_MEMORY");
+  if (is_root()) std::cout << what << "\n";
+  EXPECT_NE(what.find("system/gridDict"), std::string::npos) << what;
+  EXPECT_NE(what.find("cellSize: rank " + std::to_string(R - 1) + " of " + std::to_string(R) + " needs about"),
+            std::string::npos)
+      << what;
+  EXPECT_NE(what.find("nothing was allocated"), std::string::npos) << what;
+  EXPECT_TRUE(fits);
 }
 
 TEST(DecomposedFailure, StopsEveryRankWithOneDiagnosis) {

@@ -14,6 +14,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "scree/case/memory_estimate.hpp"
 #include "scree/case/particle_generation.hpp"
 #include "scree/mpm/halo_slab.hpp"
 #include "scree/mpm/particle_storage.hpp"
@@ -27,17 +28,22 @@ void Solver<D>::decompose_case() {
     throw InputError(case_.bodies().where(),
                      "a case with two-phase bodies runs on one rank; this run has " + std::to_string(comm_->size()) +
                          " (run it without mpirun, or with -np 1)");
-  // The points per cell layer along every axis, from the positions generate_particles
-  // makes, in the whole grid's lattice.
+  // The points per cell layer along every axis, each body's, from the positions
+  // generate_particles makes, in the whole grid's lattice.
+  std::vector<std::array<std::vector<std::uint64_t>, D>> per_body;
   std::array<std::vector<std::uint64_t>, D> layers;
   for (int d = 0; d < D; ++d) layers[d].assign(static_cast<std::size_t>(global_.cells[d]), 0);
-  for (const Entry* e : case_.body_entries())
+  for (const Entry* e : case_.body_entries()) {
+    auto& h = per_body.emplace_back(layers);
     for_each_particle_position<D>(
         e->dict(), global_,
         [&](const Vec<D>& x) {
-          for (int d = 0; d < D; ++d) ++layers[d][static_cast<std::size_t>(domain_cell(global_, d, x[d]))];
+          for (int d = 0; d < D; ++d) ++h[d][static_cast<std::size_t>(domain_cell(global_, d, x[d]))];
         },
         case_.dir());
+    for (int d = 0; d < D; ++d)
+      for (std::size_t c = 0; c < layers[d].size(); ++c) layers[d][c] += h[d][c];
+  }
   int a = 0, b = 0;
   stencil_reach(settings_.schemes.shape, a, b);
   try {
@@ -45,7 +51,68 @@ void Solver<D>::decompose_case() {
   } catch (const std::invalid_argument& e) {
     throw InputError(case_.grid().where(), std::string("system/gridDict: cellSize: ") + e.what());
   }
+  check_rank_memory(per_body);
   set_local_grid();
+}
+
+template <int D>
+void Solver<D>::check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, D>>& per_body) const {
+  // What each rank's backend will hold once the points are cut into its slab: its grid and
+  // its points, the most of its share before the cuts move (kRebalanceRatio times the mean)
+  // or what it starts with if more, at the bytes per node and point of the memory estimate.
+  // The estimate before the run assumed equal shares; here the slabs are known, and a slab
+  // over empty space carries a large grid. Every rank knows every slab; only the free
+  // memory of each rank's backend is exchanged.
+  const int R = comm_->size(), ax = decomp_.axis;
+  const MemoryEstimate m = estimate_memory(case_, rt_.registry(), exec_.device, opt_.output, {R, 1});
+  std::vector<double> grid_bytes(static_cast<std::size_t>(R)), point_bytes(static_cast<std::size_t>(R), 0.0);
+  std::vector<std::uint64_t> points(static_cast<std::size_t>(R), 0);
+  for (int r = 0; r < R; ++r) {
+    const auto ru = static_cast<std::size_t>(r);
+    grid_bytes[ru] = static_cast<double>(decomp_.local[ru].num_nodes()) * m.parts.at(0).backend_each;
+    for (std::size_t i = 0; i < per_body.size(); ++i) {
+      std::uint64_t n = 0, total = 0;
+      for (std::size_t c = 0; c < per_body[i][static_cast<std::size_t>(ax)].size(); ++c) {
+        const std::uint64_t k = per_body[i][static_cast<std::size_t>(ax)][c];
+        total += k;
+        if (static_cast<int>(c) >= decomp_.cuts[ru] && static_cast<int>(c) < decomp_.cuts[ru + 1]) n += k;
+      }
+      points[ru] += n;
+      const double most = std::max(static_cast<double>(n), kRebalanceRatio * static_cast<double>(total) / R);
+      point_bytes[ru] += most * m.parts.at(i + 1).backend_each;
+    }
+  }
+  const mem::Available a = mem::available(exec_.device);
+  std::vector<std::uint64_t> free(static_cast<std::size_t>(R), 0), known(static_cast<std::size_t>(R), 0);
+  free[static_cast<std::size_t>(comm_->rank())] = a.bytes;
+  known[static_cast<std::size_t>(comm_->rank())] = a.known ? 1 : 0;
+  comm_->sum(free.data(), R);
+  comm_->sum(known.data(), R);
+  int worst = -1;
+  double excess = 0;
+  for (int r = 0; r < R; ++r) {
+    const auto ru = static_cast<std::size_t>(r);
+    const double over = grid_bytes[ru] + point_bytes[ru] - static_cast<double>(free[ru]);
+    if (known[ru] && over > excess) {
+      excess = over;
+      worst = r;
+    }
+  }
+  if (worst < 0) return;
+  const auto w = static_cast<std::size_t>(worst);
+  const char* space = exec_.device == Device::cuda ? "GPU" : "host";
+  std::ostringstream msg;
+  const Entry* cell = case_.grid().find("cellSize");
+  msg << "cellSize: rank " << worst << " of " << R << " needs about " << mem::format_bytes(grid_bytes[w] + point_bytes[w])
+      << " of " << space << " memory, more than the " << mem::format_bytes(static_cast<double>(free[w])) << " free"
+      << (worst == comm_->rank() ? " (" + a.source + ")" : std::string()) << ": its slab, cells [" << decomp_.cuts[w]
+      << ", " << decomp_.cuts[w + 1] << ") across axis " << ax << ", holds " << decomp_.local[w].num_nodes()
+      << " grid nodes (" << mem::format_bytes(grid_bytes[w]) << ") and " << points[w] << " points ("
+      << mem::format_bytes(point_bytes[w]) << ", allowing for " << kRebalanceRatio
+      << " times the mean share before the cuts move). The slabs are cut for equal points, so a slab over empty "
+         "space holds a large grid: run on more ranks, narrow the domain to where the material goes, or coarsen "
+         "cellSize; nothing was allocated";
+  throw InputError(cell ? cell->where() : case_.grid().where(), msg.str());
 }
 
 template <int D>
@@ -478,6 +545,8 @@ template void Solver<2>::apply_recut();
 template void Solver<3>::apply_recut();
 template void Solver<2>::decompose_case();
 template void Solver<3>::decompose_case();
+template void Solver<2>::check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, 2>>&) const;
+template void Solver<3>::check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, 3>>&) const;
 template void Solver<2>::report_decomposition();
 template void Solver<3>::report_decomposition();
 template std::vector<Real> Solver<2>::keep_own(const std::vector<Real>&, Index, Index&) const;

@@ -34,6 +34,7 @@
 #include <memory>
 #include <new>
 #include <optional>
+#include <array>
 #include <vector>
 
 #include "../exec/pinned_buffer.hpp"
@@ -159,6 +160,10 @@ class Solver {
   /// rank, not made) and set up this rank's grid; setup_body then makes only the points of
   /// this rank's box, so no rank holds more of the case than its own part.
   void decompose_case();
+  /// Refuse, on every rank and before anything of the slabs is allocated, a decomposition
+  /// in which a rank's grid and points (`per_body`: each body's points per cell layer along
+  /// every axis) would not fit in its backend's free memory, naming that rank and its slab.
+  void check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, D>>& per_body) const;
   /// Log how the grid was cut and the points each rank holds.
   void report_decomposition();
   /// Make decomp_'s box this rank's grid: its geometry, its grid sets, the plugins' context.
