@@ -159,7 +159,9 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     const double chunk = p.count * block <= double(64 << 20) ? columns : std::min(columns, 4.0);
     p.backend_each = block + sizeof(Index) /* the elastic-first split's list */ +
                      (m.sorts ? 4 * sizeof(std::uint32_t) + chunk * kReal : 0) +
-                     (gpu ? block : 0) /* the snapshot's device copy (snapshot_copy.hpp) */;
+                     (gpu && R == 1 ? block : 0) /* the snapshot's device copy (snapshot_copy.hpp): one
+                                                    process's asynchronous output; a rank of a decomposed
+                                                    run copies its block to the host directly */;
     // Host, the larger of the setup's and the output's copies. Setup (particle_generation,
     // material_body.hpp): positions and volumes grown by push_back (capacity the next power
     // of 2), velocities and stresses (Sym3), the host block; a two-phase body's pore
