@@ -126,9 +126,9 @@ void expect_collapse_agrees(const std::string& material) {
   std::ifstream f(src + "/cases/columnCollapse/constant/materialProperties");
   std::stringstream mats;
   mats << f.rdbuf();
-  // The substepping tolerance the 1e-6 was measured with (the case's own is 1e-2 since
-  // 2026-11-27: a round-off difference between the kernels then flips more of the error
-  // control's decisions, each worth up to STOL x 100 Pa; test_three_d.cpp measured it).
+  // The substepping tolerance the 1e-6 bound holds for. The case's own is 1e-2, at which a
+  // round-off difference between the kernels flips more of the error control's decisions,
+  // each worth up to STOL x 100 Pa (test_three_d.cpp measures it).
   mats << "\n#inputMode overwrite\nsand { $sand; integrationTolerance 1e-3; }\nsandFrictional { $sandFrictional; integrationTolerance 1e-3; }\n";
   const RunSetup s{"endTime 1; deltaT 1e-5; writeInterval 1;", "dimension 2; lower (0 0); upper (0.4 0.12); cellSize 0.01;",
                 "updateScheme USF;", mats.str(),

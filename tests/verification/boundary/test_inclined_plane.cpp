@@ -21,14 +21,14 @@
 // 24% off a.
 //
 // The runs use one thread: 400 points are too few to share, and on a 2-core machine busy
-// with other builds, as CI's can be, two threads took 8 times as long (13.6 s against 1.75 s
-// a run, 2026-11-26): its 16 runs take about 27 s so, where its 6 runs before took 63 s.
+// with other builds, as CI's can be, two threads wait on each other far longer than they
+// save.
 //
-// Not covered, because not reproduced (2026-11-25): a friction wall that is not separable
+// Not covered, because not reproduced: a friction wall that is not separable
 // (a = 2.70 instead of 3.21 m/s^2 for mu = 0.2; the block sticks for mu = 0.4: the law takes
 // mu |v_n| of every node it holds, the ringing's pulls included), and the USL update, with
-// which the block blows up within 0.035 s on this plane, with either wall. That is USL's own
-// (2026-11-26): the same block falling freely, far from any wall, blows up by 0.023 s, at 30
+// which the block blows up within 0.035 s on this plane, with either wall. That is USL's own:
+// the same block falling freely, far from any wall, blows up by 0.023 s, at 30
 // degrees or aligned with the grid: its stress comes from the updated velocity of nodes at
 // the block's edge whose mass is a small share of a point's (massTolerance 1e-6) and whose
 // f/m is not; with massTolerance 1e-2 the free fall holds (to 0.1 s), the slide still blows

@@ -17,7 +17,7 @@
 // P-wave speed, 26 m/s). The frictional contact is sensitive to the step: with 2e-4 s a was
 // 0.8% too large at mu = 0.4 (1.5% with 0.02 m cells, Courant 0.26), and with E = 1e7 at
 // Courant 0.9 the contact rang the block off the plane (a 15% too large).
-// Tolerance: 1% of a, as in 2D. Measured (2026-11-27, printed): slip 0.000% on either wall,
+// Tolerance: 1% of a, as in 2D. Measured (printed by the test): slip 0.000% on either wall,
 // mu = 0.2 +0.02%, mu = 0.4 +0.15% (the largest: the smallest a), the same on both walls.
 // Motion confined to the plane's downhill direction: the centre of mass's travel across the
 // slope (along t x n) and off the plane (along n) over the fit's window below 1% of its

@@ -26,7 +26,7 @@
 //   stress pass split (KernelPolicy::ledger_split, StressSplit on) books each point once:
 //   the same terms within what two runs of slightly different integration paths differ by
 //   (0.1-1%; a share booked twice or missed is tens of per cent).
-// - Regression (this code's own value when the test was written, 2026-11-25; not a truth):
+// - Regression (this code's own value when the test was written; not a truth):
 //   the 0.99 mass quantile of x 0.4 s after the release, within 10% (a chaotic granular
 //   flow; 20 mm is far from the converged 5 mm front).
 #include <gtest/gtest.h>
@@ -146,8 +146,8 @@ TEST(Flume, CoarseRunCreatesNoEnergyAndDissipates) {
                 100 * residual / start.potential, 100 * residual / released);
     EXPECT_LE(std::fabs(residual), 0.02 * start.potential) << "the energy budget does not close at " << t;
     // What is left is the discretisation's own error (the explicit step's 1/2 f.dv dt, the
-    // transfers at the nodes within the body): measured 0.1% of the released energy at most
-    // (2026-11-26). A term missing or counted twice is tens of per cent of it.
+    // transfers at the nodes within the body): measured 0.1% of the released energy at most.
+    // A term missing or counted twice is tens of per cent of it.
     EXPECT_LE(std::fabs(residual), 0.01 * released) << "the energy budget does not close at " << t;
   }
   // Dissipation is never negative (the second law): the frictional dissipation, i.e. the work
@@ -161,7 +161,7 @@ TEST(Flume, CoarseRunCreatesNoEnergyAndDissipates) {
   EXPECT_GT(plastic, 0);
   EXPECT_GE(last.ledger[kEnergyCollisional], -1e-6 * start.potential);
   EXPECT_GE(last.ledger[kEnergyWalls], 0);
-  // Measured: -192 J/m by 0.4 s (2026-11-25), from -3 J/m at 0.05 s, falling at every check.
+  // Measured: -192 J/m by 0.4 s, from -3 J/m at 0.05 s, falling at every check.
   EXPECT_LT(last.kinetic + last.potential, e0) << "the flow must dissipate";
   EXPECT_GT(last.kinetic, 0.01 * (e0 - last.potential)) << "still flowing 0.4 s after the release";
   EXPECT_NEAR(last.front_x / kRegressionFrontX, 1.0, 0.10) << "regression: front " << last.front_x;

@@ -34,8 +34,8 @@ Snapshot collapse(const std::string& material, int dim, int steps) {
   std::ifstream f(std::string(SCREE_SOURCE_DIR) + "/cases/columnCollapse/constant/materialProperties");
   std::stringstream mats;
   mats << f.rdbuf();
-  // The substepping tolerance the round-off above was measured with. The case's own, 1e-2 since
-  // 2026-11-27, lets a round-off difference flip one of the error control's accept/reject
+  // The substepping tolerance the round-off above was measured with. The case's own, 1e-2,
+  // lets a round-off difference flip one of the error control's accept/reject
   // decisions, each worth up to STOL x 100 Pa in the stress: 1e-6-1e-5 of the fields' scales
   // after 1000 steps, a difference of integration paths, not of the 3D kernels.
   mats << "\n#inputMode overwrite\nsand { $sand; integrationTolerance 1e-3; }\nsandFrictional { $sandFrictional; integrationTolerance 1e-3; }\n";
