@@ -58,19 +58,6 @@ void Decomposition<D>::overlap(int peer, int& lo, int& hi) const {
 }
 
 template <int D>
-Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& positions, int ranks, int rank, int a,
-                           int b, int slack) {
-  std::array<std::vector<std::uint64_t>, D> hist;
-  for (int d = 0; d < D; ++d) hist[d].assign(static_cast<std::size_t>(g.cells[d]), 0);
-  if (ranks > 1) {
-    const std::size_t n = positions.size() / D;
-    for (std::size_t p = 0; p < n; ++p)
-      for (int d = 0; d < D; ++d) ++hist[d][static_cast<std::size_t>(domain_cell(g, d, positions[p * D + d]))];
-  }
-  return decompose_layers<D>(g, hist, ranks, rank, a, b, slack);
-}
-
-template <int D>
 Decomposition<D> decompose_layers(const GlobalGrid<D>& g, const std::array<std::vector<std::uint64_t>, D>& hist,
                                   int ranks, int rank, int a, int b, int slack) {
   Decomposition<D> dc;
@@ -174,8 +161,6 @@ template int domain_cell<2>(const GlobalGrid<2>&, int, Real);
 template int domain_cell<3>(const GlobalGrid<3>&, int, Real);
 template struct Decomposition<2>;
 template struct Decomposition<3>;
-template Decomposition<2> decompose<2>(const GlobalGrid<2>&, const std::vector<Real>&, int, int, int, int, int);
-template Decomposition<3> decompose<3>(const GlobalGrid<3>&, const std::vector<Real>&, int, int, int, int, int);
 template Decomposition<2> decompose_layers<2>(const GlobalGrid<2>&, const std::array<std::vector<std::uint64_t>, 2>&,
                                              int, int, int, int, int);
 template Decomposition<3> decompose_layers<3>(const GlobalGrid<3>&, const std::array<std::vector<std::uint64_t>, 3>&,

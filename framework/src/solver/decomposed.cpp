@@ -5,8 +5,10 @@
 // the ranks reduce its inputs (reduce_clock: the largest signal speed, which sets the next
 // dt, the lost and failed points), so that every rank takes the same steps. At the end of
 // each chunk of steps the points migrate to the rank whose box holds them; a chunk is
-// short enough that no point moves past the halo within it (migration_steps). Output and
-// checkpoints gather every rank's part on the root rank, which writes them as one case.
+// short enough that no point moves past the halo within it (migration_steps). Each rank
+// makes only the points of its box (decompose_case), writes them as its own piece of every
+// frame and checkpoint, and sends them to the root only for function objects and writers
+// without pieces, which work on the case as a whole.
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -74,23 +74,18 @@ struct Decomposition {
   SCREE_API void overlap(int peer, int& lo, int& hi) const;
 };
 
-/// The decomposition of grid `g` over `ranks` ranks for points at `positions` (D per
-/// point, interleaved), for a shape function of reach a, b (above) and points `slack`
-/// cells outside their box at most. A single rank owns the whole grid. Throws
-/// std::invalid_argument, saying how many ranks the grid allows, when a slab would be
-/// too thin for its neighbours' halos not to meet.
-template <int D>
-SCREE_API Decomposition<D> decompose(const GlobalGrid<D>& g, const std::vector<Real>& positions, int ranks, int rank,
-                                     int a, int b, int slack);
-
-/// decompose() from the points per cell layer along every axis (layers[d][c]: the points
-/// in domain cell c along axis d, domain_cell), which a run counts before it makes them.
+/// The decomposition of grid `g` over `ranks` ranks for the points per cell layer along
+/// every axis (layers[d][c]: the points in domain cell c along axis d, domain_cell), which
+/// a run counts before it makes them, for a shape function of reach a, b (above) and
+/// points `slack` cells outside their box at most. A single rank owns the whole grid.
+/// Throws std::invalid_argument, saying how many ranks the grid allows, when a slab would
+/// be too thin for its neighbours' halos not to meet.
 template <int D>
 SCREE_API Decomposition<D> decompose_layers(const GlobalGrid<D>& g, const std::array<std::vector<std::uint64_t>, D>& layers,
                                             int ranks, int rank, int a, int b, int slack);
 
 /// The slabs across `axis` for the points per cell layer `layers` along it (a rebalance
-/// keeps the axis and moves the cuts), as decompose() cuts them.
+/// keeps the axis and moves the cuts), as decompose_layers() cuts them.
 template <int D>
 SCREE_API Decomposition<D> cut_slabs(const GlobalGrid<D>& g, const std::vector<std::uint64_t>& layers, int axis,
                                      int ranks, int rank, int a, int b, int slack);
