@@ -334,7 +334,8 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   s.sigma = std::move(gp.sigma);
   s.velocity_gradient = gp.velocity_gradient;
   s.first_id = next_id;
-  for (std::int64_t i : gp.index) s.ids.push_back(next_id + i);
+  s.ids = std::move(gp.index);  // places in the body (a rank's part of it), made ids in place
+  for (std::int64_t& i : s.ids) i += next_id;
   next_id += static_cast<std::int64_t>(gp.total);
   const bool porous = porous_ && porous_->prepare(b, s, density);
   // Every point of a body has the same volume: the same smallest mass on every rank,
