@@ -26,7 +26,13 @@
 // There the surface is open while it rains (a two-phase body's surface is closed elsewhere,
 // porous/grid_update.hpp): p_w = 0, the natural condition, takes in what the soil can take.
 //
+// The intensity is a function of time (time/function_of_time.hpp): a constant, or a
+// hyetograph as a table or a CSV file, evaluated at every step's time on the device.
+//
 //   rain { type rainfall; box { min (0 1.0); max (0.1 1.2); } intensity 1800; unit mm/h; }
+//   rain { type rainfall; face yMax;
+//          intensity { type csvFile; file "constant/hyetograph.csv"; timeUnit h; unit mm/h;
+//                      interpolation step; outOfBounds zero; } }
 #pragma once
 
 #include <cmath>
@@ -38,6 +44,7 @@
 #include "scree/plugin/context.hpp"
 #include "scree/porous/free_surface.hpp"
 #include "scree/porous/hydraulic_condition.hpp"
+#include "scree/time/function_of_time.hpp"
 
 namespace scree::boundary {
 
@@ -53,7 +60,9 @@ namespace detail {
 template <int D>
 struct RainfallKernel {
   const Index* nodes;
-  Real w[3];
+  TimeTable intensity;  // I(t) [m/s]
+  Real dir[3];          // the rain's direction, of length len
+  Real len;
   Real t_start, t_end;
   TwoPhaseNodes<D> g;
   SCREE_HD void operator()(Index i) const {
@@ -63,6 +72,9 @@ struct RainfallKernel {
     const Real ms = g.solid.mass[I];
     if (!(ms > g.mass_eps)) return;
     if (!surface_node<D>(g.grid, g.cells, I, g.walls, g.masks ? g.masks[I] : 0u, t, true)) return;
+    const Real rate = intensity(t);
+    Real w[D];
+    for (int d = 0; d < D; ++d) w[d] = rate * dir[d] / len;
     Real grad[D], vs[D], vl[D];
     for (int d = 0; d < D; ++d) {
       grad[d] = g.liquid.gradient[d][I];
@@ -87,16 +99,18 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
                 "rain on the surface nodes of two-phase bodies inside a region: the seepage into the soil is the "
                 "rain's intensity while the soil can take it, else the surface ponds");
     Region::declare(s);
-    s.scalar("intensity", "m/s or mm/h (unit)", "rain intensity, per unit horizontal area").non_negative();
-    s.word("unit", "the intensity's unit").choices({"m/s", "mm/h"}).default_value("m/s");
+    s.function("intensity", "m/s", "rain intensity, per unit horizontal area (a constant or a hyetograph)")
+        .non_negative();
+    std::vector<std::string> units;
+    for (const auto& [name, factor] : units_of("m/s")) units.push_back(name);
+    s.word("unit", "the intensity's unit (a table or file may name its own)").choices(units).default_value("m/s");
     s.vector("direction", "-", "direction in which the rain falls (default: along gravity)").size(-1).optional();
     s.scalar("startTime", "s", "the rain starts").default_value(-kUnbounded);
     s.scalar("endTime", "s", "the rain stops").default_value(kUnbounded);
     return s;
   }
-  Rainfall(const ParamReader& r, const SolverContext& ctx) : region_(Region::read(r, ctx)) {
-    Real I = r.scalar("intensity");
-    if (r.word("unit") == "mm/h") I *= 1e-3 / 3600;
+  Rainfall(const ParamReader& r, const SolverContext& ctx)
+      : region_(Region::read(r, ctx)), intensity_(r.function("intensity", 1, ctx.case_dir, {r.word("unit")})) {
     std::vector<Real> dir = r.has("direction") ? r.scalars("direction") : ctx.gravity;
     Real len = 0;
     for (Real c : dir) len += c * c;
@@ -108,7 +122,8 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
                          "it falls, e.g. (0 -1) (or leave it out: along gravity)");
       throw InputError(r.dict().where(), "direction: the rain needs a direction (gravity is zero and no direction is given)");
     }
-    for (int d = 0; d < ctx.dimension; ++d) w_[d] = I * dir[d] / len;
+    for (int d = 0; d < ctx.dimension; ++d) dir_[d] = dir[d];
+    len_ = len;
     t_start_ = r.scalar("startTime");
     t_end_ = r.scalar("endTime");
     hosted_ = select_nodes(NodeLattice::of(ctx), [this](const Real* x) { return region_.contains(x); });
@@ -130,12 +145,13 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
       nodes_.resize(hosted_.size(), ex.device);
       nodes_.copy_from_host(hosted_);
     }
-    detail::RainfallKernel<D> k{nodes_.data(), {w_[0], w_[1], w_[2]}, t_start_, t_end_, g};
+    detail::RainfallKernel<D> k{nodes_.data(), intensity_.on(ex), {dir_[0], dir_[1], dir_[2]}, len_, t_start_, t_end_, g};
     parallel_for(ex, static_cast<Index>(hosted_.size()), k);
   }
 
   Region region_;
-  Real w_[3] = {0, 0, 0};
+  FunctionOfTime intensity_;
+  Real dir_[3] = {0, 0, 0}, len_ = 1;
   Real t_start_ = -kUnbounded, t_end_ = kUnbounded;
   std::vector<Index> hosted_;
   mutable Buffer<Index> nodes_;

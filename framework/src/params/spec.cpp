@@ -20,6 +20,7 @@ const char* to_string(ParamType t) {
     case ParamType::list: return "list";
     case ParamType::dict: return "dictionary";
     case ParamType::any: return "any";
+    case ParamType::function: return "function of time";
   }
   return "?";
 }
@@ -122,15 +123,20 @@ std::string Param::expectation() const {
     case ParamType::list: e = "a list ( ... )"; break;
     case ParamType::dict: e = "a dictionary { ... }"; break;
     case ParamType::any: e = "a value"; break;
+    case ParamType::function:
+      e = std::string(size_ == 0 ? "a function of time" : "a vector function of time") + " with values" + bounds() +
+          " (" + function_forms() + ")";
+      return e;
   }
-  if (lo_ && hi_) {
-    e += std::string(" in ") + (lo_open_ ? "(" : "[") + fmt(*lo_) + ", " + fmt(*hi_) + (hi_open_ ? ")" : "]");
-  } else if (lo_) {
-    e += std::string(lo_open_ ? " > " : " >= ") + fmt(*lo_);
-  } else if (hi_) {
-    e += std::string(hi_open_ ? " < " : " <= ") + fmt(*hi_);
-  }
-  return e;
+  return e + bounds();
+}
+
+std::string Param::bounds() const {
+  if (lo_ && hi_)
+    return std::string(" in ") + (lo_open_ ? "(" : "[") + fmt(*lo_) + ", " + fmt(*hi_) + (hi_open_ ? ")" : "]");
+  if (lo_) return std::string(lo_open_ ? " > " : " >= ") + fmt(*lo_);
+  if (hi_) return std::string(hi_open_ ? " < " : " <= ") + fmt(*hi_);
+  return "";
 }
 
 // ---------------------------------------------------------------- ParamSpec
@@ -176,6 +182,9 @@ Param& ParamSpec::dict(std::string n, std::string doc) {
 Param& ParamSpec::any(std::string n, std::string doc) {
   return add(Param(std::move(n), ParamType::any, "", std::move(doc)));
 }
+Param& ParamSpec::function(std::string n, std::string unit, std::string doc) {
+  return add(Param(std::move(n), ParamType::function, std::move(unit), std::move(doc)));
+}
 ParamSpec& ParamSpec::allow_keys(std::vector<std::string> keys) {
   for (auto& k : keys)
     if (std::find(allowed_.begin(), allowed_.end(), k) == allowed_.end()) allowed_.push_back(std::move(k));
@@ -211,7 +220,15 @@ std::string ParamSpec::describe(int indent) const {
       os << ", optional";
     os << "\n" << pad << std::string(w + 2, ' ') << p.doc();
     const std::string e = p.expectation();
-    if (p.lower() || p.upper() || !p.choice_list().empty()) os << " (" << e << ")";
+    if (p.type() == ParamType::function) {
+      os << (p.bounds().empty() ? "" : " (values" + p.bounds() + ")") << "\n" << pad << std::string(w + 2, ' ')
+         << "a function of time: " << function_forms();
+      std::string units;
+      for (const auto& [name, f] : units_of(p.unit())) units += (units.empty() ? "" : ", ") + name;
+      os << "\n" << pad << std::string(w + 2, ' ') << "units: " << units;
+    } else if (p.lower() || p.upper() || !p.choice_list().empty()) {
+      os << " (" << e << ")";
+    }
     os << "\n";
     if (p.sub()) os << p.sub()->describe(indent + int(w) + 4);
     if (p.each()) {
@@ -309,6 +326,12 @@ void validate_value(const Param& p, const Entry& e, std::vector<InputError>& err
         break;
       }
       case ParamType::any: break;
+      case ParamType::function: {
+        const int want = p.vector_size() < 0 ? dimension : p.vector_size();
+        // A vector function's length is known once the dimension is (the file is read at setup).
+        if (!(p.vector_size() < 0 && dimension <= 0)) read_function_table(p, e, std::max(want, 1), {});
+        break;
+      }
     }
   } catch (const InputError& err) {
     errors.push_back(err);
@@ -387,5 +410,11 @@ bool ParamReader::boolean(std::string_view n) const { return entry(n).as_bool();
 std::string ParamReader::word(std::string_view n) const { return entry(n).as_word(); }
 std::vector<double> ParamReader::scalars(std::string_view n) const { return entry(n).as_scalar_list(); }
 std::vector<std::string> ParamReader::words(std::string_view n) const { return entry(n).as_word_list(); }
+FunctionTable ParamReader::function(std::string_view n, int components, const std::filesystem::path& case_dir,
+                                    const FunctionDefaults& defaults) const {
+  const Param* p = spec_.find(n);
+  if (!p) throw std::logic_error("ParamReader::function: '" + std::string(n) + "' is not in the spec of " + spec_.name());
+  return read_function_table(*p, entry(n), components, case_dir, defaults);
+}
 
 }  // namespace scree

@@ -339,6 +339,50 @@ TEST(TwoPhase, SoftColumnUnderRainTakesTheRainAndNoMore) {
   }
 }
 
+// Rain that varies in time: the stiff column of the test above under a hyetograph, written
+// once as a table in the dictionary and once as a CSV file in mm/h: 2.5e-4 m/s for 0.2 s,
+// 5e-4 m/s for 0.2 s, then none. The soil takes all of it (the test above: up to 5e-4 m/s),
+// so what entered through the surface is rho_l width int I dt at every time, within the 2%
+// of the constant rain above (the step's discretisation of the flux at the surface nodes);
+// after the rain stops nothing more enters (within 0.5% of the total: the drainage of the
+// surface nodes' last step). The two forms of the same hyetograph give the same inflow to
+// round-off (900 mm/h and 2.5e-4 m/s are one double apart at most).
+TEST(TwoPhase, RainFollowsItsHyetograph) {
+  const double width = 0.025, rho_l = 1000, w1 = 2.5e-4, w2 = 5e-4;
+  const std::string table = "((0 2.5e-4) (0.2 5e-4) (0.4 0))";
+  double inflow_at[2][3] = {};
+  for (int form = 0; form < 2; ++form) {
+    TempCase tc(form == 0 ? "hyetograph_table" : "hyetograph_csv");
+    const std::string rain =
+        form == 0 ? "rain { type rainfall; box { min (-1 1.0); max (1 1.2); } "
+                    "intensity { type table; values " + table + "; interpolation step; } }"
+                  : "rain { type rainfall; box { min (-1 1.0); max (1 1.2); } unit mm/h; "
+                    "intensity { type csvFile; file \"constant/hyetograph.csv\"; interpolation step; } }";
+    if (form == 1) tc.write("constant/hyetograph.csv", "t_s,mm_per_h\n0,900\n0.2,1800\n0.4,0\n");
+    write_column(tc, width, 1.05, 1.1, 0.025, kSeedSoil, "", rain,
+                 "soil { type linearElastic; E 5e8; nu 0; rho 2700; }", "gimp");
+    tc.write("system/mpmSchemes", "updateScheme USL; shapeFunction gimp; massTolerance 0;");
+    Case cs = Case::read(tc.dir(), runtime());
+    Simulation sim(cs, runtime(), options());
+    const double times[3] = {0.2, 0.4, 0.6};
+    for (int k = 0; k < 3; ++k) {
+      sim.advance_to(times[k]);
+      Snapshot s = sim.snapshot();
+      const auto* surface = s.bodies.at(0).scalar("liquidInflowSurface");
+      ASSERT_TRUE(surface);
+      inflow_at[form][k] = surface->value;
+    }
+    const double rain1 = rho_l * width * w1 * 0.2, rain2 = rain1 + rho_l * width * w2 * 0.2;
+    const char* f = form == 0 ? "table" : "CSV file";
+    std::printf("%s: entered %.6g, %.6g, %.6g kg/m at 0.2, 0.4, 0.6 s against the rain's %.6g, %.6g, %.6g\n", f,
+                inflow_at[form][0], inflow_at[form][1], inflow_at[form][2], rain1, rain2, rain2);
+    EXPECT_NEAR(inflow_at[form][0], rain1, 0.02 * rain1) << f << ": kg/m entered by 0.2 s";
+    EXPECT_NEAR(inflow_at[form][1], rain2, 0.02 * rain2) << f << ": kg/m entered by 0.4 s";
+    EXPECT_NEAR(inflow_at[form][2], inflow_at[form][1], 0.005 * rain2) << f << ": kg/m entered after the rain";
+  }
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(inflow_at[1][k], inflow_at[0][k], 1e-9 * inflow_at[0][1]);
+}
+
 // ---------------------------------------------------------------------------------
 // The liquid's mass balance closes through a drained base. Liquid is conserved: the stored
 // liquid sum rho_l (1 + p/K_l) n S_l V changes by what entered through the surfaces (net of

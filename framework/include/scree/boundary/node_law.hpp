@@ -10,7 +10,8 @@
 //   };
 //
 // and the condition is `class MyBC : public NodeLawCondition<MyLaw>` with a spec() that
-// calls Region::declare. The law acts on the nodes of the region that carry mass, on the
+// calls Region::declare. A law that reads a function of time holds its TimeTable and the
+// condition overrides on(ex) to give the table's view on the launch's backend. The law acts on the nodes of the region that carry mass, on the
 // velocities the grid update just produced (v^k and/or v^{k+1}), at the step's time t.
 // The plugin is compiled as CUDA (scree_add_plugin(... KIND boundary CUDA_KERNELS)), so
 // the kernel exists for both backends. boundary/shakingTable is the example to copy.
@@ -90,9 +91,19 @@ class NodeLawCondition : public BoundaryCondition {
   void run(const Exec& ex, const GridNodes<D>& g) const {
     const Index n = static_cast<Index>(nodes_.host().size());
     if (n == 0 || !(g.velocity || g.velocity_new)) return;
-    parallel_for(ex, n, detail::NodeLawKernel<Law, D>{nodes_.on(ex), law_, g});
+    parallel_for(ex, n, detail::NodeLawKernel<Law, D>{nodes_.on(ex), on(ex), g});
   }
 
+ protected:
+  /// The law as a launch on `ex` takes it: a law that points to tables (a function of
+  /// time, time/function_of_time.hpp) sets their views on `ex`'s backend here.
+  virtual Law on(const Exec& ex) const {
+    (void)ex;
+    return law_;
+  }
+  const Law& law() const { return law_; }
+
+ private:
   Region region_;
   Law law_;
   HostedList<Index> nodes_;  // the region's nodes (flat indices)

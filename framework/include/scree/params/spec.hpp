@@ -26,6 +26,7 @@
 
 #include "scree/core/config.hpp"
 #include "scree/io/dictionary.hpp"
+#include "scree/params/function_table.hpp"
 
 namespace scree {
 
@@ -40,6 +41,8 @@ enum class ParamType {
   list,        ///< any list (validated by the plugin)
   dict,        ///< a sub-dictionary (validated against sub_spec if given)
   any,         ///< anything (validated by the plugin)
+  function,    ///< a function of time: a constant, a table, a CSV file (function_table.hpp);
+               ///< size() as for vector: 0 a scalar function, n or -1 (the dimension) a vector one
 };
 
 SCREE_API const char* to_string(ParamType t);
@@ -87,6 +90,8 @@ class SCREE_API Param {
   const ParamSpec* each() const { return each_.get(); }
   /// "a number in (0, 0.5]" and the like, for messages and docs.
   std::string expectation() const;
+  /// The range alone: " in (0, 0.5]", " >= 0", or "" when unbounded.
+  std::string bounds() const;
 
  private:
   std::string name_;
@@ -118,6 +123,9 @@ class SCREE_API ParamSpec {
   Param& list(std::string name, std::string doc);
   Param& dict(std::string name, std::string doc);
   Param& any(std::string name, std::string doc);
+  /// A function of time (function_table.hpp), in the SI unit `unit`; range checks apply to
+  /// every value of its table.
+  Param& function(std::string name, std::string unit, std::string doc);
 
   /// Keys that are accepted without a spec (e.g. `type`, which selected the plugin).
   ParamSpec& allow_keys(std::vector<std::string> keys);
@@ -170,6 +178,10 @@ class SCREE_API ParamReader {
   std::string word(std::string_view name) const;
   std::vector<double> scalars(std::string_view name) const;
   std::vector<std::string> words(std::string_view name) const;
+  /// A function of time with `components` values a row (1: a scalar), its CSV file read
+  /// relative to `case_dir`, its values converted to the parameter's SI unit.
+  FunctionTable function(std::string_view name, int components, const std::filesystem::path& case_dir,
+                         const FunctionDefaults& defaults = {}) const;
   bool has(std::string_view name) const { return dict_.has(name); }
   /// The entry if present, else the spec's default parsed as an entry.
   const Entry& entry(std::string_view name) const;
