@@ -103,6 +103,8 @@ TEST(ShakingTable, AnAccelerationRecordDrivesTheTableAsItsIntegral) {
     a.advance_to(t);
     b.advance_to(t);
     const BlockMotion ma = mean_motion(a.snapshot()), mb = mean_motion(b.snapshot());
+    std::printf("t = %.4f s: block vx %.6f m/s on the record's table, %.6f on the sine's (V sin w t = %.6f)\n",
+                a.time(), ma.vx, mb.vx, V * std::sin(w * a.time()));
     EXPECT_NEAR(ma.vx, V * std::sin(w * a.time()), 0.05 * V) << "at t = " << t;
     EXPECT_NEAR(ma.vx, mb.vx, 1e-3 * V) << "at t = " << t;
     EXPECT_NEAR(ma.dx, mb.dx, 1e-3 * 2 * kA) << "at t = " << t;
