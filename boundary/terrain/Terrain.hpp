@@ -26,7 +26,15 @@
 //
 // The ground is a height field of the grid's node columns: an overhang of the solid is
 // filled below its top, and the ground is resolved to a cell, as every wall on grid nodes
-// is. It is a node law (boundary/node_law.hpp) on the ground nodes of the grid a rank
+// is. With `shape solid` the same file (or, in 2D, `points` as a closed polygon) is a rigid
+// solid of any shape instead, a retaining wall, a pier, an overhang, a check dam: every
+// node inside it or on its surface is held, with the unit normal of the surface nearest to
+// it, pointing out of the solid (from the node to that nearest point, or the nearest
+// face's normal for a node on the surface).
+//
+//   wall { type terrain; shape solid; file "constant/triSurface/wall.stl"; condition slip; }
+//   pier { type terrain; shape solid; points ((0.5 0) (0.6 0) (0.6 0.3) (0.5 0.3)); coefficient 0.4; }
+// It is a node law (boundary/node_law.hpp) on the ground nodes of the grid a rank
 // holds, so a decomposed run applies it on each rank's part.
 #pragma once
 
@@ -94,6 +102,11 @@ class Terrain final : public BoundaryCondition {
         .choices({"x", "y", "z"})
         .optional();
     s.boolean("separable", "the flow may lift off the ground").default_value("yes");
+    s.word("shape", "heightField: the ground is the solid's top over each column of nodes (terrain); solid: every "
+                    "node inside the solid or on its surface, with the normal of the surface nearest to it (walls "
+                    "and obstacles of any shape; in 2D points is then a closed polygon)")
+        .choices({"heightField", "solid"})
+        .default_value("heightField");
     return s;
   }
 
@@ -119,8 +132,15 @@ class Terrain final : public BoundaryCondition {
       throw InputError(r.entry(key).where(), std::string(key) + ": a " + (three ? "3D" : "2D") + " ground takes " +
                                                  (three ? "file (an STL solid), not points" : "points (a polyline), not file"));
     }
-    const int up = up_axis(r, ctx);
     const NodeLattice lattice = NodeLattice::of(ctx);
+    if (r.word("shape") == "solid") {
+      if (r.has("up"))
+        throw InputError(r.entry("up").where(), "up: a solid is not seen from above; expected up only with shape "
+                                                "heightField");
+      solid(r, lattice, ctx.case_dir);
+      return;
+    }
+    const int up = up_axis(r, ctx);
     // The ground over each column of nodes (the axes across `up`): its level and normal.
     const int u = three ? (up + 1) % 3 : 1 - up, w = three ? (up + 2) % 3 : 2;
     const int nu = lattice.nodes[u], nw = three ? lattice.nodes[w] : 1;
@@ -190,6 +210,110 @@ class Terrain final : public BoundaryCondition {
     const Index n = static_cast<Index>(nodes_.host().size());
     if (n == 0 || !(g.velocity || g.velocity_new)) return;
     parallel_for(ex, n, TerrainKernel<D>{nodes_.on(ex), normals_.on(ex), mu_, separable_, stick_, g});
+  }
+
+  /// shape solid: the nodes inside the solid or on its surface (within 1e-6 h of it), each
+  /// with the outward unit normal of the surface nearest to it.
+  void solid(const ParamReader& r, const NodeLattice& lattice, const std::filesystem::path& case_dir) {
+    const Real touch = Real(1e-6) * lattice.h;
+    std::vector<Index>& nodes = nodes_.host();
+    std::vector<Real>& normals = normals_.host();
+    auto visit = [&](const Real* lo, const Real* hi, auto&& held) {
+      int first[3] = {0, 0, 0}, last[3] = {0, 0, 0};
+      for (int d = 0; d < dimension_; ++d) {
+        first[d] = std::max(0, static_cast<int>(std::floor((lo[d] - touch - lattice.origin[d]) / lattice.h)));
+        last[d] = std::min(lattice.nodes[d] - 1,
+                           static_cast<int>(std::ceil((hi[d] + touch - lattice.origin[d]) / lattice.h)));
+        if (last[d] < first[d]) return;
+      }
+      // The flat node order of select_nodes: x fastest.
+      for (int k = first[2]; k <= last[2]; ++k)
+        for (int j = first[1]; j <= last[1]; ++j)
+          for (int i = first[0]; i <= last[0]; ++i) {
+            const int idx[3] = {i, j, k};
+            Real x[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+            for (int d = 0; d < dimension_; ++d) x[d] = lattice.origin[d] + idx[d] * lattice.h;
+            if (!held(x, n)) continue;
+            nodes.push_back(static_cast<Index>(i) +
+                            static_cast<Index>(lattice.nodes[0]) * (j + static_cast<Index>(lattice.nodes[1]) * k));
+            for (int d = 0; d < dimension_; ++d) normals.push_back(n[d]);
+          }
+    };
+    if (dimension_ == 3) {
+      const Entry& file = r.entry("file");
+      const std::string name = file.as_word();
+      const auto surface = geometry::TriSurface::load(case_dir / name, name, file.where());
+      const geometry::Box3& b = surface->bounds();
+      Real lo[3], hi[3];
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = static_cast<Real>(b.lo[d]);
+        hi[d] = static_cast<Real>(b.hi[d]);
+      }
+      visit(lo, hi, [&](const Real* x, Real* n) {
+        const geometry::Point3 p{{x[0], x[1], x[2]}};
+        const auto near = surface->nearest(p, touch);
+        if (!(near.distance <= touch || surface->contains(p))) return false;
+        for (int d = 0; d < 3; ++d) n[d] = static_cast<Real>(near.normal[d]);
+        return true;
+      });
+      return;
+    }
+    // 2D: a closed polygon (the last vertex joins the first).
+    const auto poly = polyline(r.entry("points"));
+    if (poly.size() < 3)
+      throw InputError(r.entry("points").where(), "points: a solid needs a closed polygon of at least 3 vertices, found " +
+                                                      std::to_string(poly.size()));
+    Real lo[2] = {kUnbounded, kUnbounded}, hi[2] = {-kUnbounded, -kUnbounded};
+    for (const auto& v : poly)
+      for (int d = 0; d < 2; ++d) {
+        lo[d] = std::min(lo[d], v[d]);
+        hi[d] = std::max(hi[d], v[d]);
+      }
+    auto inside = [&](Real x, Real y) {  // even-odd rule
+      bool in = false;
+      for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+        const auto &a = poly[i], &c = poly[j];
+        if ((a[1] > y) != (c[1] > y) && x < (c[0] - a[0]) * (y - a[1]) / (c[1] - a[1]) + a[0]) in = !in;
+      }
+      return in;
+    };
+    visit(lo, hi, [&](const Real* x, Real* n) {
+      Real best = kUnbounded, px = 0, py = 0;
+      std::size_t which = 0;
+      for (std::size_t i = 0; i < poly.size(); ++i) {  // the nearest point of each edge
+        const auto &a = poly[i], &c = poly[(i + 1) % poly.size()];
+        const Real ex = c[0] - a[0], ey = c[1] - a[1], len2 = ex * ex + ey * ey;
+        Real t = len2 > 0 ? ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / len2 : Real(0);
+        t = std::min(Real(1), std::max(Real(0), t));
+        const Real qx = a[0] + t * ex, qy = a[1] + t * ey;
+        const Real d2 = (qx - x[0]) * (qx - x[0]) + (qy - x[1]) * (qy - x[1]);
+        if (d2 < best) {
+          best = d2;
+          px = qx;
+          py = qy;
+          which = i;
+        }
+      }
+      const Real dist = std::sqrt(best);
+      const bool in = inside(x[0], x[1]);
+      if (!(dist <= touch || in)) return false;
+      if (dist > touch) {  // from inside to the nearest point: outwards
+        n[0] = (px - x[0]) / dist;
+        n[1] = (py - x[1]) / dist;
+        return true;
+      }
+      // On the boundary: the nearest edge's normal, turned out of the polygon.
+      const auto &a = poly[which], &c = poly[(which + 1) % poly.size()];
+      const Real ex = c[0] - a[0], ey = c[1] - a[1], len = std::sqrt(ex * ex + ey * ey);
+      n[0] = ey / len;
+      n[1] = -ex / len;
+      const Real mx = Real(0.5) * (a[0] + c[0]), my = Real(0.5) * (a[1] + c[1]);
+      if (inside(mx + Real(1e-6) * len * n[0], my + Real(1e-6) * len * n[1])) {
+        n[0] = -n[0];
+        n[1] = -n[1];
+      }
+      return true;
+    });
   }
 
   /// The 2D ground's vertices: at least two (x y) pairs.

@@ -537,4 +537,61 @@ bool TriSurface::top(const Point3& x, int axis, Crossing& out) const {
   return true;
 }
 
+namespace {
+
+/// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection,
+/// section 5.1.5: the Voronoi regions of the vertices, the edges and the face).
+Point3 closest_on_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c) {
+  const Point3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Point3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Point3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+}  // namespace
+
+TriSurface::Nearest TriSurface::nearest(const Point3& x, double touch) const {
+  Nearest out;
+  double best = kUnbounded;
+  std::size_t which = 0;
+  for (std::size_t i = 0; i < tris_.size(); ++i) {
+    const Triangle& t = tris_[i];
+    const Point3 c = closest_on_triangle(x, t.v[0], t.v[1], t.v[2]);
+    const Point3 r = c - x;
+    const double d2 = dot(r, r);
+    if (d2 < best) {
+      best = d2;
+      out.point = c;
+      which = i;
+    }
+  }
+  out.distance = std::sqrt(best);
+  if (out.distance > touch && contains(x)) {
+    out.normal = (out.point - x) * (1 / out.distance);  // from inside to the surface: outwards
+    return out;
+  }
+  const Triangle& t = tris_[which];
+  Point3 n = cross(t.v[1] - t.v[0], t.v[2] - t.v[0]);
+  n = n * (1 / std::sqrt(dot(n, n)));
+  // Outwards: the side of the triangle's centre that the solid does not hold.
+  Point3 m = (t.v[0] + t.v[1] + t.v[2]) * (1.0 / 3);
+  double size = std::sqrt(dot(t.v[1] - t.v[0], t.v[1] - t.v[0]));
+  if (contains(m + n * (1e-6 * size))) n = n * -1.0;
+  out.normal = n;
+  return out;
+}
+
 }  // namespace scree::geometry

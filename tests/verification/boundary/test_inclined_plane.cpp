@@ -169,6 +169,21 @@ TEST(Terrain2D, FrictionAboveTanThetaOrNoSlipHoldsTheBlock) {
   expect_stays(terrain("condition noSlip;"), "USF");
 }
 
+// The same ground as a solid of any shape (shape solid): the parallelogram under the plane,
+// 1 m deep, as a closed polygon. Its nodes are those inside it or on its edges, each with
+// the normal of the nearest edge: under the block, the plane's, so the block slides as on
+// the half-space wall, within the same 1%.
+std::string terrain_solid(const std::string& condition) {
+  return "type terrain; shape solid; points (" + point(-0.2, 0) + " " + point(1.6, 0) + " " + point(1.6, -1) + " " +
+         point(-0.2, -1) + "); " + condition;
+}
+
+TEST(Terrain2D, APolygonSolidUnderTheBlockSlidesItAsTheInclinedPlane) {
+  expect_slides(terrain_solid("condition slip;"), 0, "USF");
+  expect_slides(terrain_solid(coulomb(0.2)), 0.2, "USF");
+  expect_stays(terrain_solid(coulomb(0.7)), "USF");
+}
+
 /// The context of this test's grid: 1.2 m x 0.8 m of 0.01 m cells, one ghost layer.
 SolverContext grid_context() {
   SolverContext ctx;

@@ -187,6 +187,14 @@ TEST(Terrain3D, ConditionSlipIsFrictionless) {
   expect_slides("type terrain; file \"constant/triSurface/ground.stl\"; condition slip;", 0);
 }
 
+// The same STL as a solid of any shape (shape solid): every node inside it or on its
+// surface, with the outward normal of the nearest face, which under the block is the
+// plane's: the block slides as on the half-space, within the same 1%.
+TEST(Terrain3D, TheGroundReadAsASolidOfAnyShapeSlidesTheBlockAlike) {
+  expect_slides("type terrain; shape solid; file \"constant/triSurface/ground.stl\"; condition slip;", 0);
+  expect_slides("type terrain; shape solid; file \"constant/triSurface/ground.stl\"; coefficient 0.4;", 0.4);
+}
+
 // A block in a V-shaped valley. The valley runs along x, its flanks rise at alpha = 30
 // degrees on either side of the thalweg (z = 0.05 + tan(alpha) |y - 0.3|), and gravity is
 // tilted by theta = 30 degrees down the valley, g = 9.81 (sin theta, 0, -cos theta), so

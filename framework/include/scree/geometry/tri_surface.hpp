@@ -60,6 +60,16 @@ class SCREE_API TriSurface {
   };
   /// False where the line misses the surface (and `out` is left as it was).
   bool top(const Point3& x, int axis, Crossing& out) const;
+  /// The point of the surface nearest to x and the unit normal there pointing out of the
+  /// solid (the side contains() is false on): from x to that point for an x inside farther
+  /// than `touch` from it, else the nearest triangle's normal turned outwards. A scan of
+  /// every triangle: for setup, not for loops over many points of a large surface.
+  struct Nearest {
+    Point3 point = Point3::zero();
+    Point3 normal = Point3::zero();
+    double distance = 0;
+  };
+  Nearest nearest(const Point3& x, double touch) const;
   const Box3& bounds() const { return bounds_; }
   /// |sum over triangles of v0 . (v1 x v2)| / 6 (the divergence theorem), where the
   /// triangles are oriented alike; else sampled on 48^3 midpoints of the bounds.
