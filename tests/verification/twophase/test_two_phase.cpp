@@ -44,10 +44,12 @@ void write_column(const TempCase& tc, double w, double H, double top, double h, 
   tc.write("system/mpmSchemes", "updateScheme USL; shapeFunction " + shape + ";");
   tc.write("constant/g", "value (0 -9.81);");
   tc.write("constant/materialProperties", materials);
+  // The column starts under its own weight alone (overburden body): a body put on it (the
+  // plate of Terzaghi's problem) is a load applied at t = 0, not part of the initial state.
   tc.write("constant/bodies", "column { material soil; region { type rectangle; lower (0 0); upper (" +
                                   std::to_string(w) + " " + std::to_string(H) +
-                                  "); } initialStress { type geostatic; K0 0; } twoPhase { " + two_phase + " } } " +
-                                  extra_bodies);
+                                  "); } initialStress { type geostatic; K0 0; overburden body; } twoPhase { " +
+                                  two_phase + " } } " + extra_bodies);
   tc.write("constant/boundaryConditions",
            "base { type fixed; face yMin; } left { type slip; face xMin; } right { type slip; face xMax; } " +
                extra_bcs);
