@@ -87,6 +87,62 @@ TEST(TwoPhase, HydrostaticSaturatedColumn) {
 }
 
 // ---------------------------------------------------------------------------------
+// Layers start under the weight of what lies above them (initialStress geostatic, overburden
+// all): a dry single-phase layer (rho 1600, 0.2 m) on a saturated two-phase layer (rho_s
+// 2000, n0 0.3: mixture (1 - n0) rho_s + n0 rho_l = 1700, 0.5 m) on another (rho_s 2650, n0
+// 0.4: 1990, 1 m), the water table at the top of the two-phase layers (y = 1.5). The total
+// vertical stress is -g sum rho_i t_i over the layers above, the pore pressure rho_l g (1.5 -
+// y), and the effective stress sigma' = sigma + S_l p_w with S_l = 1 (Bishop), its horizontal
+// part K0 sigma'_v. Every layer's faces lie on sub-cell edges (multiples of 0.025 m) and the
+// densities are constant, so the column sums are the integrals to round-off: 1e-9 of the
+// largest stress (3.7e4 Pa).
+TEST(TwoPhase, LayersStartUnderTheWeightOfTheirMixturesAbove) {
+  TempCase tc("layers");
+  tc.write("system/controlDict", "endTime 1; deltaT 1e-4; writeInterval 1;");
+  tc.write("system/gridDict", "dimension 2; lower (0 0); upper (0.1 2); cellSize 0.05;");
+  tc.write("system/mpmSchemes", "updateScheme USL;");
+  tc.write("constant/g", "value (0 -9.81);");
+  tc.write("constant/materialProperties", "low { type linearElastic; E 1e7; nu 0.3; rho 2650; } "
+                                          "mid { type linearElastic; E 1e7; nu 0.3; rho 2000; } "
+                                          "dry { type linearElastic; E 1e7; nu 0.3; rho 1600; }");
+  const std::string water = "liquidBulkModulus 2e8; hydraulicConductivity 1e-3; "
+                            "initialPorePressure { type hydrostatic; waterTable 1.5; }";
+  tc.write("constant/bodies",
+           "low { material low; region { type rectangle; lower (0 0); upper (0.1 1); } "
+           "initialStress { type geostatic; K0 0.5; } twoPhase { porosity 0.4; " + water + " } } "
+           "mid { material mid; region { type rectangle; lower (0 1); upper (0.1 1.5); } "
+           "initialStress { type geostatic; K0 0.5; } twoPhase { porosity 0.3; " + water + " } } "
+           "dry { material dry; region { type rectangle; lower (0 1.5); upper (0.1 1.7); } "
+           "initialStress { type geostatic; K0 0.5; } }");
+  tc.write("constant/boundaryConditions", "base { type fixed; face yMin; }");
+  Case cs = Case::read(tc.dir(), runtime());
+  Simulation sim(cs, runtime(), options());
+  const Snapshot s = sim.snapshot();
+  const double tol = 1e-9 * 3.7e4;
+  for (const BodySnapshot& b : s.bodies) {
+    const auto& sig = field(b, "stress").values;
+    ASSERT_GT(b.n, 0);
+    for (Index i = 0; i < b.n; ++i) {
+      const double y = b.position[3 * i + 1];
+      double total, pw = 0;
+      if (b.name == "low") {
+        total = -kG * (1600 * 0.2 + 1700 * 0.5 + 1990 * (1 - y));
+        pw = 1000 * kG * (1.5 - y);
+      } else if (b.name == "mid") {
+        total = -kG * (1600 * 0.2 + 1700 * (1.5 - y));
+        pw = 1000 * kG * (1.5 - y);
+      } else {
+        total = -kG * 1600 * (1.7 - y);
+      }
+      const double eff = total + pw;
+      ASSERT_NEAR(sig[6 * i + 1], eff, tol) << b.name << " at y = " << y;
+      ASSERT_NEAR(sig[6 * i + 0], 0.5 * eff, tol) << b.name << " at y = " << y;
+      if (b.name != "dry") ASSERT_NEAR(field(b, "porePressure").values[i], pw, tol);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------
 // Terzaghi's 1D consolidation: a saturated elastic column (E_oed = E, nu = 0) of height H on
 // an impermeable base, drained at its top (`ponding`: the surface open), loaded at t = 0 by a stiff plate of weight q per
 // unit width. The excess pore pressure u = p_w - rho_l g (H - y) follows (Terzaghi 1943;
