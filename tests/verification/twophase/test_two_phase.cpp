@@ -144,6 +144,75 @@ TEST(TwoPhase, LayersStartUnderTheWeightOfTheirMixturesAbove) {
 }
 
 // ---------------------------------------------------------------------------------
+// The same with unsaturated layers, whose mixture's density varies with the suction: two
+// two-phase layers (rho_s 2650, n0 0.4, 0-1 m; rho_s 2000, n0 0.3, 1-2 m), van Genuchten
+// S_l(s) = S_min + (S_max - S_min) [1 + (s/p0)^(1/(1-lambda))]^-lambda (p0 1e4 Pa, lambda 0.5,
+// S_min 0.1, S_max 1), the water table at y = 0.5 (suction up to 14.7 kPa at the top, S_l
+// down to 0.56). Analytic, with p_w(z) = rho_l g (0.5 - z) and S_l(p_w) from the formula:
+//   sigma_v(y) = -g int_y^2 [(1 - n0(z)) rho_s(z) + n0(z) S_l(p_w(z)) rho_l] dz,
+//   sigma'_v = sigma_v + S_l p_w,  sigma'_h = K0 sigma'_v,
+// integrated here by Simpson's rule in steps of 0.1 mm. The code takes S_l from its table,
+// within 1e-5 of the curve, and integrates in steps of at most 1 mm: at most n0 rho_l g 1e-5
+// 2 m + 1e-5 p_w, about 0.3 Pa; tolerance 1 Pa (a sub-cell of the overburden missing would be
+// over 400 Pa).
+TEST(TwoPhase, UnsaturatedLayersStartUnderTheWeightOfTheirMixturesAbove) {
+  TempCase tc("unsaturated_layers");
+  tc.write("system/controlDict", "endTime 1; deltaT 1e-4; writeInterval 1;");
+  tc.write("system/gridDict", "dimension 2; lower (0 0); upper (0.1 2.2); cellSize 0.05;");
+  tc.write("system/mpmSchemes", "updateScheme USL;");
+  tc.write("constant/g", "value (0 -9.81);");
+  tc.write("constant/materialProperties", "low { type linearElastic; E 1e7; nu 0.3; rho 2650; } "
+                                          "high { type linearElastic; E 1e7; nu 0.3; rho 2000; }");
+  const std::string water = "liquidBulkModulus 2e8; hydraulicConductivity 1e-3; "
+                            "retention { type vanGenuchten; p0 1e4; lambda 0.5; Smin 0.1; Smax 1; } "
+                            "initialPorePressure { type hydrostatic; waterTable 0.5; }";
+  tc.write("constant/bodies",
+           "low { material low; region { type rectangle; lower (0 0); upper (0.1 1); } "
+           "initialStress { type geostatic; K0 0.5; } twoPhase { porosity 0.4; " + water + " } } "
+           "high { material high; region { type rectangle; lower (0 1); upper (0.1 2); } "
+           "initialStress { type geostatic; K0 0.5; } twoPhase { porosity 0.3; " + water + " } }");
+  tc.write("constant/boundaryConditions", "base { type fixed; face yMin; }");
+  auto pw_at = [](double z) { return 1000 * kG * (0.5 - z); };
+  auto sat = [](double pw) {
+    if (pw >= 0) return 1.0;
+    return 0.1 + 0.9 * std::pow(1 + std::pow(-pw / 1e4, 1 / (1 - 0.5)), -0.5);
+  };
+  auto rho_mix = [&](double z) {
+    const double n0 = z < 1 ? 0.4 : 0.3, rho_s = z < 1 ? 2650 : 2000;
+    return (1 - n0) * rho_s + n0 * sat(pw_at(z)) * 1000;
+  };
+  auto overburden = [&](double y) {  // int_y^2 rho_mix dz, Simpson on each layer apart
+    auto simpson = [&](double a, double b) {
+      if (!(b > a)) return 0.0;
+      const int n = 2 * static_cast<int>(std::ceil((b - a) / 2e-4));
+      const double dz = (b - a) / n;
+      double sum = rho_mix(a) + rho_mix(b - 1e-12);
+      for (int i = 1; i < n; ++i) sum += (i % 2 ? 4 : 2) * rho_mix(a + i * dz);
+      return sum * dz / 3;
+    };
+    return y < 1 ? simpson(y, 1 - 1e-12) + simpson(1, 2) : simpson(y, 2);
+  };
+  Case cs = Case::read(tc.dir(), runtime());
+  Simulation sim(cs, runtime(), options());
+  const Snapshot s = sim.snapshot();
+  double worst = 0;
+  for (const BodySnapshot& b : s.bodies) {
+    const auto& sig = field(b, "stress").values;
+    const auto& p = field(b, "porePressure").values;
+    ASSERT_GT(b.n, 0);
+    for (Index i = 0; i < b.n; ++i) {
+      const double y = b.position[3 * i + 1], pw = pw_at(y);
+      const double eff = -kG * overburden(y) + sat(pw) * pw;
+      ASSERT_NEAR(p[i], pw, 1e-9 * 1e4) << b.name << " at y = " << y;
+      ASSERT_NEAR(sig[6 * i + 1], eff, 1.0) << b.name << " at y = " << y;
+      ASSERT_NEAR(sig[6 * i + 0], 0.5 * eff, 1.0) << b.name << " at y = " << y;
+      worst = std::max(worst, std::fabs(sig[6 * i + 1] - eff));
+    }
+  }
+  std::printf("largest |sigma'_v - analytic| %.3g Pa\n", worst);
+}
+
+// ---------------------------------------------------------------------------------
 // cases/rainfallSlope draws its slope as 18 rectangles, one per column of its staircase face
 // (makeBodies.py). One polygon tracing the same staircase makes the same points (the
 // staircase's corners lie on sub-cell edges, so every point is inside one region or the
