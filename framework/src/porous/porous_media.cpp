@@ -151,8 +151,12 @@ template <int D>
 std::function<Real(Real)> PorousMedia<D>::mixture_density(const Dictionary& body, Real grain_density) const {
   const Entry* e = body.find("twoPhase");
   if (!e) return {};
-  auto liquid = std::make_shared<const InitialLiquid>(e->dict(), models_, norm(gravity_));
-  return [liquid, grain_density](Real z) { return liquid->mixture(grain_density, z); };
+  const Real g = norm(gravity_);
+  auto liquid = std::make_shared<const InitialLiquid>(e->dict(), models_, g);
+  // The profile takes the elevation along -g; the pore pressure, the coordinate along the
+  // vertical axis (as prepare() evaluates it at the points): the same up to the axis' sign.
+  const Real up = g > 0 ? -gravity_[vertical_] / g : Real(1);
+  return [liquid, grain_density, up](Real elevation) { return liquid->mixture(grain_density, elevation * up); };
 }
 
 template <int D>

@@ -15,9 +15,10 @@
 // in b's column that holds x_h (floor((x_h - origin) / sub_b)), over the parts of its runs
 // above z(x). A point's own sub-cell counts from z(x) up: half of it, so the top point of a
 // level body carries rho g sub/2, as the former default surface (top point + sub/2) gave.
-// Against the continuous integral over the region the column sum errs where a region's
-// face cuts the column: at most rho |g| sub per cut face (the sub-cell in or out), rho |g|
-// sub/2 on average for a face at a random height.
+// Against the continuous integral over the region at the column's centre the column sum errs
+// only where a region's face crosses the column: the column's material there ends at the edge
+// of the last sub-cell whose centre is inside, within sub/2 of the face's height over the
+// centre, so by at most rho |g| sub/2 per crossing face (tests/unit/case/test_overburden.cpp).
 //
 // The columns need gravity along one axis of the grid (each column a lattice line); the
 // whole lattice of every body is walked on every rank, so a decomposed run's ranks hold the
