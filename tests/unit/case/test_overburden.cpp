@@ -227,6 +227,42 @@ TEST(Overburden, StackOfBoxesIn3DUnderGravityAlongZ) {
   EXPECT_GT(beside, 0);
 }
 
+// ---- 3D: a sphere, whose top is curved in both horizontal directions ---------------------
+//
+// A sphere of radius R = 0.3 about the origin, rho 1800, gravity along -z: the material above
+// (x, y, z) is the sphere's cap, sqrt(R^2 - x^2 - y^2) - z thick, so sigma_zz = -rho g
+// (sqrt(R^2 - x^2 - y^2) - z), with the column sum within rho g s/2 of it where the sphere's
+// surface crosses the column (s = 0.02 m: 177 Pa), plus round-off. The former rule (one level,
+// the sphere's top) would load a point near the equator with the whole cap above the equator's
+// level, up to rho g R = 5.3 kPa more.
+TEST(Overburden, SphereIn3DCarriesItsCapAboveEachPoint) {
+  GridSettings gs;
+  gs.dimension = 3;
+  gs.lower = {-0.4, -0.4, -0.4};
+  gs.upper = {0.4, 0.4, 0.4};
+  gs.cell_size = 0.04;
+  gs.ghost_layers = 2;
+  const GridGeometry<3> g = grid_geometry<3>(gs);
+  Vec<3> down;
+  down[0] = 0;
+  down[1] = 0;
+  down[2] = -kG;
+  const Dictionary d = bodies("ball { material a; region { type sphere; centre (0 0 0); radius 0.3; } "
+                              "initialStress { type geostatic; K0 0.4; } }");
+  const auto b = generate_particles<3>(d.sub("ball"), g, 1800, down);
+  ASSERT_FALSE(b.x.empty());
+  const double tol = 1800 * kG * 0.02 / 2 + 1e-9 * 1800 * kG * 0.6;
+  double worst = 0;
+  for (std::size_t p = 0; p < b.x.size(); ++p) {
+    const double x = b.x[p][0], y = b.x[p][1], z = b.x[p][2];
+    const double sv = -1800 * kG * (std::sqrt(0.09 - x * x - y * y) - z);
+    ASSERT_NEAR(b.sigma[p][2], sv, tol) << "at (" << x << " " << y << " " << z << ")";
+    ASSERT_NEAR(b.sigma[p][0], 0.4 * b.sigma[p][2], 1e-9 * 1e4);
+    worst = std::max(worst, std::fabs(b.sigma[p][2] - sv));
+  }
+  std::printf("sphere: %zu points, largest |sigma_zz - analytic| %.3g Pa (bound %.3g)\n", b.x.size(), worst, tol);
+}
+
 // ---- gravity off the axes -----------------------------------------------------------------
 //
 // The columns need gravity along one axis: `overburden all` says so at its file:line, and
