@@ -263,6 +263,42 @@ TEST(Overburden, SphereIn3DCarriesItsCapAboveEachPoint) {
   std::printf("sphere: %zu points, largest |sigma_zz - analytic| %.3g Pa (bound %.3g)\n", b.x.size(), worst, tol);
 }
 
+// ---- gravity along x, either way --------------------------------------------------------
+//
+// Two rectangles side by side along x: a (1..2, rho 2000) and b (2..2.5, rho 1500), both
+// 1 <= y <= 2. With g along -x, "up" is +x and b lies on a: sigma_xx = -g (1500 0.5 + 2000
+// (2 - x)) in a, -g 1500 (2.5 - x) in b. With g along +x, up is -x and a lies on b:
+// -g 2000 (x - 1) in a, -g (2000 1 + 1500 (x - 2)) in b. Faces on sub-cell edges: round-off.
+TEST(Overburden, GravityAlongXEitherWay) {
+  const Dictionary d = bodies("a { material m; region { type rectangle; lower (1 1); upper (2 2); } "
+                              "initialStress { type geostatic; K0 0.5; } } "
+                              "b { material m; region { type rectangle; lower (2 1); upper (2.5 2); } "
+                              "initialStress { type geostatic; K0 0.5; } }");
+  const GridGeometry<2> g = grid2(0.1);
+  for (const double sign : {-1.0, 1.0}) {
+    Vec<2> grav;
+    grav[0] = sign * kG;
+    grav[1] = 0;
+    Overburden<2> ob(grav);
+    ob.add_body(d.sub("a"), g, DensityProfile{2000, {}});
+    ob.add_body(d.sub("b"), g, DensityProfile{1500, {}});
+    const auto a = generate_particles<2>(d.sub("a"), g, 2000, grav, {}, {}, &ob);
+    const auto b = generate_particles<2>(d.sub("b"), g, 1500, grav, {}, {}, &ob);
+    const double tol = 1e-9 * 4e4;
+    for (std::size_t p = 0; p < a.x.size(); ++p) {
+      const double x = a.x[p][0];
+      const double sv = sign < 0 ? -kG * (1500 * 0.5 + 2000 * (2 - x)) : -kG * 2000 * (x - 1);
+      ASSERT_NEAR(a.sigma[p][0], sv, tol) << "a at x " << x << ", g along " << sign << " x";
+      ASSERT_NEAR(a.sigma[p][1], 0.5 * sv, tol);
+    }
+    for (std::size_t p = 0; p < b.x.size(); ++p) {
+      const double x = b.x[p][0];
+      const double sv = sign < 0 ? -kG * 1500 * (2.5 - x) : -kG * (2000 * 1 + 1500 * (x - 2));
+      ASSERT_NEAR(b.sigma[p][0], sv, tol) << "b at x " << x << ", g along " << sign << " x";
+    }
+  }
+}
+
 // ---- gravity off the axes -----------------------------------------------------------------
 //
 // The columns need gravity along one axis: `overburden all` says so at its file:line, and
