@@ -73,39 +73,51 @@ void Overburden<D>::begin_body(Real sub, const Vec<D>& origin, const DensityProf
   bodies_.push_back(std::move(b));
   pending_rho_ = rho;
   pending_.clear();
+  last_run_.clear();
 }
 
 template <int D>
 void Overburden<D>::add_point(const Vec<D>& x) {
   const Body& b = bodies_.back();
+  const std::uint64_t column = column_key(b, x);
   const auto k = static_cast<std::int64_t>(std::floor((x[axis_] - b.origin[axis_]) / b.sub));
-  pending_.push_back({column_key(b, x), k, elevation(x)});
+  const Real z = elevation(x);
+  const auto [it, first] = last_run_.try_emplace(column, pending_.size());
+  if (!first) {
+    Pending& r = pending_[it->second];
+    if (k == r.k_hi + 1) {
+      r.k_hi = k;
+      r.z_hi = z;
+      return;
+    }
+    it->second = pending_.size();  // a gap in the column (an overhang): a new run
+  }
+  pending_.push_back({column, k, k, z, z});
 }
 
 template <int D>
 void Overburden<D>::end_body() {
   Body& b = bodies_.back();
-  std::sort(pending_.begin(), pending_.end(),
-            [](const Pending& p, const Pending& q) { return p.column != q.column ? p.column < q.column : p.k < q.k; });
+  std::sort(pending_.begin(), pending_.end(), [](const Pending& p, const Pending& q) {
+    return p.column != q.column ? p.column < q.column : p.k_lo < q.k_lo;
+  });
   Real lo = 1e300, hi = -1e300;
   for (std::size_t i = 0; i < pending_.size(); ++i) {
     const Pending& p = pending_[i];
-    const bool new_column = i == 0 || p.column != pending_[i - 1].column;
-    if (new_column) {
+    if (i == 0 || p.column != pending_[i - 1].column) {
       b.columns.push_back(p.column);
       b.first.push_back(static_cast<std::uint32_t>(b.runs.size()));
     }
-    if (new_column || p.k != pending_[i - 1].k + 1) b.runs.push_back({p.z, p.z});
-    Run& r = b.runs.back();
-    r.lo = std::min(r.lo, p.z);
-    r.hi = std::max(r.hi, p.z);
-    lo = std::min(lo, p.z);
-    hi = std::max(hi, p.z);
+    // Elevation falls along the axis where gravity points along it: the run's ends either way.
+    const Run r{std::min(p.z_lo, p.z_hi), std::max(p.z_lo, p.z_hi)};
+    b.runs.push_back(r);
+    lo = std::min(lo, r.lo);
+    hi = std::max(hi, r.hi);
   }
   b.first.push_back(static_cast<std::uint32_t>(b.runs.size()));
   b.rho = DensityIntegral(pending_rho_, lo - b.sub, hi + b.sub);
-  pending_.clear();
-  pending_.shrink_to_fit();
+  pending_ = {};
+  last_run_ = {};
   pending_rho_ = {};
 }
 

@@ -159,6 +159,24 @@ TEST(Overburden, ARanksPartHasTheWholeBodysStressBitForBit) {
   EXPECT_EQ(seen, whole.x.size());
 }
 
+// A body with a gap in its columns (a C open to the right: material at 0 <= y <= 0.3 and
+// 0.7 <= y <= 1 for x > 0.3, full height for x < 0.3): below the gap a point carries the
+// roof's 0.3 m as well as the soil above it (the column's weight; no arching across the gap),
+// sigma_v = -rho g ((0.3 - y) + 0.3). Faces on sub-cell edges: round-off.
+TEST(Overburden, APointBelowAGapCarriesTheRoofAbove) {
+  const Dictionary d = bodies("c { material m; region { type polygon; points ((0 0) (1 0) (1 0.3) (0.3 0.3) (0.3 0.7) "
+                              "(1 0.7) (1 1) (0 1)); } initialStress { type geostatic; K0 0.5; } }");
+  const auto b = generate_particles<2>(d.sub("c"), grid2(0.1), 2000, down2());
+  int below_gap = 0;
+  for (std::size_t p = 0; p < b.x.size(); ++p) {
+    const double x = b.x[p][0], y = b.x[p][1];
+    const double t = x < 0.3 ? 1 - y : (y < 0.3 ? (0.3 - y) + 0.3 : 1 - y);
+    ASSERT_NEAR(b.sigma[p][1], -2000 * kG * t, 1e-9 * 2e4) << "at (" << x << " " << y << ")";
+    below_gap += x > 0.3 && y < 0.3;
+  }
+  EXPECT_GT(below_gap, 0);
+}
+
 // ---- a body standing alone with a level top: the former stress, bit for bit --------------
 //
 // sigma_v = -rho g (s - y) with s the top particle plus half a spacing: `overburden all` (the

@@ -15,6 +15,8 @@
 // in b's column that holds x_h (floor((x_h - origin) / sub_b)), over the parts of its runs
 // above z(x). A point's own sub-cell counts from z(x) up: half of it, so the top point of a
 // level body carries rho g sub/2, as the former default surface (top point + sub/2) gave.
+// A gap in a column (an overhang, a cave) does not relieve the points below it: they carry
+// the roof as well (the column's weight; arching across the gap is not modelled).
 // Against the continuous integral over the region at the column's centre the column sum errs
 // only where a region's face crosses the column: the column's material there ends at the edge
 // of the last sub-cell whose centre is inside, within sub/2 of the face's height over the
@@ -22,15 +24,17 @@
 //
 // The columns need gravity along one axis of the grid (each column a lattice line); the
 // whole lattice of every body is walked on every rank, so a decomposed run's ranks hold the
-// same columns and the stress of a point does not depend on the decomposition. Memory: one
-// run per column for a body without overhangs (two elevations, a column key and an index:
-// 28 bytes; 1e6 points of a 3D body of 100 points' height: 1e4 columns, 0.3 MB), and while a
-// body is added 24 bytes per point of it (24 MB for 1e6 points), freed once it is added.
+// same columns and the stress of a point does not depend on the decomposition. Memory: per
+// column, not per point: one run per column of a body without overhangs (two elevations, a
+// column key and an index, 28 bytes), and while a body is added its runs (40 bytes) and a
+// hash map entry per column. A 3D body of 1e6 points 100 points high: 1e4 columns, under
+// 1 MB; every rank of a decomposed run holds the whole case's columns, not its points.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <unordered_map>
 #include <vector>
 
 #include "scree/core/tensor.hpp"
@@ -108,13 +112,15 @@ class SCREE_API Overburden {
   Real g_ = 0;
   int axis_ = -1;
   std::vector<Body> bodies_;
-  // While a body is added: its points' (column key, vertical lattice index, elevation).
+  // While a body is added: its runs so far, and each column's last run (a point one sub-cell
+  // above it extends it; the lattice order brings a column's points upwards along the axis).
   struct Pending {
     std::uint64_t column;
-    std::int64_t k;
-    Real z;
+    std::int64_t k_lo, k_hi;  ///< vertical lattice indices of the run's ends
+    Real z_lo, z_hi;          ///< their elevations
   };
   std::vector<Pending> pending_;
+  std::unordered_map<std::uint64_t, std::size_t> last_run_;
   DensityProfile pending_rho_;
 };
 
