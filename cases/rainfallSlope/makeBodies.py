@@ -11,11 +11,13 @@ p_w = 0. Measured without rain, 5 s (README, "Without rain"): with the same face
 columns the slope's stored water grew by 24.8 kg/m, as this staircase by 17.7 kg/m. The
 staircase removes that part; the rest of the spurious water is there either way.
 
-Why one body per column. The geostatic initial stress of a body (case/particle_generation.cpp,
-porous/porous_media.cpp) measures every point's depth from one elevation, the body's top. One
-body for the whole slope would load the toe with the 2.4 m of soil that stands above the
-crest. As rectangles of one cell's width, each column's points take their depth from the
-column's own top: exact. The columns are bodies of one material on one grid: they share the
+Why one body per column. The geostatic initial stress of a body used to measure every
+point's depth from one elevation, the body's top: one body for the whole slope would have
+loaded the toe with the 2.4 m of soil that stands above the crest. As rectangles of one cell's
+width, each column's points took their depth from the column's own top. The stress now takes
+each point's own column (case/overburden.hpp, `overburden all`), so one polygon tracing this
+staircase starts from the same state (README); the columns stay because the README's results
+were measured with them. The columns are bodies of one material on one grid: they share the
 nodes and move as one continuum.
 """
 

@@ -233,6 +233,17 @@ std::vector<Variant> setups() {
        "dimension 2; lower (0 0); upper (0.2 1.0); cellSize 0.02;", "m { type linearElastic; E 1e6; nu 0.3; rho 1000; }",
        "b { material m; region { type rectangle; lower (0.04 0); upper (0.16 0.8); } }",
        "floor { type fixed; face yMin; }"},
+      // A slope drawn as one polygon on a base layer of another density, both started from
+      // the geostatic stress of the material above (every body's columns, which every rank
+      // builds from every body's whole lattice), cut along x across the face.
+      {"layeredSlopeGeostatic", "endTime 0.05; deltaT 2e-4; writeInterval 1;", "updateScheme USL; shapeFunction bspline2;",
+       "dimension 2; lower (0 0); upper (1.2 0.5); cellSize 0.02;",
+       "m { type linearElastic; E 1e6; nu 0.3; rho 1000; } s { type linearElastic; E 1e6; nu 0.3; rho 1500; }",
+       "base { material m; region { type rectangle; lower (0 0); upper (1.2 0.1); } "
+       "initialStress { type geostatic; K0 0.5; } } "
+       "slope { material s; region { type polygon; points ((0 0.1) (0.705 0.1) (0.405 0.4) (0 0.4)); } "
+       "initialStress { type geostatic; K0 0.5; } }",
+       "floor { type fixed; face yMin; } left { type slip; face xMin; } right { type slip; face xMax; }"},
       // 3D: a box thrown along x over a slip floor, B-spline.
       {"box3D", "endTime 0.08; deltaT 5e-4; writeInterval 1;", "updateScheme USL; shapeFunction bspline2;",
        "dimension 3; lower (0 0 0); upper (0.8 0.12 0.12); cellSize 0.02;", kElastic,

@@ -279,10 +279,20 @@ const CoreSpecs& CoreSpecs::get() {
         .optional();
     b->vector("rotationCentre", "m", "centre of angularVelocity (default: the body's centroid)").size(-1).optional();
     auto init = std::make_shared<ParamSpec>("initialStress", "initial stress");
-    init->word("type", "none; geostatic: sigma_v = -rho |g| depth, sigma_h = K0 sigma_v; uniform: `stress`")
+    init->word("type",
+               "none; geostatic: sigma_v = -|g| int rho dz over the material above the point (`overburden`), "
+               "sigma_h = K0 sigma_v, tension positive; uniform: `stress`. A geostatic state whose surface is not "
+               "level (a slope, a mound) is in vertical equilibrium column by column but not in horizontal "
+               "equilibrium: K0 sigma_v does not vanish on an inclined face. A damped gravity stage settles it "
+               "(mpmSchemes damping { type local; startTime; endTime; }) before the loading of interest")
         .choices({"none", "geostatic", "uniform"});
     init->scalar_list("stress", "Pa", "uniform initial stress (xx yy zz xy yz zx), tension positive").optional();
     init->check([](const Dictionary& d, std::vector<InputError>& errors) {
+      if (d.has("surface") && d.has("overburden") && d.get_word("overburden") == "all")
+        errors.emplace_back(d.at("surface").where(),
+                            "surface: a given level replaces the overburden of the material above, so it does not go "
+                            "with `overburden all`; expected either surface (one level for the body) or overburden "
+                            "all (the material above each point), not both");
       if (d.get_word("type") == "uniform") {
         if (!d.has("stress"))
           errors.emplace_back(d.where(), "initialStress of type uniform needs stress (xx yy zz xy yz zx)");
@@ -291,9 +301,23 @@ const CoreSpecs& CoreSpecs::get() {
       }
     });
     init->scalar("K0", "-", "lateral earth pressure coefficient (geostatic)").default_value(0.5).non_negative();
+    init->word("overburden",
+               "geostatic: what loads a point. all: the material above it in its own column, of every body, each "
+               "with its own density (a two-phase body: its mixture's, (1 - n0) rho_s + n0 S_l rho_l), so a slope "
+               "drawn as one polygon or stl, or layers of bodies, start with the weight above each point; needs "
+               "gravity along one axis of the grid. body: the depth below one level for the whole body, its "
+               "highest point (plus half a point spacing), with the body's own density, measured along g in any "
+               "direction (the former default; a slope's toe then carries the crest's depth). Under all, a body "
+               "put on the ground (a footing, a plate) loads it from the start; to apply it as a load at t = 0, "
+               "give the ground overburden body. Pore water above the ground surface (a water table above it, "
+               "ponding) is not counted: no body of water loads the free surface in the initial state")
+        .choices({"all", "body"})
+        .default_value("all");
     init->scalar("surface", "m",
-                 "elevation of the free surface along -g (default: top of the body, one level for the whole body in "
-                 "2D and 3D: with g along -y, sigma_yy = -rho g (H - y), sigma_xx = sigma_zz = K0 sigma_yy)")
+                 "geostatic: elevation of a level free surface along -g, one for the whole body in 2D and 3D: with "
+                 "g along -y, sigma_yy = -int_y^surface rho g dz = -rho g (surface - y) for one density, "
+                 "sigma_xx = sigma_zz = K0 sigma_yy; given, it replaces the overburden (overburden body with this "
+                 "level)")
         .optional();
     b->dict("initialStress", "initial stress (default none)").sub_spec(init).optional();
     b->dict("twoPhase", "a porous body with a pore liquid (the two-phase formulation, porous/two_phase.hpp)")

@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "scree/case/case.hpp"
+#include "scree/case/overburden.hpp"
 #include "scree/geometry/shapes.hpp"
 #include "scree/geometry/tri_surface.hpp"
 
@@ -259,10 +261,17 @@ std::string region_dimension_mismatch(const std::string& type, int dimension) {
                            "section extruded across the width is an extrudedPolygon)");
 }
 
+bool takes_overburden(const Dictionary& body) {
+  const Entry* e = body.find("initialStress");
+  if (!e || !e->is_dict() || e->dict().get_word("type") != "geostatic" || e->dict().has("surface")) return false;
+  return ParamReader(*CoreSpecs::get().body->find("initialStress")->sub(), e->dict()).word("overburden") == "all";
+}
+
 template <int D>
 GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& g, Real density,
                                          const Vec<D>& gravity, const std::filesystem::path& case_dir,
-                                         const PointFilter<D>& keep) {
+                                         const PointFilter<D>& keep, const Overburden<D>* overburden,
+                                         const std::function<Real(Real)>& profile) {
   GeneratedParticles<D> out;
   const Dictionary& region = body.sub("region");
   const int n = BodySettings::read(body).particles_per_cell;
@@ -272,12 +281,34 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
   for (int d = 0; d < D; ++d) vol *= sub;
   out.point_volume = vol;
   // What depends on every point of the body, kept or not: the first point outside the
-  // domain, the centroid (a rotation's default centre) and the highest point (the
-  // geostatic surface), each summed or compared in the generation order.
+  // domain, the centroid (a rotation's default centre), the highest and lowest points (the
+  // geostatic surface, its density table's range) and the body's own columns of material
+  // (its overburden when no other body's is given), each summed or compared in the
+  // generation order.
   const Real gn = norm(gravity);
   const Vec<D> up = gn > 0 ? gravity * (-1 / gn) : Vec<D>::zero();  // unit vector against gravity
+  const Entry* stress_entry = body.find("initialStress");
+  const bool geostatic = stress_entry && stress_entry->dict().get_word("type") == "geostatic" && gn > 0;
+  const ParamSpec& stress_spec = *CoreSpecs::get().body->find("initialStress")->sub();
+  // The overburden of the material above each point (`overburden all`, the default), unless a
+  // level is asked for (`overburden body`, or a `surface`).
+  const bool columns = geostatic && takes_overburden(body);
+  if (columns) {
+    const Dictionary& s = stress_entry->dict();
+    if (gravity_axis(gravity) < 0)
+      throw InputError(s.has("overburden") ? s.at("overburden").where() : s.where(),
+                       "overburden all: the columns of the material above a point need gravity along one axis of "
+                       "the grid, and constant/g is " + point_text(&gravity[0], D) +
+                           "; expected gravity along one axis, or `overburden body;` (the depth below the body's "
+                           "highest point, measured along g) or a `surface` level");
+  }
+  std::optional<Overburden<D>> own;  // the body alone, when the caller gives no overburden
+  if (columns && !overburden) {
+    own.emplace(gravity);
+    own->begin_body(sub, g.origin, DensityProfile{density, profile});
+  }
   Vec<D> sum = Vec<D>::zero();
-  Real top = -1e300;
+  Real top = -1e300, bottom = 1e300;
   bool outside = false;
   Vec<D> first_outside = Vec<D>::zero();
   std::uint64_t total = 0;
@@ -288,6 +319,8 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
     }
     sum += x;
     top = std::max(top, dot(x, up));
+    bottom = std::min(bottom, dot(x, up));
+    if (own) own->add_point(x);
     if (!keep || keep(x)) {
       out.x.push_back(x);
       out.volume.push_back(vol);
@@ -339,27 +372,40 @@ GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeome
     const auto v = e->dict().at("stress").as_scalar_list();
     out.sigma.assign(out.x.size(), Sym3{{v[0], v[1], v[2], v[3], v[4], v[5]}});
   }
-  if (const Entry* e = body.find("initialStress"); e && e->dict().get_word("type") == "geostatic") {
-    const Dictionary& s = e->dict();
-    const Real K0 = ParamReader(*CoreSpecs::get().body->find("initialStress")->sub(), s).scalar("K0");
-    if (gn > 0) {
-      // The top particle sits half a spacing below the surface.
-      const Real surface = s.has("surface") ? s.get_scalar("surface") : top + Real(0.5) * sub;
-      for (std::size_t p = 0; p < out.x.size(); ++p) {
+  if (geostatic) {
+    const Dictionary& s = stress_entry->dict();
+    const Real K0 = ParamReader(stress_spec, s).scalar("K0");
+    if (own) own->end_body();
+    const Overburden<D>* columns_of = overburden ? overburden : own ? &*own : nullptr;
+    // One level for the body: the given surface, or its top particle plus half a spacing
+    // (the top particle stands for the sub-cell about it).
+    const Real surface = s.has("surface") ? s.get_scalar("surface") : top + Real(0.5) * sub;
+    // A two-phase body's mixture density varies with the elevation: its integral below the level.
+    DensityIntegral level_rho;
+    if (!columns && profile)
+      level_rho = DensityIntegral(DensityProfile{density, profile}, bottom - sub, std::max(surface, top) + sub);
+    for (std::size_t p = 0; p < out.x.size(); ++p) {
+      Real sv;  // [Pa], compression negative
+      if (columns) {
+        sv = columns_of->vertical_stress(out.x[p]);
+      } else if (profile) {
+        sv = -gn * level_rho.between(dot(out.x[p], up), surface);
+      } else {
         const Real depth = std::max(Real(0), surface - dot(out.x[p], up));
-        const Real sv = -density * gn * depth, sh = K0 * sv;
-        // sigma = sh I + (sv - sh) up (x) up ; out-of-plane (2D) = sh.
-        Sym3 sig{{sh, sh, sh, 0, 0, 0}};
-        Real u3[3] = {0, 0, 0};
-        for (int d = 0; d < D; ++d) u3[d] = up[d];
-        sig[0] += (sv - sh) * u3[0] * u3[0];
-        sig[1] += (sv - sh) * u3[1] * u3[1];
-        sig[2] += (sv - sh) * u3[2] * u3[2];
-        sig[3] += (sv - sh) * u3[0] * u3[1];
-        sig[4] += (sv - sh) * u3[1] * u3[2];
-        sig[5] += (sv - sh) * u3[2] * u3[0];
-        out.sigma[p] = sig;
+        sv = -density * gn * depth;
       }
+      const Real sh = K0 * sv;
+      // sigma = sh I + (sv - sh) up (x) up ; out-of-plane (2D) = sh.
+      Sym3 sig{{sh, sh, sh, 0, 0, 0}};
+      Real u3[3] = {0, 0, 0};
+      for (int d = 0; d < D; ++d) u3[d] = up[d];
+      sig[0] += (sv - sh) * u3[0] * u3[0];
+      sig[1] += (sv - sh) * u3[1] * u3[1];
+      sig[2] += (sv - sh) * u3[2] * u3[2];
+      sig[3] += (sv - sh) * u3[0] * u3[1];
+      sig[4] += (sv - sh) * u3[1] * u3[2];
+      sig[5] += (sv - sh) * u3[2] * u3[0];
+      out.sigma[p] = sig;
     }
   }
   return out;
@@ -471,10 +517,12 @@ void for_each_particle_position(const Dictionary& body, const GridGeometry<D>& g
 
 template GeneratedParticles<2> generate_particles<2>(const Dictionary&, const GridGeometry<2>&, Real,
                                                      const Vec<2>&, const std::filesystem::path&,
-                                                     const PointFilter<2>&);
+                                                     const PointFilter<2>&, const Overburden<2>*,
+                                                     const std::function<Real(Real)>&);
 template GeneratedParticles<3> generate_particles<3>(const Dictionary&, const GridGeometry<3>&, Real,
                                                      const Vec<3>&, const std::filesystem::path&,
-                                                     const PointFilter<3>&);
+                                                     const PointFilter<3>&, const Overburden<3>*,
+                                                     const std::function<Real(Real)>&);
 template void for_each_particle_position<2>(const Dictionary&, const GridGeometry<2>&,
                                             const std::function<void(const Vec<2>&)>&, const std::filesystem::path&);
 template void for_each_particle_position<3>(const Dictionary&, const GridGeometry<3>&,

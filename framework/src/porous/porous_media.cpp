@@ -67,6 +67,42 @@ const std::vector<FieldInfo>& two_phase_fields() {
   return fields;
 }
 
+namespace {
+
+/// A two-phase body's initial pore liquid against the elevation z [m] along -g (the
+/// coordinate along the vertical axis): the pore pressure p_w(z) [Pa, compression positive]
+/// of `initialPorePressure`, uniform or hydrostatic p_w = rho_l |g| (waterTable - z), and
+/// its saturation S_l(p_w) from the retention curve's table, as the kernels take it (the
+/// first step re-evaluates every point's S_l, and with the retention curve itself here,
+/// 1e-5 from the table, that re-evaluation changed the stored liquid without any flow).
+struct InitialLiquid {
+  Real n0 = 0, rho_l = 0, g = 0;
+  bool hydrostatic = false;
+  Real table = 0, value = 0;
+  BodyHydraulics models;
+  std::unique_ptr<HydraulicTableStorage> curve;  // on the host
+
+  InitialLiquid(const Dictionary& tp, const HydraulicModelFactory& factory, Real gravity) : g(gravity) {
+    const ParamReader r(*two_phase_spec(), tp);
+    n0 = r.scalar("porosity");
+    rho_l = r.scalar("liquidDensity");
+    if (tp.has("initialPorePressure")) {
+      const ParamReader ir(*two_phase_spec()->find("initialPorePressure")->sub(), tp.at("initialPorePressure").dict());
+      hydrostatic = ir.word("type") == "hydrostatic";
+      table = ir.scalar("waterTable");
+      value = ir.scalar("value");
+    }
+    models = read_hydraulics(tp, factory);
+    curve = std::make_unique<HydraulicTableStorage>(models.retention.get(), models.permeability.get(), Device::cpu);
+  }
+  Real pressure(Real z) const { return hydrostatic ? rho_l * g * (table - z) : value; }
+  Real saturation(Real p) const { return curve->table().saturation(p); }
+  /// The mixture's density rho_mix = (1 - n0) rho_s + n0 S_l rho_l [kg/m^3] at z.
+  Real mixture(Real rho_s, Real z) const { return (1 - n0) * rho_s + n0 * saturation(pressure(z)) * rho_l; }
+};
+
+}  // namespace
+
 template <int D>
 PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>& grid, const Exec& exec,
                             const Vec<D>& gravity, ShapeKind shape, Real gimp_half_length)
@@ -112,6 +148,18 @@ template <int D>
 PorousMedia<D>::~PorousMedia() = default;
 
 template <int D>
+std::function<Real(Real)> PorousMedia<D>::mixture_density(const Dictionary& body, Real grain_density) const {
+  const Entry* e = body.find("twoPhase");
+  if (!e) return {};
+  const Real g = norm(gravity_);
+  auto liquid = std::make_shared<const InitialLiquid>(e->dict(), models_, g);
+  // The profile takes the elevation along -g; the pore pressure, the coordinate along the
+  // vertical axis (as prepare() evaluates it at the points): the same up to the axis' sign.
+  const Real up = g > 0 ? -gravity_[vertical_] / g : Real(1);
+  return [liquid, grain_density, up](Real elevation) { return liquid->mixture(grain_density, elevation * up); };
+}
+
+template <int D>
 bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain_density) {
   const Entry* e = body.find("twoPhase");
   if (!e) return false;
@@ -143,62 +191,23 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
   // The initial pore pressure per point, and its saturation.
   const std::size_t n = s.x.size();
   std::vector<Real> pw(n, 0), sat(n), por(n, P.n0), suction(n);
-  bool hydrostatic = false;
-  Real table = 0, value = 0;
-  if (tp.has("initialPorePressure")) {
-    const ParamReader ir(*two_phase_spec()->find("initialPorePressure")->sub(), tp.at("initialPorePressure").dict());
-    hydrostatic = ir.word("type") == "hydrostatic";
-    table = ir.scalar("waterTable");
-    value = ir.scalar("value");
-  }
-  auto pore_pressure = [&](Real z) { return hydrostatic ? P.rho_l * g * (table - z) : value; };
-  // S_l(p) as the kernels take it, from the same table (read back to the host): the first step
-  // re-evaluates every point's S_l, and with the retention curve itself here (the table is
-  // 1e-5 from it) that re-evaluation changed the stored liquid without any flow.
-  HydraulicTable curve = P.table;
-  std::vector<Real> sat_table;
-  if (!curve.saturated) {
-    sat_table.resize(HydraulicTable::kSuction);
-    mem::copy(sat_table.data(), Device::cpu, curve.sat, exec_.device, sat_table.size() * sizeof(Real));
-    curve.sat = sat_table.data();
-    curve.dsat = curve.krel = nullptr;  // saturation() alone reads the table here
-  }
-  auto saturation = [&](Real p) { return curve.saturation(p); };
+  const InitialLiquid liquid(tp, models_, g);
   for (std::size_t p = 0; p < n; ++p) {
-    pw[p] = pore_pressure(s.x[p][vertical_]);
-    sat[p] = saturation(pw[p]);
+    pw[p] = liquid.pressure(s.x[p][vertical_]);
+    sat[p] = liquid.saturation(pw[p]);
     suction[p] = pw[p] < 0 ? -pw[p] : 0;
   }
 
-  // The effective initial stress. A geostatic body's stress was made with the grains'
-  // density: its depth below the surface is sigma_v / (-rho_s g). The total vertical stress
-  // integrates the mixture's density (1 - n0) rho_s + n0 S_l rho_l over the depth, with S_l
-  // of the initial pore pressure; the effective stress is sigma' = sigma + S_l p_w I
-  // (Bishop, chi = S_l), with K0 acting on the effective stresses.
+  // The effective initial stress. A geostatic body's stress is the total stress of its
+  // overburden (case/overburden.hpp), which integrates the mixture's density of every
+  // two-phase body above (mixture_density) and the density of every single-phase one. The
+  // effective stress is sigma' = sigma + S_l p_w I (Bishop, chi = S_l; tension positive,
+  // p_w compression positive), with K0 acting on the effective stresses:
+  //   sigma'_v = sigma_v + S_l p_w,  sigma'_h = K0 sigma'_v.
   if (const Entry* is = body.find("initialStress"); is && is->dict().get_word("type") == "geostatic" && g > 0) {
     const Real K0 = is->dict().has("K0") ? is->dict().get_scalar("K0") : Real(0.5);
-    Real top = -kUnbounded;
-    std::vector<Real> depth(n);
     for (std::size_t p = 0; p < n; ++p) {
-      depth[p] = s.sigma[p][vertical_] / (-grain_density * g);
-      top = std::max(top, s.x[p][vertical_] + depth[p]);
-    }
-    // sigma_v(depth) = -g int_0^depth rho_mix dz, tabulated once below the top by the
-    // midpoint rule in steps of at most 1 mm, and interpolated at each point's depth.
-    Real deepest = 0;
-    for (std::size_t p = 0; p < n; ++p) deepest = std::max(deepest, depth[p]);
-    const int steps = std::max(1, static_cast<int>(std::ceil(deepest / 1e-3)));
-    const Real dz = deepest > 0 ? deepest / steps : Real(1);
-    std::vector<Real> sv_table(static_cast<std::size_t>(steps) + 1, 0);
-    for (int i = 0; i < steps; ++i) {
-      const Real z = top - (i + Real(0.5)) * dz;
-      sv_table[i + 1] = sv_table[i] - g * dz * ((1 - P.n0) * grain_density + P.n0 * saturation(pore_pressure(z)) * P.rho_l);
-    }
-    for (std::size_t p = 0; p < n; ++p) {
-      const Real u = std::min(Real(steps), std::max(Real(0), depth[p] / dz));
-      const int i = std::min(steps - 1, static_cast<int>(u));
-      const Real sv = sv_table[i] + (u - i) * (sv_table[i + 1] - sv_table[i]);
-      const Real sv_eff = sv + sat[p] * pw[p], sh_eff = K0 * sv_eff;
+      const Real sv_eff = s.sigma[p][vertical_] + sat[p] * pw[p], sh_eff = K0 * sv_eff;
       Sym3 sig{{sh_eff, sh_eff, sh_eff, 0, 0, 0}};
       sig[vertical_] = sv_eff;
       s.sigma[p] = sig;

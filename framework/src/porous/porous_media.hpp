@@ -34,6 +34,11 @@ class PorousMedia {
   /// columns (the pore liquid's initial state), its mass factor (1 - n0) and its
   /// effective initial stress, and return true (the body is then attach()ed).
   bool prepare(const Dictionary& body, BodySetup<D>& s, Real grain_density);
+  /// The density [kg/m^3] of a two-phase body's mixture against the elevation z [m] along
+  /// -g: (1 - n0) rho_s + n0 S_l rho_l with S_l of the initial pore pressure at z, for the
+  /// overburden of the geostatic stress (case/overburden.hpp); empty for a body without a
+  /// twoPhase block. prepare() takes that total stress to the effective stress.
+  std::function<Real(Real)> mixture_density(const Dictionary& body, Real grain_density) const;
   void attach(Body<D>* body);
   /// A hydraulic condition of the case (its pore pressures, open surfaces and node law).
   void add_condition(const HydraulicCondition* hc);

@@ -47,6 +47,7 @@
 #include "scree/case/case_model.hpp"
 #include "scree/case/checkpoint.hpp"
 #include "scree/case/decomposition.hpp"
+#include "scree/case/overburden.hpp"
 #include "scree/comm/comm.hpp"
 #include "scree/exec/kernel_policy.hpp"
 #include "scree/exec/memory.hpp"
@@ -96,7 +97,10 @@ class Solver {
   void allocate_grid();
   void setup_bodies();
   /// One body of constant/bodies: its particles generated, its material's body made.
-  void setup_body(const Entry& e, int& id, std::int64_t& next_id, Real& min_mass);
+  /// `overburden`: every body's columns, for a geostatic stress from the material above.
+  void setup_body(const Entry& e, int& id, std::int64_t& next_id, Real& min_mass, const Overburden<D>* overburden);
+  /// The initial density of a body's material [kg/m^3] (a two-phase body's: the grains').
+  Real body_density(const Dictionary& b) const;
   /// The error for an allocation of part `part` of the memory estimate (0: the grid, then
   /// the bodies) that failed: its entry, its size (memory_estimate.hpp) and `e`.
   InputError out_of_memory(std::size_t part, const std::bad_alloc& e) const;

@@ -15,6 +15,7 @@
 #include "scree/case/case_model.hpp"
 #include "scree/plugin/hydraulic_models.hpp"
 #include "scree/case/memory_estimate.hpp"
+#include "scree/case/overburden.hpp"
 #include "scree/case/particle_generation.hpp"
 #include "scree/case/setup_check.hpp"
 #include "../case/hydraulic_nodes.hpp"
@@ -271,11 +272,28 @@ void Solver<D>::setup_bodies() {
   }
   body_totals_.clear();
   if (decomposed()) decompose_case();  // this rank's box first: each rank makes only its points
+  // The overburden of a geostatic stress from the material above (case/overburden.hpp):
+  // every body's columns, each with its density (a two-phase body's mixture's), over the
+  // whole lattice, so every rank holds the same columns. Gravity off one axis: none, and
+  // generate_particles says why.
+  std::optional<Overburden<D>> overburden;
+  bool wanted = false;
+  for (const Entry* e : case_.body_entries()) wanted = wanted || takes_overburden(e->dict());
+  if (wanted && norm(gravity_) > 0 && gravity_axis(gravity_) >= 0) {
+    overburden.emplace(gravity_);
+    for (const Entry* e : case_.body_entries()) {
+      const Real density = body_density(e->dict());
+      overburden->add_body(e->dict(), global_,
+                           DensityProfile{density, porous_ ? porous_->mixture_density(e->dict(), density)
+                                                           : std::function<Real(Real)>{}},
+                           case_.dir());
+    }
+  }
   std::size_t part = 0;  // the body's part of the memory estimate (0: the grid)
   for (const Entry* e : case_.body_entries()) {
     ++part;
     try {
-      setup_body(*e, id, next_id, min_mass);
+      setup_body(*e, id, next_id, min_mass, overburden ? &*overburden : nullptr);
     } catch (const std::bad_alloc& err) {
       throw out_of_memory(part, err);
     }
@@ -303,7 +321,15 @@ InputError Solver<D>::out_of_memory(std::size_t part, const std::bad_alloc& e) c
 }
 
 template <int D>
-void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real& min_mass) {
+Real Solver<D>::body_density(const Dictionary& b) const {
+  const Dictionary& mat = case_.materials().sub(BodySettings::read(b).material);
+  const Entry& type = mat.at("type");
+  return rt_.registry().get(PluginKind::material, type.as_word(), type.where()).material.point(mat)->density();
+}
+
+template <int D>
+void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real& min_mass,
+                           const Overburden<D>* overburden) {
   const Registry& reg = rt_.registry();
   const SchemeSettings& sch = settings_.schemes;
   const Dictionary& b = e.dict();
@@ -317,7 +343,10 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   PointFilter<D> mine;
   if (decomposed())
     mine = [this](const Vec<D>& x) { return decomp_.owner(x[decomp_.axis], global_) == comm_->rank(); };
-  GeneratedParticles<D> gp = generate_particles<D>(b, global_, density, gravity_, case_.dir(), mine);
+  // A two-phase body's geostatic stress is its mixture's total stress (prepare makes it effective).
+  const std::function<Real(Real)> profile = porous_ ? porous_->mixture_density(b, density) : nullptr;
+  GeneratedParticles<D> gp =
+      generate_particles<D>(b, global_, density, gravity_, case_.dir(), mine, overburden, profile);
   body_totals_.push_back(gp.total);
   BodySetup<D> s;
   s.name = e.key();

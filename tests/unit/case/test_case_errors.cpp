@@ -56,6 +56,25 @@ TEST(CaseErrors, ValidCaseChecksClean) {
   EXPECT_EQ(r.status, 0) << r.err;
 }
 
+// A geostatic `surface` is one level for the body; `overburden all` is the material above
+// each point: asking for both is an error at the surface's line, and an unknown overburden
+// names the valid ones.
+TEST(CaseErrors, GeostaticSurfaceWithOverburdenAllAndAnUnknownOverburden) {
+  TempCase tc("overburden");
+  write_valid_case(tc);
+  tc.write("constant/bodies",
+           "block\n{\n    material soil;\n    region { type rectangle; lower (0 0); upper (0.5 0.5); }\n"
+           "    initialStress { type geostatic;\n        overburden all;\n        surface 0.6; }\n}\n"
+           "top\n{\n    material soil;\n    region { type rectangle; lower (0 0.5); upper (0.5 0.7); }\n"
+           "    initialStress { type geostatic; overburden crest; }\n}\n");
+  const Result r = run_scree("--check --case " + tc.dir().string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("constant/bodies:7:9: surface: a given level replaces the overburden"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("constant/bodies:13:37: overburden: 'crest' is not valid"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("expected one of: all, body"), std::string::npos) << r.err;
+}
+
 TEST(CaseErrors, MisspelledKeyOutOfRangeAndUnknownTypeAllReportedBeforeAnyOutput) {
   TempCase tc("broken");
   write_valid_case(tc);

@@ -11,15 +11,19 @@
 // half-width sqrt(D)/2 h/n about the region's surface of the exact rho V.
 // Initial velocity: uniform `velocity`, plus a rigid rotation `angularVelocity` about
 // the region's centroid (or `rotationCentre`): v = v0 + omega x (x - c).
-// Geostatic initial stress:
-//   sigma_v = -rho |g| (s - z),  sigma_h = K0 sigma_v  (tension positive)
-// with z the elevation along -g and s the free-surface elevation (default: the top of
-// the body), so a column of height H starts with sigma_v = -rho g H at its base.
-// The same in 3D: with g along -y, sigma_yy = -rho g (H - y) and sigma_xx = sigma_zz =
-// K0 sigma_yy. s is one elevation for the whole body, in 2D and 3D alike: the highest
-// point of the body (its top particle plus half a spacing), not the surface above each
-// point; a body whose top is not level (a slope, a sphere, a cylinder lying on its side)
-// starts with the stress of the water-table-like level s, or of `surface`.
+// Geostatic initial stress (initialStress { type geostatic; K0; overburden; surface; }):
+//   sigma_v = -|g| int_z^inf rho dz (the material above),  sigma_h = K0 sigma_v  (tension positive)
+// with z the elevation along -g. `overburden all` (the default): the material above the
+// point in its own column, of every body the caller adds to the Overburden
+// (case/overburden.hpp; without one, the body's own columns), so a slope drawn as one
+// polygon loads its toe with the soil above the toe, and layers of bodies with their own
+// densities. A body standing alone with a level top gets sigma_v = -rho |g| (s - z) with s
+// its top particle plus half a spacing, as `overburden body` gives, to the bit.
+// `overburden body`, or a given `surface`: one level s for the whole body (the highest
+// point plus half a spacing, or `surface`), sigma_v = -rho |g| (s - z), in any direction of g.
+// With g along -y in 3D: sigma_yy = -rho g (H - y), sigma_xx = sigma_zz = K0 sigma_yy.
+// A two-phase body's density varies with z (its mixture's, `profile`); its stress here is
+// the total stress, which porous/porous_media.cpp makes effective (Bishop).
 // Bodies may not overlap unless one of them says `allowOverlap yes` (check_bodies).
 #pragma once
 
@@ -34,6 +38,9 @@
 #include "scree/mpm/grid.hpp"
 
 namespace scree {
+
+template <int D>
+class Overburden;
 
 template <int D>
 struct GeneratedParticles {
@@ -58,6 +65,10 @@ using PointFilter = std::function<bool(const Vec<D>&)>;
 /// does not fit a 3D case; expected ..." (an unknown type: "", the spec reports it).
 SCREE_API std::string region_dimension_mismatch(const std::string& type, int dimension);
 
+/// Whether a body's initial stress is geostatic from the material above it (`overburden
+/// all`, the default, without a `surface`): its stress then needs every body's columns.
+SCREE_API bool takes_overburden(const Dictionary& body);
+
 /// Generate the particles of one body dictionary (validated against CoreSpecs::body).
 /// `density` is the material's initial mass density (for the geostatic stress). Throws
 /// InputError, at the region's file:line, for a region that does not fit the case or
@@ -65,11 +76,18 @@ SCREE_API std::string region_dimension_mismatch(const std::string& type, int dim
 /// With `keep`, only the points it accepts are made; what depends on the whole body (the
 /// geostatic surface, the centroid of a rotation, the checks against the domain) is still
 /// taken over every point, so a kept point is made exactly as without the filter.
+/// `overburden`: the columns of every body of the case (`overburden all`), the same on
+/// every rank; null: the body's own. `profile`: the body's density [kg/m^3] against the
+/// elevation along -g where it is not `density` (a two-phase body's mixture); the
+/// geostatic stress is then the total stress. Throws InputError for `overburden all` with
+/// gravity that does not act along one axis.
 template <int D>
 SCREE_API GeneratedParticles<D> generate_particles(const Dictionary& body, const GridGeometry<D>& grid,
                                                    Real density, const Vec<D>& gravity,
                                                    const std::filesystem::path& case_dir = {},
-                                                   const PointFilter<D>& keep = {});
+                                                   const PointFilter<D>& keep = {},
+                                                   const Overburden<D>* overburden = nullptr,
+                                                   const std::function<Real(Real)>& profile = {});
 
 /// Calls f(x) for every particle position of `body`, in generate_particles' order, without
 /// keeping them (a decomposed run cuts its boxes from their histogram before any rank
