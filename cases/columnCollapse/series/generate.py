@@ -1,6 +1,5 @@
 #!/usr/bin/python3
-"""Write the column-collapse aspect-ratio series: one self-contained case per
-(aspect ratio, cell size, factor) into a target folder.
+"""Write the column-collapse aspect-ratio series as self-contained cases.
 
 The column keeps the shipped length L0 = 0.2 m and grows in height, h0 = a L0; every
 other setting is the shipped case's (system/ and constant/ one folder up): the two
@@ -8,18 +7,26 @@ stages (consolidation behind a gate with local damping, then release), the SIMSA
 kinetic-theory material, the no-slip floor, 2 x 2 points per cell, FLIP with picRate 10.
 A factor changes one of these and nothing else.
 
+One case holds several columns side by side, each in its own slot of the floor with its
+own left wall (a roller) and gate, far enough apart that no run-out reaches the next
+slot: fewer processes share the GPU (separate processes take turns on it), and every
+column of a case steps with the same time step. What a slot holds besides the column
+(its floor, points per cell, material) can differ between columns; what mpmSchemes and
+gridDict set (cell size, PIC share, maxVolumeRatio) is the case's, so those factors are
+cases of their own. A column of a combined case and the same column alone give the same
+fronts (series/README.md); a case allows at most 32 walls, so columns on the same floor
+share one floor condition.
+
     cd cases/columnCollapse/series
-    /usr/bin/python3 generate.py runs                 # the series: every a at 5 and 2.5 mm
-    /usr/bin/python3 generate.py runs --set factors   # one factor at a time, a = 8 and 2
-    /usr/bin/python3 generate.py runs --set all       # both, in the order run-series.sh starts them
-    /usr/bin/python3 generate.py runs --list          # the names only
+    /usr/bin/python3 generate.py runs             # every case (names: runs/cases.txt)
+    /usr/bin/python3 generate.py runs --only h5mm h2.5mm
+    /usr/bin/python3 generate.py runs --list      # the cases and their columns
 
-The names go to runs/cases.txt in the order a runner should start them.
-
-Each case writes only function objects (no VTK): postProcessing/<name>/runOut.csv for
-the fronts (quantiles 1, 0.999, 0.99), the height and the kinetic energy, and the free
-surface profile (postProcessing/surface/<time>.csv) from which the analysis takes the
-front of the connected mass.
+Each column writes function objects only (no VTK), named after the column (body) c:
+postProcessing/c_deposit, c_front999, c_massFront/runOut.csv (front quantiles 1, 0.999,
+0.99 from the column's left wall, the highest point, the kinetic energy) and
+postProcessing/c_surface/<time>.csv (the free surface, from which analyse.py takes the
+front of the connected mass).
 """
 import argparse
 import math
@@ -29,20 +36,28 @@ import sys
 L0 = 0.2                 # [m] column length (the shipped case's)
 RELEASE = 0.1            # [s] end of the consolidation stage (system/stages)
 G = 9.81
-ASPECTS = (0.5, 1, 2, 4, 8, 16)
-CELLS = (0.005, 0.0025)  # [m] coarse (the shipped variant C-2) and fine (C-3)
+MU_BASE = math.tan(math.radians(22.0))   # Coulomb floor of the floor factor
 
-# One factor at a time against the coarse baseline (every entry: the shipped value).
-FACTORS = {
-    "floorFriction": {"floor": ("friction", math.tan(math.radians(22.0)))},
-    "floorSlip":     {"floor": ("slip", None)},
+# Column factors (what a slot holds); the empty name is the shipped setting.
+COLUMN_FACTORS = {
+    "":              {},
+    "floorFriction": {"floor": "friction"},
+    "floorSlip":     {"floor": "slip"},
     "ppc3":          {"ppc": 3},
-    "pic0":          {"picRate": 0},
-    "pic100":        {"picRate": 100},
-    "maxVR513":      {"maxVolumeRatio": 513},
     "frictional":    {"material": "sandFrictional"},
 }
-FACTOR_ASPECTS = (8, 2)
+
+# The cases: name -> cell size, case-wide settings, columns (a, column factor).
+# Columns on the same floor are neighbours and share one floor condition.
+FACTOR_COLUMNS = [(a, f) for f in ("ppc3", "frictional", "floorFriction", "floorSlip") for a in (2, 8)]
+CASES = {
+    "h5mm":          (0.005,  {}, [(a, "") for a in (0.5, 1, 2, 4, 8, 16)] + FACTOR_COLUMNS),
+    "h2.5mm":        (0.0025, {}, [(a, "") for a in (0.5, 1, 2, 4, 8)]),
+    "h5mm_pic0":     (0.005,  {"picRate": 0}, [(2, ""), (8, "")]),
+    "h5mm_pic100":   (0.005,  {"picRate": 100}, [(2, ""), (8, "")]),
+    "h5mm_maxVR513": (0.005,  {"maxVolumeRatio": 513}, [(2, ""), (8, "")]),
+    "h2.5mm_a16":    (0.0025, {}, [(16, "")]),
+}
 
 
 def law_runout(a):
@@ -50,19 +65,24 @@ def law_runout(a):
     return 1.2 * a if a < 2.3 else 1.9 * a ** (2.0 / 3.0)
 
 
-def end_time(a):
-    """Release + 6 sqrt(h0/g) (at least 0.7 s), rounded up to 0.1 s."""
-    tc = math.sqrt(a * L0 / G)
-    return math.ceil((RELEASE + max(0.7, 6.0 * tc)) * 10.0 - 1e-9) / 10.0
+def tau(a):
+    return math.sqrt(a * L0 / G)
 
 
-def domain(a, h):
-    # Long enough for a linear run-out at twice Lube's slope (the shipped a = 0.5 case
-    # already runs 1.9 a), i.e. at least 1.5 x the law everywhere; tall enough for h0.
+def end_time(amax):
+    """Release + 5 sqrt(h0/g) of the tallest column (at least 0.7 s), up to 0.1 s."""
+    return math.ceil((RELEASE + max(0.7, 5.0 * tau(amax))) * 10.0 - 1e-9) / 10.0
+
+
+def slot_length(a):
+    # Room for a linear run-out at about twice Lube's slope (the shipped a = 0.5 case
+    # already runs 1.6-1.9 a), at least 1.5 x the law everywhere, and a gap.
     length = max(0.6, L0 * (1.0 + 2.2 * a), 1.5 * L0 * (1.0 + law_runout(a)))
-    length = math.ceil(length / 0.05) * 0.05
-    height = math.ceil((1.1 * a * L0 + 0.02) / 0.01) * 0.01
-    return length, height
+    return math.ceil(length / 0.05) * 0.05 + 0.1
+
+
+def column_name(a, factor):
+    return ("a" + f"{a:g}".replace(".", "p")) + (f"_{factor}" if factor else "")
 
 
 HEAD = "FoamFile {{ version 2.0; format ascii; class {cls}; object {obj}; }}\n"
@@ -74,27 +94,44 @@ def write(path, text):
         f.write(text)
 
 
-def make_case(root, name, a, h, opts):
+def layout(columns):
+    """Left-wall positions of the columns' slots and the domain size."""
+    x = 0.05
+    out = []
+    for a, f in columns:
+        out.append((a, f, x))
+        x = round(x + slot_length(a), 6)
+    height = math.ceil((1.1 * max(a for a, _ in columns) * L0 + 0.02) / 0.01) * 0.01
+    return out, round(x + 0.05, 6), height
+
+
+def make_case(root, name):
+    h, settings, columns = CASES[name]
     d = os.path.join(root, name)
-    h0 = a * L0
-    length, height = domain(a, h)
-    t_end = end_time(a)
-    tc = math.sqrt(h0 / G)
-    floor = opts.get("floor", ("fixed", None))
-    ppc = opts.get("ppc", 2)
-    pic = opts.get("picRate", 10)
-    transfer = opts.get("transfer", "FLIP")
-    mvr = opts.get("maxVolumeRatio")
-    material = opts.get("material", "sand")
-    note = (f"// Column-collapse series (cases/columnCollapse/series/generate.py): {name}\n"
-            f"// a = h0/L0 = {a:g}, L0 = {L0:g} m, h0 = {h0:g} m, cells {h*1e3:g} mm, "
-            f"tau_c = sqrt(h0/g) = {tc:.4f} s\n")
+    slots, length, height = layout(columns)
+    amax = max(a for a, _ in columns)
+    t_end = end_time(amax)
+    q = 0.25 * h     # a box edge a quarter cell past a node row, so that the row is in
+    note = (f"// Column-collapse series (cases/columnCollapse/series/generate.py), case {name}:\n"
+            f"// cells {h*1e3:g} mm; columns L0 = {L0:g} m long, h0 = a L0 high:\n"
+            + "".join(f"//   {column_name(a, f):18s} a = {a:<4g} left wall x = {x:g} m, "
+                      f"tau_c = sqrt(h0/g) = {tau(a):.4f} s\n" for a, f, x in slots))
 
     write(f"{d}/system/stages", note + f"_releaseTime    {RELEASE:g};    // [s]\n")
+
+    fos = []
+    for a, f, x in slots:
+        c = column_name(a, f)
+        common = f"bodies ({c}); origin ({x:g} 0); executeControl runTime; executeInterval"
+        fos.append(f"    {c}_deposit   {{ type runOut; {common} 0.05; }}")
+        fos.append(f"    {c}_front999  {{ type runOut; frontQuantile 0.999; {common} 0.05; }}")
+        fos.append(f"    {c}_massFront {{ type runOut; frontQuantile 0.99; {common} 0.02; }}")
+        fos.append(f"    {c}_surface   {{ type surfaceProfile; bodies ({c}); origin ({x:g} 0); "
+                   f"binWidth {h:g}; executeControl runTime; executeInterval 0.25; }}")
     write(f"{d}/system/controlDict", note + HEAD.format(cls="dictionary", obj="controlDict") + f"""
 #include "stages"
 
-endTime         {t_end:g};   // [s] release + 6 sqrt(h0/g) (at least 0.7 s)
+endTime         {t_end:g};   // [s] release + 5 sqrt(h0/g) of the tallest column (at least 0.7 s)
 deltaT          1e-5;       // [s] the first step
 adjustTimeStep  yes;
 maxCo           0.5;        // the step follows the wave speed, dt = 0.5 h / (c + |v|), at
@@ -105,10 +142,7 @@ maxLostFraction 1;          // a point leaving the domain is counted, not fatal
 
 functions
 {{
-    deposit   {{ type runOut; executeControl runTime; executeInterval 0.005; }}
-    front999  {{ type runOut; frontQuantile 0.999; executeControl runTime; executeInterval 0.005; }}
-    massFront {{ type runOut; frontQuantile 0.99;  executeControl runTime; executeInterval 0.005; }}
-    surface   {{ type surfaceProfile; binWidth {h:g}; executeControl runTime; executeInterval 0.1; }}
+{chr(10).join(fos)}
 }}
 """)
     write(f"{d}/system/gridDict", note + HEAD.format(cls="dictionary", obj="gridDict") + f"""
@@ -117,13 +151,15 @@ lower       (0 0);
 upper       ({length:g} {height:g});
 cellSize    {h:g};
 """)
+    pic = settings.get("picRate", 10)
+    mvr = settings.get("maxVolumeRatio")
     extra = f"maxVolumeRatio  {mvr:g};\n" if mvr else ""
     write(f"{d}/system/mpmSchemes", note + HEAD.format(cls="dictionary", obj="mpmSchemes") + f"""
 #include "stages"
 
 updateScheme    USF;
 shapeFunction   linear;
-transfer        {transfer};
+transfer        FLIP;
 picRate         {pic:g};        // [1/s]
 {extra}
 damping
@@ -134,35 +170,40 @@ damping
 """)
     write(f"{d}/constant/g", note + HEAD.format(cls="uniformDimensionedVectorField", obj="g")
           + "value       (0 -9.81);\n")
-    write(f"{d}/constant/bodies", note + HEAD.format(cls="dictionary", obj="bodies") + f"""
-column
+
+    bodies, bcs = [], []
+    for i, (a, f, x) in enumerate(slots):
+        c = column_name(a, f)
+        opts = COLUMN_FACTORS[f]
+        bodies.append(f"""{c}
 {{
-    material            {material};
-    region              {{ type rectangle; lower (0 0); upper ({L0:g} {h0:g}); }}
-    particlesPerCell    {ppc};
+    material            {opts.get("material", "sand")};
+    region              {{ type rectangle; lower ({x:g} 0); upper ({x + L0:g} {a * L0:g}); }}
+    particlesPerCell    {opts.get("ppc", 2)};
     initialStress       {{ type geostatic; K0 0.5; }}
 }}
 """)
-    kind, mu = floor
-    if kind == "fixed":
-        floor_text = "floor       { type fixed;   face yMin; }     // no-slip base (the shipped case's)\n"
-    elif kind == "slip":
-        floor_text = "floor       { type slip;    face yMin; }     // frictionless base\n"
-    else:
-        floor_text = (f"floor       {{ type friction; face yMin; coefficient {mu:.6g}; }}"
-                      "   // Coulomb base, mu = tan 22 deg\n")
-    write(f"{d}/constant/boundaryConditions", note + HEAD.format(cls="dictionary", obj="boundaryConditions") + f"""
-#include "../system/stages"
-
-{floor_text}leftWall    {{ type slip;    face xMin; }}     // roller
-gate
-{{
-    type        slip;
-    box         {{ min ({L0:g} -0.01); max ({L0 + 0.03:g} {height + 0.1:g}); }}
-    normal      (-1 0);
-    endTime     $_releaseTime;
-}}
-""")
+        floor = opts.get("floor", "fixed")
+        prev = COLUMN_FACTORS[slots[i - 1][1]].get("floor", "fixed") if i else None
+        following = [j for j in range(i + 1, len(slots))
+                     if COLUMN_FACTORS[slots[j][1]].get("floor", "fixed") != floor]
+        xend = slots[following[0]][2] if following else length
+        if floor != prev:   # one condition for a run of neighbouring slots on the same floor
+            fbox = f"box {{ min ({x - 0.02:g} -1); max ({xend - 0.04:g} {q:g}); }}"
+            if floor == "fixed":
+                bcs.append(f"{c}_floor    {{ type fixed; {fbox} }}    // no-slip (the shipped floor)")
+            elif floor == "slip":
+                bcs.append(f"{c}_floor    {{ type slip; {fbox} normal (0 1); }}    // frictionless")
+            else:
+                bcs.append(f"{c}_floor    {{ type friction; {fbox} normal (0 1); coefficient {MU_BASE:.6g}; }}"
+                           "    // Coulomb, mu = tan 22 deg")
+        bcs.append(f"{c}_wall     {{ type slip; box {{ min ({x - 0.03:g} -1); max ({x + q:g} {height + 1:g}); }}"
+                   " normal (1 0); }    // the column's left wall, a roller")
+        bcs.append(f"{c}_gate     {{ type slip; box {{ min ({x + L0 - q:g} -1); max ({x + L0 + 0.03:g} {height + 1:g}); }}"
+                   " normal (-1 0); endTime $_releaseTime; }    // removed at release")
+    write(f"{d}/constant/bodies", note + HEAD.format(cls="dictionary", obj="bodies") + "\n" + "\n".join(bodies))
+    write(f"{d}/constant/boundaryConditions", note + HEAD.format(cls="dictionary", obj="boundaryConditions")
+          + '\n#include "../system/stages"\n\n' + "\n".join(bcs) + "\n")
     write(f"{d}/constant/materialProperties", note + HEAD.format(cls="dictionary", obj="materialProperties") + """
 sand
 {
@@ -181,37 +222,23 @@ sandFrictional
     return d
 
 
-def cases(which):
-    """The cases in the order a runner should start them (most needed first)."""
-    series = [(f"a{a:g}_h{h*1e3:g}mm", a, h, {}) for h in CELLS for a in ASPECTS]
-    last = [c for c in series if c[1] == max(ASPECTS) and c[2] == min(CELLS)]
-    factors = [(f"a{a:g}_h{CELLS[0]*1e3:g}mm_{f}", a, CELLS[0], opts)
-               for a in sorted(FACTOR_ASPECTS) for f, opts in FACTORS.items()]
-    if which == "series":
-        return series
-    if which == "factors":
-        return factors
-    # all: the series but its most expensive case, the factors, then that case
-    return [c for c in series if c not in last] + factors + last
-
-
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("target", help="folder to write the cases into")
-    p.add_argument("--set", choices=("series", "factors", "all"), default="series")
-    p.add_argument("--only", nargs="*", help="write only these case names")
-    p.add_argument("--list", action="store_true", help="print the names and estimated steps, write nothing")
+    p.add_argument("--only", nargs="*", help="write only these cases")
+    p.add_argument("--list", action="store_true", help="print the cases, write nothing")
     args = p.parse_args()
-    for name, a, h, opts in cases(args.set):
+    for name, (h, settings, columns) in CASES.items():
         if args.only and name not in args.only:
             continue
         if args.list:
-            length, height = domain(a, h)
-            ppc = opts.get("ppc", 2)
-            npts = round(L0 / h) * round(a * L0 / h) * ppc * ppc
-            print(f"{name:32s} end {end_time(a):4.1f} s  domain {length:.2f} x {height:.2f} m  points {npts}")
+            slots, length, height = layout(columns)
+            npts = sum(round(L0 / h) * round(a * L0 / h) * COLUMN_FACTORS[f].get("ppc", 2) ** 2
+                       for a, f, _ in slots)
+            print(f"{name:14s} end {end_time(max(a for a, _ in columns)):4.1f} s  domain {length:.2f} x "
+                  f"{height:.2f} m  points {npts}  columns {' '.join(column_name(a, f) for a, f in columns)}")
             continue
-        make_case(args.target, name, a, h, opts)
+        make_case(args.target, name)
         with open(os.path.join(args.target, "cases.txt"), "a") as f:
             f.write(name + "\n")
         print(os.path.join(args.target, name))
