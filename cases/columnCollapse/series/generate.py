@@ -75,9 +75,10 @@ def end_time(amax):
 
 
 def slot_length(a):
-    # Room for a linear run-out at about twice Lube's slope (the shipped a = 0.5 case
-    # already runs 1.6-1.9 a), at least 1.5 x the law everywhere, and a gap.
-    length = max(0.6, L0 * (1.0 + 2.2 * a), 1.5 * L0 * (1.0 + law_runout(a)))
+    # Room for a linear run-out at 3 a: Scree's 0.99 fronts run 1.4-2.0 a up to a = 2,
+    # and the furthest points about 0.5 L0 beyond; a slot of 1.5 x Lube's law lost 1.5 %
+    # of the points of a = 2 on a Coulomb floor over the domain's end.
+    length = max(0.8, L0 * (1.0 + 3.0 * a), 1.5 * L0 * (1.0 + law_runout(a)))
     return math.ceil(length / 0.05) * 0.05 + 0.1
 
 
