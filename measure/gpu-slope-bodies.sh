@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The two-phase showcase's step on one GPU, drawn as it ships (cases/rainfallSlope: 18
-# rectangle bodies, one per column of its staircase) and as one polygon body tracing the
-# same staircase (variants/onePolygon: the same 3,408 points): each body is launched on its
-# own in every phase of the step, so the difference is what 17 bodies' launches cost.
+# The two-phase showcase's step on one GPU, drawn as it ships (cases/rainfallSlope: one
+# polygon body tracing a staircase of whole cells) and as the staircase's 18 rectangles
+# (variants/columns: the same 3,408 points): each body is launched on its own in every
+# phase of the step, so the difference is what 17 more bodies' launches cost.
 # Each run alone on the GPU, STEPS steps, with and without --profile; writes no output.
 #
 #   measure/gpu-slope-bodies.sh BIN_DIR OUT_DIR [STEPS]
@@ -17,7 +17,7 @@ cp -r "$here/cases/rainfallSlope" "$work/"
 : > "$out/summary.txt"
 for run in columns onePolygon; do
   dir=$work/rainfallSlope
-  [ "$run" = onePolygon ] && dir=$work/rainfallSlope/variants/onePolygon
+  [ "$run" = columns ] && dir=$work/rainfallSlope/variants/columns
   for profile in no yes; do
     extra=(--no-output)
     [ "$profile" = yes ] && extra+=(--profile)

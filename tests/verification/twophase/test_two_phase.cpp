@@ -213,33 +213,26 @@ TEST(TwoPhase, UnsaturatedLayersStartUnderTheWeightOfTheirMixturesAbove) {
 }
 
 // ---------------------------------------------------------------------------------
-// cases/rainfallSlope draws its slope as 18 rectangles, one per column of its staircase face
-// (makeBodies.py). One polygon tracing the same staircase makes the same points (the
-// staircase's corners lie on sub-cell edges, so every point is inside one region or the
-// other alike), and with the overburden of the material above each point it starts from the
-// same state: the same pore pressure and saturation (the same formula at the same places,
-// to the bit), and the same stress. The stresses differ only by the quadrature of the
-// mixture's density, a 1 mm midpoint table laid from each body's lowest point (measured:
-// 1.2e-5 Pa of 31.6 kPa); a column's material off by one sub-cell would be rho_mix g s/2, over
-// 400 Pa. Tolerance 1 Pa: far above the quadrature, far below any error of the overburden.
+// cases/rainfallSlope draws its slope as one polygon tracing a staircase of whole cells, and
+// its variants/columns as the staircase's 18 rectangles, one body per column (makeBodies.py),
+// as the case did when the stress was measured from each body's top. The two make the same
+// points (the staircase's corners lie on sub-cell edges, so every point is inside one region
+// or the other alike), and with the overburden of the material above each point they start
+// from the same state: the same pore pressure and saturation (the same formula at the same
+// places, to the bit), and the same stress. The stresses differ only by the quadrature of
+// the mixture's density, a 1 mm midpoint table laid from each body's lowest point
+// (measured: 1.2e-5 Pa of 31.6 kPa); a column's material off by one sub-cell would be
+// rho_mix g s/2, over 400 Pa. Tolerance 1 Pa: far above the quadrature, far below any error
+// of the overburden.
 TEST(TwoPhase, RainfallSlopeAsOnePolygonStartsAsItsEighteenColumns) {
-  TempCase columns("slope_columns"), polygon("slope_polygon");
-  const std::filesystem::path src = std::filesystem::path(SCREE_SOURCE_DIR) / "cases/rainfallSlope";
-  copy_case(src, columns.dir());
-  copy_case(src, polygon.dir());
-  polygon.write("constant/bodies",
-                "#include \"soilProperties\"\n"
-                "slope { material soil; particlesPerCell 2; initialStress { type geostatic; K0 $_K0; } "
-                "twoPhase $_twoPhase; region { type polygon; points ((0 0) (6 0) (6 0.5) (3.1 0.5) (3.1 0.6) "
-                "(3 0.6) (3 0.7) (2.9 0.7) (2.9 0.9) (2.8 0.9) (2.8 1) (2.7 1) (2.7 1.2) (2.6 1.2) (2.6 1.3) "
-                "(2.5 1.3) (2.5 1.5) (2.4 1.5) (2.4 1.6) (2.3 1.6) (2.3 1.8) (2.2 1.8) (2.2 1.9) (2.1 1.9) "
-                "(2.1 2.1) (2 2.1) (2 2.2) (1.9 2.2) (1.9 2.4) (1.8 2.4) (1.8 2.5) (1.7 2.5) (1.7 2.7) "
-                "(1.6 2.7) (1.6 2.8) (1.5 2.8) (1.5 2.9) (0 2.9)); } }");
+  TempCase shipped("slope_shipped");
+  copy_case(std::filesystem::path(SCREE_SOURCE_DIR) / "cases/rainfallSlope", shipped.dir());
+  const std::filesystem::path polygon = shipped.dir(), columns = shipped.dir() / "variants/columns";
   struct Point {
     double sigma[6], pw, sat;
   };
-  auto initial = [](const TempCase& tc, std::size_t& bodies) {
-    Case cs = Case::read(tc.dir(), runtime());
+  auto initial = [](const std::filesystem::path& dir, std::size_t& bodies) {
+    Case cs = Case::read(dir, runtime());
     Simulation sim(cs, runtime(), options());
     const Snapshot s = sim.snapshot();
     bodies = s.bodies.size();
