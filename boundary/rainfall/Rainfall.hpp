@@ -20,6 +20,10 @@
 // accelerations leave the external forces out; gravity's share of the normal flux is then
 // part of what the correction replaces, the same at convergence of the flux).
 //
+// The rain offered to the surface nodes and what they do not take of it (the surface ponds,
+// or the water runs off) are counted in the case's liquid totals (TwoPhaseNodes::totals):
+// the snapshot's liquidRainOffered and liquidRainNotTaken, waterBalance's rain columns.
+//
 // Surface nodes are found at every step: nodes with mass that touch an empty cell and a cell
 // holding points, or only empty cells (their mass then comes from the GIMP domains of points
 // beyond: porous/free_surface.hpp, surface_node), inside the condition's region and time window.
@@ -44,6 +48,7 @@
 #include "scree/plugin/context.hpp"
 #include "scree/porous/free_surface.hpp"
 #include "scree/porous/hydraulic_condition.hpp"
+#include "scree/porous/liquid_fields.hpp"
 #include "scree/time/function_of_time.hpp"
 
 namespace scree::boundary {
@@ -82,11 +87,31 @@ struct RainfallKernel {
       vl[d] = g.liquid.velocity_new[d][I];
     }
     if (g.masks && g.masks[I]) project_on_walls<D>(g.walls, g.masks[I], t, grad);  // the walls' planes
-    if (!rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], w, vs, vl)) return;
-    for (int d = 0; d < D; ++d) {
-      g.solid.velocity_new[d][I] = vs[d];
-      g.liquid.velocity_new[d][I] = vl[d];
+    if (rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], w, vs, vl)) {
+      for (int d = 0; d < D; ++d) {
+        g.solid.velocity_new[d][I] = vs[d];
+        g.liquid.velocity_new[d][I] = vl[d];
+      }
     }
+    if (g.totals) book(I, w, vs, vl);
+  }
+
+  /// The rain offered to node I, rho_l |w . a_I| dt (a_I = sum V grad N_I, the node's share
+  /// of the surface, outwards: w . a_I < 0 where the rain falls onto it), and what the node
+  /// does not take of it: offered less its inflow -dt (M_l / V_I) n S_l (v_l - v_s) . a_I,
+  /// SurfaceInflow's count (porous/grid_update.hpp) with this step's corrected velocities.
+  SCREE_HD void book(Index I, const Real* w, const Real* vs, const Real* vl) const {
+    Real wa = 0, qa = 0;
+    const Real ml = g.liquid.mass[I], nS = ml > 0 ? g.liquid.mass_mix[I] / ml : Real(0);
+    for (int d = 0; d < D; ++d) {
+      wa += w[d] * g.liquid.area[d][I];
+      qa += nS * (vl[d] - vs[d]) * g.liquid.area[d][I];
+    }
+    if (!(wa < 0)) return;
+    const Real dt = g.control->dt[g.parity], vol = nodal_volume<D>(g.liquid, I, g.drag_per_mass, g.rho_l);
+    const Real offered = -dt * g.rho_l * wa, taken = vol > 0 ? -dt * (ml / vol) * qa : Real(0);
+    atomic_add(g.totals + 2, offered, g.serial);
+    atomic_add(g.totals + 3, offered - taken, g.serial);
   }
 };
 }  // namespace detail

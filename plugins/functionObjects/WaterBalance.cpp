@@ -14,6 +14,7 @@ namespace {
 
 const char* const kScalars[] = {"liquidDensity", "liquidBulkModulus", "liquidInflowSurface",
                                 "liquidInflowPrescribed"};
+const char* const kRainScalars[] = {"liquidRainOffered", "liquidRainNotTaken"};
 const char* const kFields[] = {"porePressure", "saturation", "porosity", "volume"};
 
 bool two_phase(const BodySnapshot& b) { return b.scalar("liquidDensity") != nullptr; }
@@ -23,8 +24,9 @@ bool two_phase(const BodySnapshot& b) { return b.scalar("liquidDensity") != null
 ParamSpec WaterBalance::spec() {
   ParamSpec s(type_name,
               "pore-liquid mass balance of two-phase bodies: stored liquid mass W = sum rho_l (1 + p_w/K_l) n S_l V, "
-              "its change, the cumulative surface and prescribed inflows and the balance error, one CSV row per "
-              "execution (postProcessing/<name>/waterBalance.csv)");
+              "its change, the cumulative surface and prescribed inflows, the balance error, and the rain offered "
+              "to the surface and what it did not take, one CSV row per execution "
+              "(postProcessing/<name>/waterBalance.csv)");
   s.word_list("bodies", "two-phase bodies to sum over (default: every two-phase body)").optional();
   return s;
 }
@@ -39,7 +41,9 @@ WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
                                            "inflowSurface" + unit,
                                            "inflowPrescribed" + unit,
                                            "balanceError" + unit,
-                                           "relativeError [-]"};
+                                           "relativeError [-]",
+                                           "rain" + unit,
+                                           "rainNotTaken" + unit};
   const auto file = ctx.post_processing_dir() / "waterBalance.csv";
   if (ctx.start_time > 0) {
     // A restart: the reference is the first row the kept file holds (before start_time).
@@ -78,6 +82,8 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
       t.inflow_surface += in->value;
       t.inflow_prescribed += pre->value;
       counted = true;
+      if (const auto* r = b.scalar(kRainScalars[0])) t.rain += r->value;
+      if (const auto* r = b.scalar(kRainScalars[1])) t.rain_not_taken += r->value;
     }
   }
   if (first_wet && !counted) {
@@ -154,7 +160,7 @@ void WaterBalance::execute(const Snapshot& s) {
   const double error = dw - inflow;
   const double tiny = std::max(1e-12 * std::abs(t.stored), std::numeric_limits<double>::min());
   const double relative = error / std::max({std::abs(dw), std::abs(inflow), tiny});
-  csv_.row({s.time, t.stored, dw, t.inflow_surface, t.inflow_prescribed, error, relative});
+  csv_.row({s.time, t.stored, dw, t.inflow_surface, t.inflow_prescribed, error, relative, t.rain, t.rain_not_taken});
 }
 
 }  // namespace scree::fo

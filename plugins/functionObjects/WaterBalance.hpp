@@ -12,6 +12,10 @@
 //   error  = dW - (I_s - I_s(first row)) - (I_p - I_p(first row))
 //   relative error = error / max(|dW|, |I_s + I_p - inflow(first row)|, tiny),
 //            tiny = 1e-12 |W| (or the smallest normal number when W = 0)
+//   rain, rainNotTaken = the scalars liquidRainOffered, liquidRainNotTaken (cumulative since
+//            t = 0): the rain that fell onto the surface under rainfall conditions, and of it
+//            what the surface did not take (ponded or run off; boundary/rainfall). The rain
+//            taken, rain - rainNotTaken, is part of I_s.
 // Masses per metre of thickness in 2D (kg/m), kg in 3D. A restart takes the first row of
 // the kept file as the reference.
 //
@@ -40,6 +44,7 @@ class WaterBalance final : public FunctionObject {
     double stored = 0;             ///< W [kg/m]
     double inflow_surface = 0;     ///< I_s [kg/m]
     double inflow_prescribed = 0;  ///< I_p [kg/m]
+    double rain = 0, rain_not_taken = 0;  ///< [kg/m]
   };
   /// W and the inflows of `s` (std::runtime_error naming the entry for a body that is
   /// not two-phase).

@@ -140,8 +140,9 @@ PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>&
   balance_.copy_from_host(std::vector<Real>(static_cast<std::size_t>((3 + D) * nn), Real(0)));
   // Per cell: the reconstructed pressure P_c, x_c and g_c per axis (CellPressure).
   cell_pressure_.resize(static_cast<std::size_t>((1 + 2 * D) * nn), exec_.device);
-  totals_.resize(2, exec_.device);
-  totals_.copy_from_host(std::vector<Real>(2, Real(0)));
+  // Inflow through the surfaces, added by prescribed pore pressures, rain offered, rain not taken.
+  totals_.resize(kTotals, exec_.device);
+  totals_.copy_from_host(std::vector<Real>(kTotals, Real(0)));
 }
 
 template <int D>
@@ -418,6 +419,10 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.control = control;
   g.parity = parity;
   g.mass_eps = mass_eps;
+  g.totals = totals_.data();
+  g.serial = exec_.device == Device::cpu && exec_.threads == 1;
+  g.drag_per_mass = u.drag_per_mass;
+  g.rho_l = u.rho_l;
   for (const HydraulicCondition* hc : node_laws_) hc->apply_hydraulic(exec_, g);
   SurfaceInflow<D> f;
   f.grid = grid_;
@@ -441,7 +446,7 @@ void PorousMedia<D>::scalars(const Body<D>* body, std::vector<BodySnapshot::Scal
     out.push_back({"liquidDensity", "kg/m^3", "the pore liquid's density rho_l", P.rho_l});
     out.push_back({"liquidBulkModulus", "Pa", "the pore liquid's bulk modulus K_l", P.bulk_l});
     if (i != 0) return;  // the case's liquid totals go with its first two-phase body
-    std::vector<Real> t(2);
+    std::vector<Real> t(kTotals);
     mem::synchronize(exec_.device);
     totals_.copy_to_host(t.data());
     const char* per = D == 2 ? " (per metre of thickness), all two-phase bodies of the case" : ", all two-phase bodies";
@@ -450,6 +455,13 @@ void PorousMedia<D>::scalars(const Body<D>* body, std::vector<BodySnapshot::Scal
     out.push_back({"liquidInflowPrescribed", "kg",
                    std::string("the pore liquid's net mass that prescribed pore pressures added since t = 0") + per,
                    t[1]});
+    out.push_back({"liquidRainOffered", "kg",
+                   std::string("the rain that fell onto the surface under rainfall conditions since t = 0") + per,
+                   t[2]});
+    out.push_back({"liquidRainNotTaken", "kg",
+                   std::string("of the rain offered, what the surface did not take (ponded or run off) since t = 0") +
+                       per,
+                   t[3]});
     return;
   }
 }
@@ -467,10 +479,13 @@ Real PorousMedia<D>::max_signal_speed() const {
 
 template <int D>
 void PorousMedia<D>::restore_state(const std::vector<Real>& s) {
-  if (s.size() != totals_.size())
+  // A checkpoint written before the rain's totals were counted holds the first two.
+  if (s.size() != totals_.size() && s.size() != 2)
     throw std::invalid_argument("the pore liquid's state has " + std::to_string(s.size()) + " values, not " +
                                 std::to_string(totals_.size()));
-  totals_.copy_from_host(s);
+  std::vector<Real> t(totals_.size(), Real(0));
+  std::copy(s.begin(), s.end(), t.begin());
+  totals_.copy_from_host(t);
 }
 
 template class PorousMedia<2>;

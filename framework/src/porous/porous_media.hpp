@@ -102,7 +102,8 @@ class PorousMedia {
   Buffer<Real> balance_;  // per node: the liquid mass balance's inflow, then its capacity
   Real drag_per_mass_ = 0;  // PorePassParams::drag_per_mass
   Buffer<Real> cell_pressure_;  // per cell: P_c, x_c, g_c (CellPressure)
-  Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals)
+  static constexpr std::size_t kTotals = 4;  // TwoPhaseNodes::totals
+  Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals) and the rain's (TwoPhaseNodes::totals)
   Index n_cells_ = 0;
   std::vector<PorePressureLaw> laws_;
   std::vector<const HydraulicCondition*> node_laws_;

@@ -254,7 +254,9 @@ TEST(WaterBalance, StoredMassChangeInflowsAndError) {
                                            "inflowSurface [kg/m]",
                                            "inflowPrescribed [kg/m]",
                                            "balanceError [kg/m]",
-                                           "relativeError [-]"};
+                                           "relativeError [-]",
+                                           "rain [kg/m]",
+                                           "rainNotTaken [kg/m]"};
   EXPECT_EQ(c.header, header);
   ASSERT_EQ(c.rows.size(), 2u);
   EXPECT_NEAR(c.num(0, "stored [kg/m]"), 6.819976, 1e-9);

@@ -66,6 +66,13 @@ struct TwoPhaseNodes {
   const StepControl* control = nullptr;
   int parity = 0;
   Real mass_eps = 0;
+  /// The case's liquid totals [kg] (per metre in 2D), summed with atomic_add(.., serial):
+  /// [2] the rain offered to the surface nodes under rain, rho_l |w . a_I| dt where the rain
+  /// falls onto the node's share of the surface a_I; [3] of it, what the surface did not take
+  /// (ponded or run off): offered less the node's inflow, as SurfaceInflow counts it.
+  Real* totals = nullptr;
+  bool serial = false;
+  Real drag_per_mass = 0, rho_l = 0;  ///< as TwoPhaseGridUpdate's (nodal_volume)
 };
 
 class SCREE_API HydraulicCondition {
