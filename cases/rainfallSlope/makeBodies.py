@@ -15,10 +15,10 @@ columns the slope's stored water grew by 24.8 kg/m, as this staircase by 17.7 kg
 staircase removes that part; the rest of the spurious water is there either way.
 
 Why one body. The geostatic stress takes the material above each point in its own column
-(case/overburden.hpp, `overburden all`), so one polygon starts from the state the 18 column
-bodies gave when the stress was measured from each body's top (the columns' reason). The
-two are the same points and run alike (README, "One body"); each body is launched on its own
-in every phase of a step, so one body runs the step about ten times faster.
+(case/overburden.hpp, `overburden all`), so one polygon starts from the same state as the
+staircase's 18 column bodies, each measured from its own top. The two are the same points
+and run alike (README, "One body"); each body is launched on its own in every phase of a
+step, so one body runs the step about ten times faster.
 """
 
 # Geometry [m] (keep in step with system/gridDict, constant/boundaryConditions, the README).

@@ -307,7 +307,7 @@ const CoreSpecs& CoreSpecs::get() {
                "drawn as one polygon or stl, or layers of bodies, start with the weight above each point; needs "
                "gravity along one axis of the grid. body: the depth below one level for the whole body, its "
                "highest point (plus half a point spacing), with the body's own density, measured along g in any "
-               "direction (the former default; a slope's toe then carries the crest's depth). Under all, a body "
+               "direction (one level per body; a slope's toe then carries the crest's depth). Under all, a body "
                "put on the ground (a footing, a plate) loads it from the start; to apply it as a load at t = 0, "
                "give the ground overburden body. Pore water above the ground surface (a water table above it, "
                "ponding) is not counted: no body of water loads the free surface in the initial state")

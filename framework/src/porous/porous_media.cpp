@@ -479,7 +479,7 @@ Real PorousMedia<D>::max_signal_speed() const {
 
 template <int D>
 void PorousMedia<D>::restore_state(const std::vector<Real>& s) {
-  // A checkpoint written before the rain's totals were counted holds the first two.
+  // A checkpoint of the two inflows alone restores with the rain's totals at zero.
   if (s.size() != totals_.size() && s.size() != 2)
     throw std::invalid_argument("the pore liquid's state has " + std::to_string(s.size()) + " values, not " +
                                 std::to_string(totals_.size()));

@@ -177,10 +177,10 @@ TEST(Overburden, APointBelowAGapCarriesTheRoofAbove) {
   EXPECT_GT(below_gap, 0);
 }
 
-// ---- a body standing alone with a level top: the former stress, bit for bit --------------
+// ---- a body standing alone with a level top: overburden body's stress, bit for bit ------
 //
 // sigma_v = -rho g (s - y) with s the top particle plus half a spacing: `overburden all` (the
-// default) and `overburden body` (the former rule) give the same bits, for a top on a
+// default) and `overburden body` (one level per body) give the same bits, for a top on a
 // sub-cell edge and one inside a sub-cell (upper 0.98: top point 0.975, s = 1.0).
 TEST(Overburden, ALevelBodyAloneHasTheFormerStressBitForBit) {
   for (const char* upper : {"(0.4 1)", "(0.4 0.98)"}) {
@@ -250,7 +250,7 @@ TEST(Overburden, StackOfBoxesIn3DUnderGravityAlongZ) {
 // A sphere of radius R = 0.3 about the origin, rho 1800, gravity along -z: the material above
 // (x, y, z) is the sphere's cap, sqrt(R^2 - x^2 - y^2) - z thick, so sigma_zz = -rho g
 // (sqrt(R^2 - x^2 - y^2) - z), with the column sum within rho g s/2 of it where the sphere's
-// surface crosses the column (s = 0.02 m: 177 Pa), plus round-off. The former rule (one level,
+// surface crosses the column (s = 0.02 m: 177 Pa), plus round-off. The rule `overburden body` (one level,
 // the sphere's top) would load a point near the equator with the whole cap above the equator's
 // level, up to rho g R = 5.3 kPa more.
 TEST(Overburden, SphereIn3DCarriesItsCapAboveEachPoint) {

@@ -187,7 +187,7 @@ TEST(VolumeLimit, CapsDetFInBothKernelsAndChangesNothingBelowIt) {
   // Bit for bit on the CPU; on a GPU the nodal sums' atomics add in the order the warps
   // arrive, which two runs need not share: round-off, 1e-13 of each field's scale, and for
   // the displacement x - x0 a few units in the last place of x itself (ulp(0.4 m) = 5.6e-17
-  // m, 1.7e-13 of this block's largest displacement: measured on an H100).
+  // m, 1.7e-13 of this block's largest displacement).
   const bool gpu = test_device() == Device::cuda;
   expect_same(free, run(loose, false, kSteps, StressSplit::on), gpu ? 1e-13 : 0, gpu ? 4 * 5.6e-17 : 1e-300);
 }

@@ -40,9 +40,9 @@ TEST(Progress, TheEtaOfARunThatBarelyAdvancesSaturates) {
 }
 
 // A run restarted at step 10000 and t = 1.5 s of a 3 s run: its rate is of its own 100
-// steps in at least 0.2 s, at most 500 steps/s (counting the whole run's 10100 steps gave
-// 50 times that), and its ETA is its own wall time per simulated second times the 1.4 s
-// left: at least 0.2 s x 14 = 2.8 s (the whole run's fraction done gave 0.9 x 0.2 s).
+// steps in at least 0.2 s, at most 500 steps/s (the whole run's 10100 steps would give 50
+// times that), and its ETA is its own wall time per simulated second times the 1.4 s left:
+// at least 0.2 s x 14 = 2.8 s (the whole run's fraction done would give 0.9 x 0.2 s).
 TEST(Progress, ARestartedRunCountsItsOwnStepsAndTime) {
   std::ostringstream log;
   Progress p(log, false, 0.0, 3.0);

@@ -477,7 +477,7 @@ TEST(Backends, CudaAgreesWithCpuMUSLGimp) {
 //                8e-16 m/s; the test's 1e-9 m/s is far from both that and any real motion.
 //     K0 = 0.5:  KE(t) <= sum_p D_xx,p^2 V_p / (2 E) over the points (measured: KE at most
 //                10.5 J/m against 66.8 J/m; |v| at most 0.10 m/s).
-// The former rule (overburden body: the depth below the crest's level) leaves sigma_yy =
+// The rule `overburden body` (the depth below the crest's level) leaves sigma_yy =
 // -rho g (2.5 - y) on the face, up to rho g 2 m = 39 kPa, not admissible: its slope moves
 // (measured 117 J/m, |v| up to 1.0 m/s with K0 = 0), which this test must tell apart.
 struct SlopeRun {

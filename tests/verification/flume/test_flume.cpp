@@ -26,7 +26,7 @@
 //   stress pass split (KernelPolicy::ledger_split, StressSplit on) books each point once:
 //   the same terms within what two runs of slightly different integration paths differ by
 //   (0.1-1%; a share booked twice or missed is tens of per cent).
-// - Regression (this code's own value when the test was written; not a truth):
+// - Regression (this code's own value, not a truth):
 //   the 0.99 mass quantile of x 0.4 s after the release, within 10% (a chaotic granular
 //   flow; 20 mm is far from the converged 5 mm front).
 #include <gtest/gtest.h>

@@ -215,7 +215,7 @@ TEST(TwoPhase, UnsaturatedLayersStartUnderTheWeightOfTheirMixturesAbove) {
 // ---------------------------------------------------------------------------------
 // cases/rainfallSlope draws its slope as one polygon tracing a staircase of whole cells, and
 // its variants/columns as the staircase's 18 rectangles, one body per column (makeBodies.py),
-// as the case did when the stress was measured from each body's top. The two make the same
+// each of which alone would start from its own top. The two make the same
 // points (the staircase's corners lie on sub-cell edges, so every point is inside one region
 // or the other alike), and with the overburden of the material above each point they start
 // from the same state: the same pore pressure and saturation (the same formula at the same

@@ -14,7 +14,7 @@
 // elevation - sub/2 to its highest point's + sub/2. The integral over body b at x is taken
 // in b's column that holds x_h (floor((x_h - origin) / sub_b)), over the parts of its runs
 // above z(x). A point's own sub-cell counts from z(x) up: half of it, so the top point of a
-// level body carries rho g sub/2, as the former default surface (top point + sub/2) gave.
+// level body carries rho g sub/2, as `overburden body`'s surface (top point + sub/2) gives.
 // A gap in a column (an overhang, a cave) does not relieve the points below it: they carry
 // the roof as well (the column's weight; arching across the gap is not modelled).
 // Against the continuous integral over the region at the column's centre the column sum errs
