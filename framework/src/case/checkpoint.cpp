@@ -146,8 +146,7 @@ void Checkpoint::write(const fs::path& file) const {
     o.array(b.data);
   }
   o.array(liquid);
-  o.pod(cut_axis);
-  o.array(cuts);
+  o.array(decomposition);
   o.pod<std::uint64_t>(physics.size());
   for (const auto& [key, value] : physics) {
     o.text(key);
@@ -284,9 +283,16 @@ Checkpoint read_one(const fs::path& file) {
     c.bodies.push_back(std::move(b));
   }
   c.liquid = in.array<Real>();
-  if (version >= 2) {
-    c.cut_axis = in.pod<std::int32_t>();
-    c.cuts = in.array<std::int32_t>();
+  if (version >= 5) {
+    c.decomposition = in.array<std::int32_t>();
+  } else if (version >= 2) {
+    // Slabs: node k cuts rank k's slab off the rest (a leaf r is written -(r + 1)).
+    const auto axis = in.pod<std::int32_t>();
+    const std::vector<std::int32_t> cuts = in.array<std::int32_t>();
+    const auto ranks = static_cast<std::int32_t>(cuts.size()) - 1;
+    for (std::int32_t k = 0; axis >= 0 && k + 1 < ranks; ++k)
+      c.decomposition.insert(c.decomposition.end(),
+                             {axis, cuts[static_cast<std::size_t>(k) + 1], -(k + 1), k + 2 < ranks ? k + 1 : -ranks});
   }
   if (version >= 3) {
     const auto n = in.pod<std::uint64_t>();

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace scree {
@@ -10,14 +11,100 @@ namespace scree {
 namespace {
 /// The widening of a box: its grid covers the nodes of every point up to `slack` cells
 /// outside it (cells c0 - slack .. c1 + slack - 1, nodes c0 - slack - a .. c1 + slack + b - 1),
-/// of which the ghost layers of sub_box give `ghost` on each side; and the narrowest box, so
-/// that no node lies in three grids (a box between two others is wider than both
-/// neighbours' reach).
+/// of which the ghost layers of sub_box give `ghost` on each side; and the narrowest box
+/// along a cut axis: wider than both neighbours' reach into it.
 struct Widening {
   int lo, hi, min_width;
   Widening(int ghost, int a, int b, int slack)
       : lo(std::max(0, slack + a - ghost)), hi(std::max(0, slack + b - 1 - ghost)), min_width(lo + hi + 2 * ghost + 1) {}
 };
+
+template <int D>
+CellBox<D> whole(const GlobalGrid<D>& g) {
+  CellBox<D> b;
+  for (int d = 0; d < D; ++d) {
+    b.lo[d] = 0;
+    b.hi[d] = g.cells[d];
+  }
+  return b;
+}
+
+/// The most boxes of min_width cells the grid can be cut into: the message's bound.
+template <int D>
+long long most_boxes(const GlobalGrid<D>& g, int min_width) {
+  long long n = 1;
+  for (int d = 0; d < D; ++d) n *= std::max(1, g.cells[d] / min_width);
+  return n;
+}
+
+template <int D>
+std::string cells_text(const GlobalGrid<D>& g) {
+  std::string s = std::to_string(g.cells[0]);
+  for (int d = 1; d < D; ++d) s += " x " + std::to_string(g.cells[d]);
+  return s;
+}
+
+/// The boxes, grids, owned nodes and neighbours of a complete tree.
+template <int D>
+void finish(Decomposition<D>& dc, const GlobalGrid<D>& g, int a, int b) {
+  const Widening w(g.ghost, a, b, dc.slack);
+  dc.boxes.assign(static_cast<std::size_t>(dc.ranks), whole(g));
+  std::vector<int> seen(static_cast<std::size_t>(dc.ranks), 0);
+  // Depth first from the root, each child's box its parent's cut.
+  struct Item {
+    int node;
+    CellBox<D> box;
+  };
+  std::vector<Item> stack;
+  if (!dc.tree.empty()) stack.push_back({0, whole(g)});
+  std::size_t visited = 0;
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    if (++visited > dc.tree.size()) throw std::invalid_argument("the decomposition's tree has a cycle");
+    const auto& s = dc.tree[static_cast<std::size_t>(it.node)];
+    if (s.axis < 0 || s.axis >= D || s.cut - it.box.lo[s.axis] < w.min_width || it.box.hi[s.axis] - s.cut < w.min_width)
+      throw std::invalid_argument("a box of the decomposition is thinner than " + std::to_string(w.min_width) +
+                                  " cells along a cut axis");
+    for (int k = 0; k < 2; ++k) {
+      CellBox<D> part = it.box;
+      (k == 0 ? part.hi : part.lo)[s.axis] = s.cut;
+      const int c = s.child[k];
+      if (c >= 0) {
+        if (static_cast<std::size_t>(c) >= dc.tree.size()) throw std::invalid_argument("the decomposition's tree is broken");
+        stack.push_back({c, part});
+      } else {
+        const int r = -c - 1;
+        if (r >= dc.ranks || seen[static_cast<std::size_t>(r)]++)
+          throw std::invalid_argument("the decomposition's tree does not give each of " + std::to_string(dc.ranks) +
+                                      " ranks one box");
+        dc.boxes[static_cast<std::size_t>(r)] = part;
+      }
+    }
+  }
+  if (dc.ranks > 1 && std::count(seen.begin(), seen.end(), 1) != dc.ranks)
+    throw std::invalid_argument("the decomposition's tree does not give each of " + std::to_string(dc.ranks) +
+                                " ranks one box");
+  dc.local.clear();
+  dc.owned.clear();
+  for (const CellBox<D>& bx : dc.boxes) {
+    int lo[D], hi[D];
+    NodeRange<D> own;
+    for (int d = 0; d < D; ++d) {
+      lo[d] = std::max(0, bx.lo[d] - w.lo);
+      hi[d] = std::min(g.cells[d], bx.hi[d] + w.hi);
+      own.lo[d] = bx.lo[d] == 0 ? 0 : bx.lo[d] + g.ghost;
+      own.hi[d] = bx.hi[d] == g.cells[d] ? g.n[d] : bx.hi[d] + g.ghost;
+    }
+    dc.local.push_back(g.sub_box(lo, hi));
+    dc.owned.push_back(own);
+  }
+  dc.neighbours.clear();
+  for (int q = 0; q < dc.ranks; ++q) {
+    NodeRange<D> s;
+    if (q != dc.rank && dc.overlap(q, s)) dc.neighbours.push_back(q);
+  }
+}
 }  // namespace
 
 template <int D>
@@ -28,132 +115,201 @@ int domain_cell(const GlobalGrid<D>& g, int d, Real x) {
 }
 
 template <int D>
-int Decomposition<D>::owner_of_cell(int c) const {
-  if (ranks == 1) return 0;
-  const auto it = std::upper_bound(cuts.begin(), cuts.end(), c);
-  return std::clamp(static_cast<int>(it - cuts.begin()) - 1, 0, ranks - 1);
+int Decomposition<D>::owner_of_cell(const int* c) const {
+  if (tree.empty()) return 0;
+  int node = 0;
+  for (;;) {
+    const Split& s = tree[static_cast<std::size_t>(node)];
+    const int next = s.child[c[s.axis] >= s.cut ? 1 : 0];
+    if (next < 0) return -next - 1;
+    node = next;
+  }
 }
 
 template <int D>
-int Decomposition<D>::owner(Real x, const GlobalGrid<D>& g) const {
-  return owner_of_cell(domain_cell(g, axis, x));
+int Decomposition<D>::owner(const Vec<D>& x, const GlobalGrid<D>& g) const {
+  if (tree.empty()) return 0;
+  int c[D];
+  for (int d = 0; d < D; ++d) c[d] = domain_cell(g, d, x[d]);
+  return owner_of_cell(c);
 }
 
 template <int D>
-void Decomposition<D>::owned_local(int& lo, int& hi) const {
-  const int off = grid().offset[axis];
-  lo = owned[static_cast<std::size_t>(rank)] - off;
-  hi = owned[static_cast<std::size_t>(rank) + 1] - off;
+NodeRange<D> Decomposition<D>::owned_local() const {
+  NodeRange<D> r = owned[static_cast<std::size_t>(rank)];
+  for (int d = 0; d < D; ++d) {
+    r.lo[d] -= grid().offset[d];
+    r.hi[d] -= grid().offset[d];
+  }
+  return r;
 }
 
 template <int D>
-void Decomposition<D>::overlap(int peer, int& lo, int& hi) const {
+bool Decomposition<D>::overlap(int peer, NodeRange<D>& s) const {
   const GridGeometry<D>& me = grid();
   const GridGeometry<D>& other = local[static_cast<std::size_t>(peer)];
-  const int a0 = me.offset[axis], a1 = a0 + me.n[axis];
-  const int b0 = other.offset[axis], b1 = b0 + other.n[axis];
-  lo = std::max(a0, b0) - a0;
-  hi = std::min(a1, b1) - a0;
-  if (hi < lo) hi = lo;
-}
-
-template <int D>
-Decomposition<D> decompose_layers(const GlobalGrid<D>& g, const std::array<std::vector<std::uint64_t>, D>& hist,
-                                  int ranks, int rank, int a, int b, int slack) {
-  Decomposition<D> dc;
-  dc.ranks = ranks;
-  dc.rank = rank;
-  dc.slack = slack;
-  const int whole_lo[D > 0 ? D : 1] = {};
-  if (ranks <= 1) {
-    dc.cuts = {0, g.cells[0]};
-    dc.local.push_back(g.sub_box(whole_lo, g.cells));
-    dc.owned = {0, g.n[0]};
-    return dc;
-  }
-  // The axis of the widest span of points is cut.
-  int best = -1;
+  bool any = true;
   for (int d = 0; d < D; ++d) {
-    const auto& h = hist[d];
-    const auto first = std::find_if(h.begin(), h.end(), [](auto c) { return c > 0; });
-    const auto last = std::find_if(h.rbegin(), h.rend(), [](auto c) { return c > 0; });
-    const int span = first == h.end() ? 0 : static_cast<int>((h.rend() - last) - (first - h.begin()));
-    if (span > best || (span == best && g.cells[d] > g.cells[dc.axis])) {
-      best = span;
-      dc.axis = d;
+    const int a0 = me.offset[d], a1 = a0 + me.n[d];
+    const int b0 = other.offset[d], b1 = b0 + other.n[d];
+    s.lo[d] = std::max(a0, b0) - a0;
+    s.hi[d] = std::min(a1, b1) - a0;
+    if (s.hi[d] <= s.lo[d]) {
+      s.hi[d] = s.lo[d];
+      any = false;
     }
   }
-  return cut_slabs<D>(g, hist[dc.axis], dc.axis, ranks, rank, a, b, slack);
+  return any;
 }
 
 template <int D>
-Decomposition<D> cut_slabs(const GlobalGrid<D>& g, const std::vector<std::uint64_t>& h, int axis, int ranks, int rank,
-                           int a, int b, int slack) {
+std::string Decomposition<D>::describe_box(int r) const {
+  std::ostringstream m;
+  const CellBox<D>& b = boxes[static_cast<std::size_t>(r)];
+  for (int d = 0; d < D; ++d) m << (d ? " x [" : "[") << b.lo[d] << ", " << b.hi[d] << ")";
+  return m.str();
+}
+
+template <int D>
+std::vector<std::int32_t> Decomposition<D>::tree_code() const {
+  std::vector<std::int32_t> code;
+  for (const Split& s : tree) code.insert(code.end(), {s.axis, s.cut, s.child[0], s.child[1]});
+  return code;
+}
+
+template <int D>
+bool Decomposition<D>::same_boxes(const Decomposition& o) const {
+  if (boxes.size() != o.boxes.size()) return false;
+  for (std::size_t r = 0; r < boxes.size(); ++r)
+    for (int d = 0; d < D; ++d)
+      if (boxes[r].lo[d] != o.boxes[r].lo[d] || boxes[r].hi[d] != o.boxes[r].hi[d]) return false;
+  return true;
+}
+
+template <int D>
+Decomposition<D> bisect(const GlobalGrid<D>& g, int ranks, int rank, int a, int b, int slack,
+                        const CountBoxes<D>& count) {
+  using Dc = Decomposition<D>;
+  Dc dc;
+  dc.ranks = std::max(1, ranks);
+  dc.rank = rank;
+  dc.slack = slack;
+  const Widening w(g.ghost, a, b, slack);
+  // The boxes still to cut, each with its first rank and its number of ranks, and where its
+  // parent refers to it (the tree's node and side; -1 for the root).
+  struct Part {
+    CellBox<D> box;
+    int first, n, parent, side;
+  };
+  std::vector<Part> level;
+  dc.counted.assign(static_cast<std::size_t>(dc.ranks), 0);
+  if (dc.ranks > 1) level.push_back({whole(g), 0, dc.ranks, -1, 0});
+  // The level's boxes are found by walking the tree built so far: a leaf holds -(rank + 1),
+  // a box still to cut kPending - its index in `level`.
+  constexpr int kPending = -(1 << 30);
+  int root = kPending;  // the root's slot until the first cut
+  auto slot = [&](const Part& p) -> int& {
+    return p.parent < 0 ? root : dc.tree[static_cast<std::size_t>(p.parent)].child[p.side];
+  };
+  while (!level.empty()) {
+    std::vector<CellBox<D>> boxes;
+    for (std::size_t k = 0; k < level.size(); ++k) {
+      boxes.push_back(level[k].box);
+      slot(level[k]) = kPending - static_cast<int>(k);
+    }
+    const auto which = [&](const int* c) {
+      int node = root;
+      while (node >= 0) {
+        const auto& s = dc.tree[static_cast<std::size_t>(node)];
+        node = s.child[c[s.axis] >= s.cut ? 1 : 0];
+      }
+      return node <= kPending ? kPending - node : -1;
+    };
+    const std::vector<LayerCounts<D>> counts = count(boxes, which);
+    std::vector<Part> next;
+    for (std::size_t k = 0; k < level.size(); ++k) {
+      const Part& p = level[k];
+      const LayerCounts<D>& h = counts[k];
+      // The axis of the widest span of points (of the longest box when none), among those
+      // the box can be cut across: each part must hold as many boxes of min_width cells as
+      // it has ranks, counting the boxes the other axes can hold (at least one).
+      const int lower_ranks = p.n / 2;
+      int axis = -1, best = -1, need_lo = 0, need_hi = 0;
+      for (int d = 0; d < D; ++d) {
+        const int width = p.box.hi[d] - p.box.lo[d];
+        long long across = 1;
+        for (int e = 0; e < D; ++e)
+          if (e != d) across *= std::max(1, (p.box.hi[e] - p.box.lo[e]) / w.min_width);
+        const int lo_cells = w.min_width * static_cast<int>((lower_ranks + across - 1) / across);
+        const int hi_cells = w.min_width * static_cast<int>((p.n - lower_ranks + across - 1) / across);
+        if (width < lo_cells + hi_cells) continue;
+        const auto& l = h[static_cast<std::size_t>(d)];
+        const auto first = std::find_if(l.begin(), l.end(), [](auto c) { return c > 0; });
+        const auto last = std::find_if(l.rbegin(), l.rend(), [](auto c) { return c > 0; });
+        const int span = first == l.end() ? 0 : static_cast<int>((l.rend() - last) - (first - l.begin()));
+        if (span > best || (span == best && width > p.box.hi[axis] - p.box.lo[axis])) {
+          best = span;
+          axis = d;
+          need_lo = lo_cells;
+          need_hi = hi_cells;
+        }
+      }
+      if (axis < 0)
+        throw std::invalid_argument("the grid of " + cells_text(g) + " cells cannot be cut into " +
+                                    std::to_string(dc.ranks) + " boxes of at least " + std::to_string(w.min_width) +
+                                    " cells along each cut (the halo of their neighbours): run on at most about " +
+                                    std::to_string(most_boxes(g, w.min_width)) + " ranks, or refine cellSize");
+      // Equal counts: the lower part holds floor(n/2) / n of the box's points.
+      const auto& l = h[static_cast<std::size_t>(axis)];
+      std::uint64_t total = 0;
+      for (auto c : l) total += c;
+      const double target = static_cast<double>(total) * lower_ranks / p.n;
+      const int lo = p.box.lo[axis], hi = p.box.hi[axis];
+      int c = lo;
+      std::uint64_t cum = 0;
+      if (total == 0)
+        c = lo + (hi - lo) * lower_ranks / p.n;
+      else
+        while (c < hi && static_cast<double>(cum + l[static_cast<std::size_t>(c - lo)]) <= target)
+          cum += l[static_cast<std::size_t>(c++ - lo)];
+      c = std::min(std::max(c, lo + need_lo), hi - need_hi);
+      std::uint64_t below_count = 0;
+      for (int j = lo; j < c; ++j) below_count += l[static_cast<std::size_t>(j - lo)];
+      const int node = static_cast<int>(dc.tree.size());
+      dc.tree.push_back({axis, c, {0, 0}});
+      slot(p) = node;
+      CellBox<D> below = p.box, above = p.box;
+      below.hi[axis] = c;
+      above.lo[axis] = c;
+      const Part parts[2] = {{below, p.first, lower_ranks, node, 0}, {above, p.first + lower_ranks, p.n - lower_ranks, node, 1}};
+      for (const Part& q : parts) {
+        if (q.n > 1)
+          next.push_back(q);
+        else {
+          dc.tree[static_cast<std::size_t>(node)].child[q.side] = -q.first - 1;
+          dc.counted[static_cast<std::size_t>(q.first)] = q.side == 0 ? below_count : total - below_count;
+        }
+      }
+    }
+    level = std::move(next);
+  }
+  finish(dc, g, a, b);
+  return dc;
+}
+
+template <int D>
+Decomposition<D> from_tree_code(const GlobalGrid<D>& g, const std::vector<std::int32_t>& code, int ranks, int rank,
+                                int a, int b, int slack) {
   Decomposition<D> dc;
   dc.ranks = ranks;
   dc.rank = rank;
   dc.slack = slack;
-  dc.axis = axis;
-  std::uint64_t n = 0;
-  for (auto c : h) n += c;
-  const int ax = dc.axis, cells = g.cells[ax];
-  const Widening w(g.ghost, a, b, slack);
-  const int min_width = w.min_width;
-  if (cells < ranks * min_width)
-    throw std::invalid_argument("the grid has " + std::to_string(cells) + " cells along its longest axis of points (" +
-                                std::to_string(ax) + "), and each of " + std::to_string(ranks) +
-                                " ranks needs at least " + std::to_string(min_width) +
-                                " (the halo of its neighbours): run on at most " + std::to_string(cells / min_width) +
-                                " ranks, or refine cellSize");
-  // Equal counts: cut r where the cumulative count first reaches r/ranks of the points.
-  dc.cuts.assign(static_cast<std::size_t>(ranks) + 1, 0);
-  dc.cuts[static_cast<std::size_t>(ranks)] = cells;
-  std::uint64_t cum = 0;
-  int c = 0;
-  for (int r = 1; r < ranks; ++r) {
-    const double target = static_cast<double>(n) * r / ranks;
-    while (c < cells && static_cast<double>(cum + h[static_cast<std::size_t>(c)]) <= target) cum += h[static_cast<std::size_t>(c++)];
-    dc.cuts[static_cast<std::size_t>(r)] = c;
-  }
-  // Every box at least min_width cells: forward, then backward from the end.
-  for (int r = 1; r < ranks; ++r)
-    dc.cuts[static_cast<std::size_t>(r)] = std::max(dc.cuts[static_cast<std::size_t>(r)], dc.cuts[static_cast<std::size_t>(r) - 1] + min_width);
-  for (int r = ranks - 1; r >= 1; --r)
-    dc.cuts[static_cast<std::size_t>(r)] = std::min(dc.cuts[static_cast<std::size_t>(r)], dc.cuts[static_cast<std::size_t>(r) + 1] - min_width);
-  return slabs_from_cuts<D>(g, ax, dc.cuts, rank, a, b, slack);
-}
-
-template <int D>
-Decomposition<D> slabs_from_cuts(const GlobalGrid<D>& g, int axis, const std::vector<int>& cuts, int rank, int a,
-                                 int b, int slack) {
-  Decomposition<D> dc;
-  dc.ranks = static_cast<int>(cuts.size()) - 1;
-  dc.rank = rank;
-  dc.slack = slack;
-  dc.axis = axis;
-  dc.cuts = cuts;
-  const int ranks = dc.ranks, ax = axis;
-  if (ranks < 1 || axis < 0 || axis >= D || cuts.front() != 0 || cuts.back() != g.cells[ax])
-    throw std::invalid_argument("the cuts do not span the grid's " + std::to_string(g.cells[std::max(0, std::min(axis, D - 1))]) + " cells");
-  const int cells = g.cells[ax];
-  const Widening w(g.ghost, a, b, slack);
-  const int e_lo = w.lo, e_hi = w.hi, min_width = w.min_width;
-  for (int r = 0; r < ranks; ++r)
-    if (ranks > 1 && cuts[static_cast<std::size_t>(r) + 1] - cuts[static_cast<std::size_t>(r)] < min_width)
-      throw std::invalid_argument("a slab of the cuts is thinner than " + std::to_string(min_width) + " cells");
-  for (int r = 0; r < ranks; ++r) {
-    int lo[D], hi[D];
-    for (int d = 0; d < D; ++d) {
-      lo[d] = 0;
-      hi[d] = g.cells[d];
-    }
-    lo[ax] = std::max(0, dc.cuts[static_cast<std::size_t>(r)] - e_lo);
-    hi[ax] = std::min(cells, dc.cuts[static_cast<std::size_t>(r) + 1] + e_hi);
-    dc.local.push_back(g.sub_box(lo, hi));
-  }
-  dc.owned.assign(static_cast<std::size_t>(ranks) + 1, 0);
-  for (int r = 1; r < ranks; ++r) dc.owned[static_cast<std::size_t>(r)] = dc.cuts[static_cast<std::size_t>(r)] + g.ghost;
-  dc.owned[static_cast<std::size_t>(ranks)] = g.n[ax];
+  if (code.size() % 4 != 0 || code.size() / 4 != static_cast<std::size_t>(std::max(0, ranks - 1)))
+    throw std::invalid_argument("the decomposition's tree has " + std::to_string(code.size() / 4) + " cuts, not " +
+                                std::to_string(ranks - 1));
+  for (std::size_t i = 0; i < code.size(); i += 4)
+    dc.tree.push_back({code[i], code[i + 1], {code[i + 2], code[i + 3]}});
+  finish(dc, g, a, b);
   return dc;
 }
 
@@ -161,15 +317,11 @@ template int domain_cell<2>(const GlobalGrid<2>&, int, Real);
 template int domain_cell<3>(const GlobalGrid<3>&, int, Real);
 template struct Decomposition<2>;
 template struct Decomposition<3>;
-template Decomposition<2> decompose_layers<2>(const GlobalGrid<2>&, const std::array<std::vector<std::uint64_t>, 2>&,
-                                             int, int, int, int, int);
-template Decomposition<3> decompose_layers<3>(const GlobalGrid<3>&, const std::array<std::vector<std::uint64_t>, 3>&,
-                                             int, int, int, int, int);
-template Decomposition<2> slabs_from_cuts<2>(const GlobalGrid<2>&, int, const std::vector<int>&, int, int, int, int);
-template Decomposition<3> slabs_from_cuts<3>(const GlobalGrid<3>&, int, const std::vector<int>&, int, int, int, int);
-template Decomposition<2> cut_slabs<2>(const GlobalGrid<2>&, const std::vector<std::uint64_t>&, int, int, int, int, int,
-                                       int);
-template Decomposition<3> cut_slabs<3>(const GlobalGrid<3>&, const std::vector<std::uint64_t>&, int, int, int, int, int,
-                                       int);
+template Decomposition<2> bisect<2>(const GlobalGrid<2>&, int, int, int, int, int, const CountBoxes<2>&);
+template Decomposition<3> bisect<3>(const GlobalGrid<3>&, int, int, int, int, int, const CountBoxes<3>&);
+template Decomposition<2> from_tree_code<2>(const GlobalGrid<2>&, const std::vector<std::int32_t>&, int, int, int, int,
+                                            int);
+template Decomposition<3> from_tree_code<3>(const GlobalGrid<3>&, const std::vector<std::int32_t>&, int, int, int, int,
+                                            int);
 
 }  // namespace scree

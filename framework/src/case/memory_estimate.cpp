@@ -117,9 +117,11 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
 
   MemoryPart g{"the grid", "cellSize", m.cell_size_where, grid_nodes(m.grid, h)};
   if (R > 1) {
-    // The slabs cut the points' longest extent, at most the grid's longest axis: a rank's
-    // share of it, and the halo's node layers on both sides (the shape's reach and the
-    // migration slack, case/decomposition.hpp; 3 + kSlackCells covers every shape).
+    // Estimated as slabs across the grid's longest axis: a rank's share of it, and the
+    // halo's node layers on both sides (the shape's reach and the migration slack,
+    // case/decomposition.hpp; 3 + kSlackCells covers every shape). Boxes cut across shorter
+    // axes carry a little more halo; once the boxes are cut, each rank's is checked exactly
+    // against its backend's free memory before anything is allocated.
     double longest = 1;
     for (int d = 0; d < m.grid.dimension && d < static_cast<int>(m.grid.lower.size()); ++d)
       longest = std::max(longest, static_cast<double>(domain_cells(m.grid.lower[d], m.grid.upper[d], h)));

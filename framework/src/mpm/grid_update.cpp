@@ -109,12 +109,14 @@ struct GridUpdate {
     return Real(0.5) * m * v2;
   }
   /// Add node I's share to a term of the energy ledger (GridUpdateParams::energy); zeros,
-  /// and the shares of nodes another rank owns (ledger_axis), are not added.
+  /// and the shares of nodes another rank owns (ledger_owned), are not added.
   SCREE_INLINE void ledger(Index I, int term, Real value) const {
     if (value == 0) return;
-    if (p.ledger_axis >= 0) {
-      const Index i = (I / p.grid.stride(p.ledger_axis)) % p.grid.n[p.ledger_axis];
-      if (i < p.ledger_lo || i >= p.ledger_hi) return;
+    if (p.ledger_owned) {
+      int idx[D];
+      p.grid.unflat(I, idx);
+      for (int d = 0; d < D; ++d)
+        if (idx[d] < p.ledger_lo[d] || idx[d] >= p.ledger_hi[d]) return;
     }
     atomic_add(p.control->energy + term, value, false);
   }

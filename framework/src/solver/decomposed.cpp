@@ -1,7 +1,7 @@
 // Solver<D>: what a run decomposed over several ranks adds (case/decomposition.hpp,
 // comm/comm.hpp). Each rank holds the points in its box and a grid over the box with a
-// halo; per step, after a particle-to-grid pass, neighbours add each other's partial sums
-// on the nodes they share (halo_sum), and before the grid update that advances the clock
+// halo; per step, after a particle-to-grid pass, neighbours exchange their partial sums on
+// the nodes they share and each adds them in the ranks' order (halo_sum), and before the grid update that advances the clock
 // the ranks reduce its inputs (reduce_clock: the largest signal speed, which sets the next
 // dt, the lost and failed points), so that every rank takes the same steps. At the end of
 // each chunk of steps the points migrate to the rank whose box holds them; a chunk is
@@ -18,7 +18,6 @@
 
 #include "scree/case/memory_estimate.hpp"
 #include "scree/case/particle_generation.hpp"
-#include "scree/mpm/halo_slab.hpp"
 #include "scree/mpm/particle_storage.hpp"
 #include "solver.hpp"
 
@@ -30,42 +29,64 @@ void Solver<D>::decompose_case() {
     throw InputError(case_.bodies().where(),
                      "a case with two-phase bodies runs on one rank; this run has " + std::to_string(comm_->size()) +
                          " (run it without mpirun, or with -np 1)");
-  // The points per cell layer along every axis, each body's, from the positions
-  // generate_particles makes, in the whole grid's lattice.
-  std::vector<std::array<std::vector<std::uint64_t>, D>> per_body;
-  std::array<std::vector<std::uint64_t>, D> layers;
-  for (int d = 0; d < D; ++d) layers[d].assign(static_cast<std::size_t>(global_.cells[d]), 0);
-  for (const Entry* e : case_.body_entries()) {
-    auto& h = per_body.emplace_back(layers);
-    for_each_particle_position<D>(
-        e->dict(), global_,
-        [&](const Vec<D>& x) {
-          for (int d = 0; d < D; ++d) ++h[d][static_cast<std::size_t>(domain_cell(global_, d, x[d]))];
-        },
-        case_.dir());
-    for (int d = 0; d < D; ++d)
-      for (std::size_t c = 0; c < layers[d].size(); ++c) layers[d][c] += h[d][c];
-  }
+  // The boxes from the positions generate_particles will make, in the whole grid's lattice,
+  // counted alike on every rank (no reduction): one walk over every body per level of the
+  // bisection tree.
+  const std::vector<const Entry*> entries = case_.body_entries();
+  auto walk = [&](const std::function<void(std::size_t, const int*)>& at) {
+    for (std::size_t i = 0; i < entries.size(); ++i)
+      for_each_particle_position<D>(
+          entries[i]->dict(), global_,
+          [&](const Vec<D>& x) {
+            int c[D];
+            for (int d = 0; d < D; ++d) c[d] = domain_cell(global_, d, x[d]);
+            at(i, c);
+          },
+          case_.dir());
+  };
+  const CountBoxes<D> count = [&](const std::vector<CellBox<D>>& boxes, const std::function<int(const int*)>& which) {
+    std::vector<LayerCounts<D>> h(boxes.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k)
+      for (int d = 0; d < D; ++d) h[k][d].assign(static_cast<std::size_t>(boxes[k].hi[d] - boxes[k].lo[d]), 0);
+    walk([&](std::size_t, const int* c) {
+      const int k = which(c);
+      if (k < 0) return;
+      for (int d = 0; d < D; ++d) ++h[static_cast<std::size_t>(k)][d][static_cast<std::size_t>(c[d] - boxes[static_cast<std::size_t>(k)].lo[d])];
+    });
+    return h;
+  };
   int a = 0, b = 0;
   stencil_reach(settings_.schemes.shape, a, b);
   try {
-    decomp_ = decompose_layers<D>(global_, layers, comm_->size(), comm_->rank(), a, b, kSlackCells);
+    decomp_ = bisect<D>(global_, comm_->size(), comm_->rank(), a, b, kSlackCells, count);
   } catch (const std::invalid_argument& e) {
     throw InputError(case_.grid().where(), std::string("system/gridDict: cellSize: ") + e.what());
   }
-  check_rank_memory(per_body);
+  // Each body's points in each rank's box: what the cuts counted for one body, one more
+  // walk for several.
+  const std::size_t R = static_cast<std::size_t>(comm_->size());
+  std::vector<std::vector<std::uint64_t>> per_body(entries.size(), std::vector<std::uint64_t>(R, 0));
+  std::vector<std::uint64_t> totals(entries.size(), 0);
+  if (entries.size() == 1)
+    per_body[0] = decomp_.counted;
+  else
+    walk([&](std::size_t i, const int* c) { ++per_body[i][static_cast<std::size_t>(decomp_.owner_of_cell(c))]; });
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    for (auto n : per_body[i]) totals[i] += n;
+  check_rank_memory(per_body, totals);
   set_local_grid();
 }
 
 template <int D>
-void Solver<D>::check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, D>>& per_body) const {
-  // What each rank's backend will hold once the points are cut into its slab: its grid and
-  // its points, the most of its share before the cuts move (kRebalanceRatio times the mean)
-  // or what it starts with if more, at the bytes per node and point of the memory estimate.
-  // The estimate before the run assumed equal shares; here the slabs are known, and a slab
-  // over empty space carries a large grid. Every rank knows every slab; only the free
-  // memory of each rank's backend is exchanged.
-  const int R = comm_->size(), ax = decomp_.axis;
+void Solver<D>::check_rank_memory(const std::vector<std::vector<std::uint64_t>>& per_body,
+                                  const std::vector<std::uint64_t>& totals) const {
+  // What each rank's backend will hold once the points are cut into its box: its grid and
+  // its points, the most of its share before the boxes move (kRebalanceRatio times the
+  // mean) or what it starts with if more, at the bytes per node and point of the memory
+  // estimate. The estimate before the run assumed equal shares; here the boxes are known,
+  // and a box over empty space carries a large grid. Every rank knows every box; only the
+  // free memory of each rank's backend is exchanged.
+  const int R = comm_->size();
   const MemoryEstimate m = estimate_memory(case_, rt_.registry(), exec_.device, opt_.output, {R, 1});
   std::vector<double> grid_bytes(static_cast<std::size_t>(R)), point_bytes(static_cast<std::size_t>(R), 0.0);
   std::vector<std::uint64_t> points(static_cast<std::size_t>(R), 0);
@@ -73,14 +94,9 @@ void Solver<D>::check_rank_memory(const std::vector<std::array<std::vector<std::
     const auto ru = static_cast<std::size_t>(r);
     grid_bytes[ru] = static_cast<double>(decomp_.local[ru].num_nodes()) * m.parts.at(0).backend_each;
     for (std::size_t i = 0; i < per_body.size(); ++i) {
-      std::uint64_t n = 0, total = 0;
-      for (std::size_t c = 0; c < per_body[i][static_cast<std::size_t>(ax)].size(); ++c) {
-        const std::uint64_t k = per_body[i][static_cast<std::size_t>(ax)][c];
-        total += k;
-        if (static_cast<int>(c) >= decomp_.cuts[ru] && static_cast<int>(c) < decomp_.cuts[ru + 1]) n += k;
-      }
+      const std::uint64_t n = per_body[i][ru];
       points[ru] += n;
-      const double most = std::max(static_cast<double>(n), kRebalanceRatio * static_cast<double>(total) / R);
+      const double most = std::max(static_cast<double>(n), kRebalanceRatio * static_cast<double>(totals[i]) / R);
       point_bytes[ru] += most * m.parts.at(i + 1).backend_each;
     }
   }
@@ -107,11 +123,11 @@ void Solver<D>::check_rank_memory(const std::vector<std::array<std::vector<std::
   const Entry* cell = case_.grid().find("cellSize");
   msg << "cellSize: rank " << worst << " of " << R << " needs about " << mem::format_bytes(grid_bytes[w] + point_bytes[w])
       << " of " << space << " memory, more than the " << mem::format_bytes(static_cast<double>(free[w])) << " free"
-      << (worst == comm_->rank() ? " (" + a.source + ")" : std::string()) << ": its slab, cells [" << decomp_.cuts[w]
-      << ", " << decomp_.cuts[w + 1] << ") across axis " << ax << ", holds " << decomp_.local[w].num_nodes()
-      << " grid nodes (" << mem::format_bytes(grid_bytes[w]) << ") and " << points[w] << " points ("
-      << mem::format_bytes(point_bytes[w]) << ", allowing for " << kRebalanceRatio
-      << " times the mean share before the cuts move). The slabs are cut for equal points, so a slab over empty "
+      << (worst == comm_->rank() ? " (" + a.source + ")" : std::string()) << ": its box, cells "
+      << decomp_.describe_box(worst) << ", holds " << decomp_.local[w].num_nodes() << " grid nodes ("
+      << mem::format_bytes(grid_bytes[w]) << ") and " << points[w] << " points (" << mem::format_bytes(point_bytes[w])
+      << ", allowing for " << kRebalanceRatio
+      << " times the mean share before the boxes move). The boxes are cut for equal points, so a box over empty "
          "space holds a large grid: run on more ranks, narrow the domain to where the material goes, or coarsen "
          "cellSize; nothing was allocated";
   throw InputError(cell ? cell->where() : case_.grid().where(), msg.str());
@@ -120,37 +136,48 @@ void Solver<D>::check_rank_memory(const std::vector<std::array<std::vector<std::
 template <int D>
 void Solver<D>::report_decomposition() {
   std::ostringstream m;
-  m << "Decomposed over " << comm_->size() << " ranks (" << comm_->describe() << "): slabs across axis "
-    << decomp_.axis << ", cells";
-  for (int r = 0; r < comm_->size(); ++r)
-    m << " [" << decomp_.cuts[static_cast<std::size_t>(r)] << ", " << decomp_.cuts[static_cast<std::size_t>(r) + 1]
-      << ")";
+  m << "Decomposed over " << comm_->size() << " ranks (" << comm_->describe() << "): boxes of cells";
+  for (int r = 0; r < comm_->size(); ++r) m << (r ? ", " : " ") << decomp_.describe_box(r);
   std::uint64_t mine = 0;
   for (auto& bd : bodies_) mine += static_cast<std::uint64_t>(bd->size());
   std::vector<std::uint64_t> held(static_cast<std::size_t>(comm_->size()), 0);
   held[static_cast<std::size_t>(comm_->rank())] = mine;
   comm_->sum(held.data(), comm_->size());
-  m << ", points per rank";
+  m << "; points per rank";
   for (auto h : held) m << " " << h;
   log_ << m.str() << std::endl;
 }
 
 template <int D>
 void Solver<D>::set_local_grid() {
-  // This rank's grid: its box with the halo, owning its box's nodes along the cut axis.
+  // This rank's grid: its box with the halo, owning its box's nodes.
   static_cast<GridGeometry<D>&>(grid_) = decomp_.grid();
-  for (int d = 0; d < D; ++d) {
-    grid_.cells[d] = grid_.n[d] - 1 - 2 * grid_.ghost;
-    grid_.owned.lo[d] = 0;
-    grid_.owned.hi[d] = grid_.n[d];
-  }
-  decomp_.owned_local(grid_.owned.lo[decomp_.axis], grid_.owned.hi[decomp_.axis]);
+  for (int d = 0; d < D; ++d) grid_.cells[d] = grid_.n[d] - 1 - 2 * grid_.ghost;
+  grid_.owned = decomp_.owned_local();
   allocate_grid();
   for (int d = 0; d < D; ++d) {  // the boundary conditions' faces are the whole domain's
     ctx_.domain_lower[static_cast<std::size_t>(d)] = global_.lower[d];
     ctx_.domain_upper[static_cast<std::size_t>(d)] = global_.upper[d];
   }
   ctx_.start_time = run_start_;
+  // The boxes shared with each neighbour, in ascending rank order (halo_sum).
+  halo_peers_.clear();
+  halo_self_ = 0;
+  for (int q : decomp_.neighbours) {
+    NodeRange<D> shared;
+    decomp_.overlap(q, shared);
+    HaloPeer<D> p;
+    for (int d = 0; d < D; ++d) {
+      p.lo[d] = shared.lo[d];
+      p.hi[d] = shared.hi[d];
+    }
+    p.size = p.nodes();
+    p.offset = halo_peers_.empty() ? 0 : halo_peers_.back().offset + halo_peers_.back().size;
+    halo_peers_.push_back(p);
+    if (q < comm_->rank()) ++halo_self_;
+  }
+  halo_peers_dev_.resize(halo_peers_.size(), exec_.device);
+  if (!halo_peers_.empty()) halo_peers_dev_.copy_from_host(halo_peers_);
 }
 
 template <int D>
@@ -169,10 +196,8 @@ void Solver<D>::apply_recut() {
   recut_.reset();
   ++rebalances_;
   std::ostringstream m;
-  m << "rebalanced at t = " << time() << " s: cells";
-  for (int r = 0; r < comm_->size(); ++r)
-    m << " [" << decomp_.cuts[static_cast<std::size_t>(r)] << ", " << decomp_.cuts[static_cast<std::size_t>(r) + 1]
-      << ")";
+  m << "rebalanced at t = " << time() << " s: boxes of cells";
+  for (int r = 0; r < comm_->size(); ++r) m << (r ? ", " : " ") << decomp_.describe_box(r);
   log_ << m.str() << "\n";
 }
 
@@ -181,9 +206,11 @@ std::vector<Real> Solver<D>::keep_own(const std::vector<Real>& block, Index n, I
   using S = ParticleStorage<D>;
   const std::size_t C = n > 0 ? block.size() / static_cast<std::size_t>(n) : 0;
   std::vector<Index> own;
-  const std::size_t xa = static_cast<std::size_t>(S::kColX + decomp_.axis) * n;
-  for (Index p = 0; p < n; ++p)
-    if (decomp_.owner(block[xa + p], global_) == comm_->rank()) own.push_back(p);
+  for (Index p = 0; p < n; ++p) {
+    Vec<D> x;
+    for (int d = 0; d < D; ++d) x[d] = block[static_cast<std::size_t>(S::kColX + d) * n + p];
+    if (decomp_.owner(x, global_) == comm_->rank()) own.push_back(p);
+  }
   kept = static_cast<Index>(own.size());
   std::vector<Real> out(C * own.size());
   for (std::size_t c = 0; c < C; ++c)
@@ -206,7 +233,7 @@ void Solver<D>::exchange_before_grid(int set, unsigned modes) {
 
 template <int D>
 void Solver<D>::halo_sum(int set, unsigned scattered) {
-  SlabFields fields;
+  HaloFields fields;
   const GridFields<D>& g = sets_[set];
   if (scattered & kScatterMassMomentum) {
     fields.field[fields.count++] = g.mass;
@@ -214,53 +241,37 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
   }
   if (scattered & (kScatterForce | kScatterMomentum))  // MUSL re-maps momentum into the force array
     for (int d = 0; d < D; ++d) fields.field[fields.count++] = g.force[d];
-  if (fields.count == 0) return;
-  const int ax = decomp_.axis;
-  const int me = comm_->rank();
-  // Both neighbours at once: the slabs shared with each are packed side by side into one
-  // block, copied to the host in one copy, exchanged with both in flight together, copied
-  // back in one copy and added. A rank's two slabs are disjoint (a box is at least the halo
-  // wide), so the order of their sums changes no bit, and no pair waits for another.
-  struct Slab {
-    int peer, lo, hi;
-    std::size_t offset, n;
-  };
-  Slab slab[2];
-  int count = 0;
-  std::size_t total = 0;
-  for (int peer : {me - 1, me + 1}) {
-    if (peer < 0 || peer >= comm_->size()) continue;
-    int lo = 0, hi = 0;
-    decomp_.overlap(peer, lo, hi);
-    if (hi <= lo) continue;
-    const std::size_t n = static_cast<std::size_t>(slab_size<D>(grid_, ax, lo, hi) * fields.count);
-    slab[count++] = Slab{peer, lo, hi, total, n};
-    total += n;
-  }
-  if (count == 0) return;
+  const int count = static_cast<int>(halo_peers_.size());
+  if (fields.count == 0 || count == 0) return;
+  // Every neighbour at once: the boxes shared with each are packed side by side into one
+  // block, copied to the host in one copy, exchanged with all in flight together, copied
+  // back in one copy and summed in the ranks' order (ordered_sum).
+  const HaloPeer<D>& last = halo_peers_.back();
+  const std::size_t total = static_cast<std::size_t>((last.offset + last.size) * fields.count);
   if (halo_buffer_.size() < total) halo_buffer_.resize(total, exec_.device);
   halo_send_.reserve(total);
   halo_recv_.reserve(total);
-  for (int i = 0; i < count; ++i)
-    pack_slab<D>(exec_, grid_, ax, slab[i].lo, slab[i].hi, fields, halo_buffer_.data() + slab[i].offset);
+  for (const HaloPeer<D>& p : halo_peers_) pack_box<D>(exec_, grid_, p, fields, halo_buffer_.data());
   mem::synchronize(exec_.device);
   mem::copy(halo_send_.data(), Device::cpu, halo_buffer_.data(), exec_.device, total * sizeof(Real));
-  Comm::Exchange with[2];
-  for (int i = 0; i < count; ++i)
-    with[i] = Comm::Exchange{slab[i].peer, halo_send_.data() + slab[i].offset, slab[i].n * sizeof(Real),
-                             halo_recv_.data() + slab[i].offset, slab[i].n * sizeof(Real)};
-  comm_->exchange(with, count);
+  std::vector<Comm::Exchange> with(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const HaloPeer<D>& p = halo_peers_[static_cast<std::size_t>(i)];
+    const std::size_t bytes = static_cast<std::size_t>(p.size * fields.count) * sizeof(Real);
+    const Index at = p.offset * fields.count;
+    with[static_cast<std::size_t>(i)] = Comm::Exchange{decomp_.neighbours[static_cast<std::size_t>(i)],
+                                                       halo_send_.data() + at, bytes, halo_recv_.data() + at, bytes};
+  }
+  comm_->exchange(with.data(), count);
   mem::copy(halo_buffer_.data(), exec_.device, halo_recv_.data(), Device::cpu, total * sizeof(Real));
   mem::synchronize(exec_.device);  // the copy landed before the stream's kernel reads it
-  for (int i = 0; i < count; ++i) {
-    // Both ranks add the same two partial sums: their copies of a shared node are equal bit for bit.
-    add_slab<D>(exec_, grid_, ax, slab[i].lo, slab[i].hi, fields, halo_buffer_.data() + slab[i].offset);
-    // The sparse grid update visits only stamped tiles: the shared slab's may hold sums
-    // that only the neighbour's points made.
-    if (policy_.sparse())
-      stamp_slab_tiles<D>(exec_, grid_, ax, slab[i].lo, slab[i].hi, tile_stamps_[set].data(),
-                          tile_stamp(host_ctl_.step[parity()]));
-  }
+  ordered_sum<D>(exec_, grid_, halo_peers_dev_.data(), halo_peers_.data(), count, halo_self_, fields,
+                 halo_buffer_.data());
+  // The sparse grid update visits only stamped tiles: the shared boxes may hold sums that
+  // only a neighbour's points made.
+  if (policy_.sparse())
+    for (const HaloPeer<D>& p : halo_peers_)
+      stamp_box_tiles<D>(exec_, grid_, p, tile_stamps_[set].data(), tile_stamp(host_ctl_.step[parity()]));
 }
 
 template <int D>
@@ -346,12 +357,12 @@ void Solver<D>::migrate(bool scheduled) {
   using S = ParticleStorage<D>;
   if (recut_ && scheduled) apply_recut();
   mem::synchronize(exec_.device);
-  const int R = comm_->size(), me = comm_->rank(), ax = decomp_.axis;
+  const int R = comm_->size(), me = comm_->rank();
   int a = 0, b = 0;
   stencil_reach(settings_.schemes.shape, a, b);
   double vmax = 0;
   std::uint64_t past = 0;  // points frozen inside the domain: they left this rank's grid, not the case's
-  std::vector<std::uint64_t> layers(static_cast<std::size_t>(global_.cells[ax]), 0);  // points per cell layer
+  std::uint64_t held = 0;  // the points this rank holds once they have migrated
   for (auto& body : bodies_) {
     const Index n = body->size();
     const std::size_t C = body->bytes_per_particle() / sizeof(Real);
@@ -362,16 +373,22 @@ void Solver<D>::migrate(bool scheduled) {
     stay.reserve(static_cast<std::size_t>(n));
     for (Index p = 0; p < n; ++p) {
       if (at(S::kColVolume0, p) < 0) {  // frozen where it left this rank's grid
-        const double c = std::floor((at(S::kColX + ax, p) - global_.origin[ax]) / global_.h);
-        if (c - a >= 0 && c + b <= global_.n[ax] - 1) ++past;
+        bool inside = true;
+        for (int d = 0; d < D; ++d) {
+          const double c = std::floor((at(S::kColX + d, p) - global_.origin[d]) / global_.h);
+          inside = inside && c - a >= 0 && c + b <= global_.n[d] - 1;
+        }
+        if (inside) ++past;
         stay.push_back(p);
         continue;
       }
       double v2 = 0;
-      for (int d = 0; d < D; ++d) v2 += at(S::kColV + d, p) * at(S::kColV + d, p);
+      int cell[D];
+      for (int d = 0; d < D; ++d) {
+        v2 += at(S::kColV + d, p) * at(S::kColV + d, p);
+        cell[d] = domain_cell(global_, d, at(S::kColX + d, p));
+      }
       vmax = std::max(vmax, std::sqrt(v2));
-      const int cell = domain_cell(global_, ax, at(S::kColX + ax, p));
-      ++layers[static_cast<std::size_t>(cell)];
       const int dest = decomp_.owner_of_cell(cell);
       if (dest == me) {
         stay.push_back(p);
@@ -391,6 +408,7 @@ void Solver<D>::migrate(bool scheduled) {
     std::vector<char> recv;
     comm_->all_to_all(send, counts, recv);
     const std::size_t arrived = C > 0 ? recv.size() / (C * sizeof(Real)) : 0;
+    held += stay.size() + arrived;
     if (arrived == 0 && stay.size() == static_cast<std::size_t>(n)) continue;  // nothing moved
     // The points that stay, in their order, then the arrivals in the senders' rank order.
     const std::size_t m = stay.size() + arrived;
@@ -420,20 +438,54 @@ void Solver<D>::migrate(bool scheduled) {
   }
   migration_limit_ = migration_steps();
   next_migration_ = steps_done() + migration_limit_;
-  // Load balance: the points per rank from the global histogram; cut anew above the ratio.
-  comm_->sum(layers.data(), static_cast<int>(layers.size()));
+  // Load balance: cut anew when the rank holding the most holds more than the ratio of the
+  // mean, from the points' histograms summed over the ranks (one reduction per level).
+  std::vector<std::uint64_t> per_rank(static_cast<std::size_t>(R), 0);
+  per_rank[static_cast<std::size_t>(me)] = held;
+  comm_->sum(per_rank.data(), R);
   std::uint64_t most = 0, all = 0;
-  for (int r = 0; r < R; ++r) {
-    std::uint64_t held = 0;
-    for (int c = decomp_.cuts[static_cast<std::size_t>(r)]; c < decomp_.cuts[static_cast<std::size_t>(r) + 1]; ++c)
-      held += layers[static_cast<std::size_t>(c)];
-    most = std::max(most, held);
-    all += held;
+  for (auto h : per_rank) {
+    most = std::max(most, h);
+    all += h;
   }
-  if (all > 0 && static_cast<double>(most) * R > kRebalanceRatio * static_cast<double>(all)) {
-    Decomposition<D> next = cut_slabs<D>(global_, layers, ax, R, me, a, b, decomp_.slack);
-    if (next.cuts != decomp_.cuts) recut_ = std::move(next);
-  }
+  if (all == 0 || static_cast<double>(most) * R <= kRebalanceRatio * static_cast<double>(all)) return;
+  const CountBoxes<D> count = [&](const std::vector<CellBox<D>>& boxes, const std::function<int(const int*)>& which) {
+    std::vector<std::size_t> start(boxes.size() + 1, 0);
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+      start[k + 1] = start[k];
+      for (int d = 0; d < D; ++d) start[k + 1] += static_cast<std::size_t>(boxes[k].hi[d] - boxes[k].lo[d]);
+    }
+    std::vector<std::uint64_t> flat(start.back(), 0);  // every box's layers along every axis, one reduction
+    for (auto& body : bodies_) {
+      const Index n = body->size();
+      const std::vector<Real> block = body->save_state();
+      for (Index p = 0; p < n; ++p) {
+        if (block[static_cast<std::size_t>(S::kColVolume0) * n + p] < 0) continue;
+        int c[D];
+        for (int d = 0; d < D; ++d) c[d] = domain_cell(global_, d, block[static_cast<std::size_t>(S::kColX + d) * n + p]);
+        const int k = which(c);
+        if (k < 0) continue;
+        std::size_t at = start[static_cast<std::size_t>(k)];
+        for (int d = 0; d < D; ++d) {
+          ++flat[at + static_cast<std::size_t>(c[d] - boxes[static_cast<std::size_t>(k)].lo[d])];
+          at += static_cast<std::size_t>(boxes[static_cast<std::size_t>(k)].hi[d] - boxes[static_cast<std::size_t>(k)].lo[d]);
+        }
+      }
+    }
+    comm_->sum(flat.data(), static_cast<int>(flat.size()));
+    std::vector<LayerCounts<D>> h(boxes.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+      std::size_t at = start[k];
+      for (int d = 0; d < D; ++d) {
+        const std::size_t w = static_cast<std::size_t>(boxes[k].hi[d] - boxes[k].lo[d]);
+        h[k][d].assign(flat.begin() + static_cast<std::ptrdiff_t>(at), flat.begin() + static_cast<std::ptrdiff_t>(at + w));
+        at += w;
+      }
+    }
+    return h;
+  };
+  Decomposition<D> next = bisect<D>(global_, R, me, a, b, decomp_.slack, count);
+  if (!next.same_boxes(decomp_)) recut_ = std::move(next);
 }
 
 template <int D>
@@ -482,20 +534,20 @@ void Solver<D>::gather_snapshot(Snapshot& s) {
 
 template <int D>
 void Solver<D>::gather_grid(Snapshot& s) {
-  // Each rank's owned node layers (along the cut axis; every node along the others), in
-  // its local order, placed into the global grid by the root.
-  const int ax = decomp_.axis;
-  int lo = 0, hi = 0;
-  decomp_.owned_local(lo, hi);
-  auto in_owned = [&](const GridGeometry<D>& g, int olo, int ohi, Index f) {
-    const Index i = (f / g.stride(ax)) % g.n[ax];
-    return i >= olo && i < ohi;
+  // Each rank's owned nodes, in its local order, placed into the global grid by the root.
+  auto in_owned = [](const GridGeometry<D>& g, const NodeRange<D>& own, Index f) {
+    int idx[D];
+    g.unflat(f, idx);
+    for (int d = 0; d < D; ++d)
+      if (idx[d] < own.lo[d] - g.offset[d] || idx[d] >= own.hi[d] - g.offset[d]) return false;
+    return true;
   };
+  const NodeRange<D>& mine_nodes = decomp_.owned[static_cast<std::size_t>(comm_->rank())];
   for (FieldData& fd : s.grid.fields) {
     std::vector<Real> mine;
     const Index nn = grid_.num_nodes();
     for (Index f = 0; f < nn; ++f)
-      if (in_owned(grid_, lo, hi, f))
+      if (in_owned(grid_, mine_nodes, f))
         for (int c = 0; c < fd.components; ++c) mine.push_back(fd.values[static_cast<std::size_t>(fd.components * f + c)]);
     std::vector<std::size_t> counts;
     std::vector<Real> all = comm_->gather_vector(mine, 0, &counts);
@@ -508,10 +560,9 @@ void Solver<D>::gather_grid(Snapshot& s) {
     std::size_t k = 0;
     for (int r = 0; r < comm_->size(); ++r) {
       const GridGeometry<D>& g = decomp_.local[static_cast<std::size_t>(r)];
-      const int olo = decomp_.owned[static_cast<std::size_t>(r)] - g.offset[ax];
-      const int ohi = decomp_.owned[static_cast<std::size_t>(r) + 1] - g.offset[ax];
+      const NodeRange<D>& own = decomp_.owned[static_cast<std::size_t>(r)];
       for (Index f = 0; f < g.num_nodes(); ++f) {
-        if (!in_owned(g, olo, ohi, f)) continue;
+        if (!in_owned(g, own, f)) continue;
         int idx[D];
         g.unflat(f, idx);
         for (int d = 0; d < D; ++d) idx[d] += g.offset[d];
@@ -547,8 +598,10 @@ template void Solver<2>::apply_recut();
 template void Solver<3>::apply_recut();
 template void Solver<2>::decompose_case();
 template void Solver<3>::decompose_case();
-template void Solver<2>::check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, 2>>&) const;
-template void Solver<3>::check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, 3>>&) const;
+template void Solver<2>::check_rank_memory(const std::vector<std::vector<std::uint64_t>>&,
+                                           const std::vector<std::uint64_t>&) const;
+template void Solver<3>::check_rank_memory(const std::vector<std::vector<std::uint64_t>>&,
+                                           const std::vector<std::uint64_t>&) const;
 template void Solver<2>::report_decomposition();
 template void Solver<3>::report_decomposition();
 template std::vector<Real> Solver<2>::keep_own(const std::vector<Real>&, Index, Index&) const;

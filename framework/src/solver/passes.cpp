@@ -51,8 +51,12 @@ void Solver<D>::setup_passes() {
   gp.energy_walls = energy_ledger_ && (sch.update_scheme == UpdateScheme::MUSL || porous_);
   gp.health = policy_.health_checks;
   if (decomposed()) {  // the halo's nodes are updated as their owner's are, and counted by it
-    gp.ledger_axis = decomp_.axis;
-    decomp_.owned_local(gp.ledger_lo, gp.ledger_hi);
+    const NodeRange<D> own = decomp_.owned_local();
+    gp.ledger_owned = true;
+    for (int d = 0; d < D; ++d) {
+      gp.ledger_lo[d] = own.lo[d];
+      gp.ledger_hi[d] = own.hi[d];
+    }
   }
 }
 

@@ -53,6 +53,7 @@
 #include "scree/exec/memory.hpp"
 #include "scree/mpm/body.hpp"
 #include "scree/mpm/grid_update.hpp"
+#include "scree/mpm/halo_box.hpp"
 #include "scree/plugin/context.hpp"
 #include "scree/solver/simulation.hpp"
 #include "scree/time/time_control.hpp"
@@ -164,18 +165,20 @@ class Solver {
   /// rank, not made) and set up this rank's grid; setup_body then makes only the points of
   /// this rank's box, so no rank holds more of the case than its own part.
   void decompose_case();
-  /// Refuse, on every rank and before anything of the slabs is allocated, a decomposition
-  /// in which a rank's grid and points (`per_body`: each body's points per cell layer along
-  /// every axis) would not fit in its backend's free memory, naming that rank and its slab.
-  void check_rank_memory(const std::vector<std::array<std::vector<std::uint64_t>, D>>& per_body) const;
+  /// Refuse, on every rank and before anything of the boxes is allocated, a decomposition
+  /// in which a rank's grid and points (`per_body`: each body's points in each rank's box,
+  /// and each body's total) would not fit in its backend's free memory, naming that rank
+  /// and its box.
+  void check_rank_memory(const std::vector<std::vector<std::uint64_t>>& per_body,
+                         const std::vector<std::uint64_t>& totals) const;
   /// Log how the grid was cut and the points each rank holds.
   void report_decomposition();
   /// Make decomp_'s box this rank's grid: its geometry, its grid sets, the plugins' context.
   void set_local_grid();
-  /// Take up the slabs `d` (a rebalance, a restart's): this rank's grid, the boundary
+  /// Take up the boxes `d` (a rebalance, a restart's): this rank's grid, the boundary
   /// conditions' nodes on it and the passes' parameters set up anew.
   void adopt(Decomposition<D> d);
-  /// Move to the cuts of recut_ (a rebalance): the pending G2P applied, this rank's grid
+  /// Move to the boxes of recut_ (a rebalance): the pending G2P applied, this rank's grid
   /// and the boundary conditions' nodes set up anew; the points then migrate.
   void apply_recut();
   /// The points of `block` (a body's block of n points) that this rank's box holds.
@@ -245,10 +248,13 @@ class Solver {
   std::int64_t migrations_ = 0;
   bool migrated_ = false;            // the points migrated at this chunk's end already (output_due)
   std::vector<std::uint64_t> body_totals_;  // each body's points over every rank
-  std::optional<Decomposition<D>> recut_;   // the cuts the next migration moves to (a rebalance)
+  std::optional<Decomposition<D>> recut_;   // the boxes the next migration moves to (a rebalance)
   std::int64_t rebalances_ = 0;
-  Buffer<Real> halo_buffer_;             // a halo slab packed on the backend
-  PinnedBuffer<Real> halo_send_, halo_recv_;  // ... and its host copies, sent and received
+  std::vector<HaloPeer<D>> halo_peers_;  // the boxes shared with each neighbour (decomp_.neighbours)
+  Buffer<HaloPeer<D>> halo_peers_dev_;   // ... on the backend
+  int halo_self_ = 0;                    // the neighbours of lower rank than this one
+  Buffer<Real> halo_buffer_;             // the shared boxes packed on the backend
+  PinnedBuffer<Real> halo_send_, halo_recv_;  // ... and their host copies, sent and received
 
   // Algorithm (system/mpmSchemes, constant/g)
   Vec<D> gravity_;

@@ -174,8 +174,7 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
   checkpoint_time_ = ck->time;
   const std::filesystem::path file = checkpoint_file(case_.dir(), ck->time), dir = case_.dir();
   if (decomposed()) {
-    ck->cut_axis = decomp_.axis;
-    ck->cuts.assign(decomp_.cuts.begin(), decomp_.cuts.end());
+    ck->decomposition = decomp_.tree_code();
     reduce_checkpoint_clock(*ck);
     // Every rank writes the points it holds now; the root writes the manifest once every
     // piece is on disk (agree_error waits for all), so a killed run leaves either the

@@ -117,15 +117,14 @@ void Solver<D>::restore(const Checkpoint& ck) {
   if (ck.bodies.size() != bodies_.size())
     throw mismatch("it has " + std::to_string(ck.bodies.size()) + " bodies, the case " +
                    std::to_string(bodies_.size()));
-  if (decomposed() && ck.cuts.size() == static_cast<std::size_t>(comm_->size()) + 1 && ck.cut_axis == decomp_.axis) {
-    // The slabs the run had (it may have rebalanced): on as many ranks, the points return to
+  if (decomposed() && !ck.decomposition.empty()) {
+    // The boxes the run had (it may have rebalanced): on as many ranks, the points return to
     // the ranks that held them, in their order.
     try {
       int a = 0, b = 0;
       stencil_reach(settings_.schemes.shape, a, b);
-      adopt(slabs_from_cuts<D>(global_, ck.cut_axis, std::vector<int>(ck.cuts.begin(), ck.cuts.end()),
-                               comm_->rank(), a, b, decomp_.slack));
-    } catch (const std::invalid_argument&) {  // the grid changed: the case's own cuts stay
+      adopt(from_tree_code<D>(global_, ck.decomposition, comm_->size(), comm_->rank(), a, b, decomp_.slack));
+    } catch (const std::invalid_argument&) {  // another rank count, or the grid changed: the case's own boxes stay
     }
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -342,7 +341,7 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   // Generated in the whole grid's lattice (grid_ is this rank's part of it in a decomposed run).
   PointFilter<D> mine;
   if (decomposed())
-    mine = [this](const Vec<D>& x) { return decomp_.owner(x[decomp_.axis], global_) == comm_->rank(); };
+    mine = [this](const Vec<D>& x) { return decomp_.owner(x, global_) == comm_->rank(); };
   // A two-phase body's geostatic stress is its mixture's total stress (prepare makes it effective).
   const std::function<Real(Real)> profile = porous_ ? porous_->mixture_density(b, density) : nullptr;
   GeneratedParticles<D> gp =

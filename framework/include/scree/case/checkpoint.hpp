@@ -38,9 +38,9 @@
 namespace scree {
 
 struct SCREE_API Checkpoint {
-  /// 2: the decomposition's cuts; 3: the case's physics; 4: the pieces of a decomposed run
-  /// (earlier versions are read too).
-  static constexpr std::uint32_t kVersion = 4;
+  /// 2: the decomposition's slabs; 3: the case's physics; 4: the pieces of a decomposed run;
+  /// 5: the decomposition's bisection tree (earlier versions are read too).
+  static constexpr std::uint32_t kVersion = 5;
 
   int dimension = 0;
   double time = 0;              ///< the clock [s]
@@ -58,10 +58,11 @@ struct SCREE_API Checkpoint {
   };
   std::vector<Body> bodies;
   std::vector<Real> liquid;     ///< the pore liquid's state (PorousMedia::save_state; empty: none)
-  /// A decomposed run's slabs (case/decomposition.hpp): the axis cut and the ranks + 1 cell
-  /// indices of the cuts, which a restart on as many ranks takes up; -1 and empty: one rank.
-  std::int32_t cut_axis = -1;
-  std::vector<std::int32_t> cuts;
+  /// A decomposed run's boxes (case/decomposition.hpp): its bisection tree
+  /// (Decomposition::tree_code), which a restart on as many ranks takes up; empty: one rank.
+  /// The slabs of versions 2 to 4 (an axis and the cells of the ranks + 1 cuts) are read as
+  /// the tree that cuts one slab off after another.
+  std::vector<std::int32_t> decomposition;
   /// The case's physics when it was written (case_physics): a restart refuses a case whose
   /// physics changed since (physics_changes). Empty in a checkpoint of version 1 or 2.
   std::vector<std::pair<std::string, std::string>> physics;

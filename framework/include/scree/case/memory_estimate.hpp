@@ -36,8 +36,8 @@
 namespace scree {
 
 /// How a run is spread: over `ranks` processes (mpirun; one GPU each), `per_node` of them
-/// on one machine. A rank's backend holds its slab of the grid with the halo and about
-/// 1/ranks of the points, up to kRebalanceRatio times that before the cuts move
+/// on one machine. A rank's backend holds its box of the grid with the halo and about
+/// 1/ranks of the points, up to kRebalanceRatio times that before the boxes move
 /// (case/decomposition.hpp). Each rank makes only the points of its box and writes them
 /// as its own piece; the first rank also gathers the whole case when function objects
 /// are due (they compute on the whole case), and the ranks of one machine share its host

@@ -62,10 +62,12 @@ struct GridUpdateParams {
   /// (USF, USL: PassPolicy::wall_ledger).
   bool energy_walls = false;
   /// With `energy` in a decomposed run (case/decomposition.hpp): the ledger counts only the
-  /// nodes this rank owns, those with ledger_lo <= index < ledger_hi along ledger_axis (its
-  /// halo nodes hold the same sums as their owner's and are updated alike). -1: every node.
-  int ledger_axis = -1;
-  int ledger_lo = 0, ledger_hi = 0;
+  /// nodes this rank owns, those with ledger_lo[d] <= index < ledger_hi[d] along every axis
+  /// (its halo nodes hold the same sums as their owner's and are updated alike). false:
+  /// every node.
+  bool ledger_owned = false;
+  int ledger_lo[D] = {};
+  int ledger_hi[D] = {};
   /// Probe the nodal velocity and force for non-finite values (report_nonfinite_node):
   /// KernelPolicy::health_checks; off only to measure the probe's cost.
   bool health = true;
