@@ -3,6 +3,15 @@
 #include "scree/mpm/halo_box.hpp"
 
 namespace scree {
+namespace {
+
+/// The tiles along each axis that hold a box's nodes (t0 to t1 of count).
+template <int D>
+struct TileRange {
+  Index t0[D], t1[D], count[D];
+};
+
+}  // namespace
 
 template <int D>
 void pack_box(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>& peer, const HaloFields& f, Real* buf) {
@@ -43,9 +52,7 @@ void ordered_sum(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>* pe
 template <int D>
 void stamp_box_tiles(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>& peer, std::uint32_t* stamps,
                      std::uint32_t stamp) {
-  struct Range {
-    Index t0[D], t1[D], count[D];  // the tiles along each axis that hold the box's nodes, of count
-  } r;
+  TileRange<D> r;
   for (int d = 0; d < D; ++d) {
     r.t0[d] = peer.lo[d] / Tiles<D>::extent(d);
     r.t1[d] = (peer.hi[d] - 1) / Tiles<D>::extent(d);

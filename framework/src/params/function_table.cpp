@@ -224,28 +224,6 @@ Units units_of(std::string_view si) {
 
 std::string function_forms() { return kForms; }
 
-double FunctionTable::operator()(double t, int c) const {
-  const std::size_t n = times.size();
-  const auto C = static_cast<std::size_t>(components);
-  if (n == 1) return values[c];
-  if (out_of_bounds == OutOfBounds::repeat) {
-    const double period = times[n - 1] - times[0];
-    t = times[0] + std::fmod(t - times[0], period);
-    if (t < times[0]) t += period;
-  }
-  if (t < times[0]) return out_of_bounds == OutOfBounds::zero ? 0 : values[c];
-  if (t > times[n - 1]) return out_of_bounds == OutOfBounds::zero ? 0 : values[(n - 1) * C + c];
-  std::size_t lo = 0, hi = n - 1;
-  while (hi - lo > 1) {
-    const std::size_t mid = (lo + hi) / 2;
-    (times[mid] <= t ? lo : hi) = mid;
-  }
-  if (t >= times[hi]) lo = hi;
-  if (interpolation == Interpolation::step || lo == hi) return values[lo * C + c];
-  const double w = (t - times[lo]) / (times[hi] - times[lo]);
-  return values[lo * C + c] + w * (values[hi * C + c] - values[lo * C + c]);
-}
-
 FunctionTable read_function_table(const Param& p, const Entry& e, int components,
                                   const std::filesystem::path& case_dir, const FunctionDefaults& defaults) {
   FunctionTable f;

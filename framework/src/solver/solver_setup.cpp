@@ -336,7 +336,7 @@ void Solver<D>::setup_body(const Entry& e, int& id, std::int64_t& next_id, Real&
   const Dictionary& mat = case_.materials().sub(bs.material);
   const Entry& type = mat.at("type");
   const PluginEntry& pe = reg.get(PluginKind::material, type.as_word(), type.where());
-  const Real density = pe.material.point(mat)->density();
+  const Real density = body_density(b);
 
   // Generated in the whole grid's lattice (grid_ is this rank's part of it in a decomposed run).
   PointFilter<D> mine;

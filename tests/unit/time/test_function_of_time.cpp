@@ -77,9 +77,6 @@ TEST(FunctionOfTime, LinearAndStepInterpolationAndTheEnds) {
   const FunctionOfTime rep(read(std::string("intensity { type table; values ") + rows + "; outOfBounds repeat; }"));
   EXPECT_DOUBLE_EQ(rep(2 + 3), 20);   // one period (3 s) later
   EXPECT_DOUBLE_EQ(rep(2 - 6), 20);   // two periods earlier
-  // The host's table and the kernels' view agree.
-  const FunctionTable t = read(std::string("intensity table ") + rows + ";");
-  for (double x : {0.0, 1.5, 2.25, 3.75, 5.0}) EXPECT_EQ(t(x), lin(x)) << "t = " << x;
 }
 
 TEST(FunctionOfTime, TheIntegralIsExactForTheInterpolant) {
@@ -133,12 +130,12 @@ TEST(FunctionOfTime, ACsvFileWithAHeaderAndComments) {
       d.dir);
   ASSERT_EQ(f.times.size(), 3u);
   EXPECT_DOUBLE_EQ(f.times[2], 7200);
-  EXPECT_DOUBLE_EQ(f(1800), 0.5e-5);  // half of 36 mm/h, in m/s
+  EXPECT_DOUBLE_EQ(FunctionOfTime(f)(1800), 0.5e-5);  // half of 36 mm/h, in m/s
   // Columns by index, whitespace-separated, no header.
   d.write("constant/rain.txt", "0 1 2\n10 11 12\n");
   const FunctionTable g =
       read("intensity { type csvFile; file \"constant/rain.txt\"; columns (0 2); separator \" \"; }", d.dir);
-  EXPECT_DOUBLE_EQ(g(5), 7);
+  EXPECT_DOUBLE_EQ(FunctionOfTime(g)(5), 7);
 }
 
 TEST(FunctionOfTime, ErrorsNameFileLineAndWhatIsValid) {

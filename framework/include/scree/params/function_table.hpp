@@ -51,9 +51,7 @@ struct SCREE_API FunctionTable {
   std::string source;  ///< "a constant", "a table of 3 rows (system/controlDict:12)", ...
 
   bool constant() const { return times.size() == 1; }
-  /// The value of component c at time t, on the host (the kernels' evaluation,
-  /// time/function_of_time.hpp, is the same arithmetic).
-  double operator()(double t, int c = 0) const;
+  // Evaluated, on the host as in the kernels, by FunctionOfTime (time/function_of_time.hpp).
 };
 
 /// What a parameter's reader may set that a dictionary need not write.
