@@ -85,9 +85,14 @@ struct TwoPhaseGridUpdate {
     bool inflow_face = false;  // an open surface node where the liquid flows in
     bool outflow_only = false; // open as a seepage face only: closed again if the liquid would enter
     if (cells && ml > 0 && surface[I] && surface_node<D>(grid, cells, I, walls, mask, t, true)) {
-      bool is_open = (mask & ~lmask) != 0;  // on a drained wall
+      // A node whose cells all hold points (on the surface by its exposure alone) lies below
+      // the surface, not on it: it stays closed, for p_w = 0 there would drain the soil from
+      // inside (a settled level top leaves its second row of nodes such an exposure). The
+      // rain's correction still sets its seepage.
+      const bool below = !surface_node<D>(grid, cells, I, walls, mask, t, true, Real(0));
+      bool is_open = !below && (mask & ~lmask) != 0;  // on a drained wall
       bool seepage = false;                 // open as a seepage face
-      for (std::uint32_t m = open_masks ? open_masks[I] : 0u; m; m &= m - 1) {
+      for (std::uint32_t m = open_masks && !below ? open_masks[I] : 0u; m; m &= m - 1) {
         const int b = lowest_bit(m);
         if (t < open[b].t_start || t >= open[b].t_end) continue;
         if (!open[b].outflow_only)
