@@ -336,6 +336,7 @@ TEST(TwoPhase, TerzaghiConsolidation) {
     double settle = 0;
     for (Index i = 0; i < plate.n; ++i) settle -= disp.values[3 * i + 1] / plate.n;
     const double exact = s0 + (s_inf - s0) * degree(Tv);
+    std::printf("T_v %.2f: worst |u - u_exact| / q %.4f, settlement %.4g m (exact %.4g)\n", Tv, worst, settle, exact);
     EXPECT_NEAR(settle, exact, 0.05 * s_inf) << "T_v = " << Tv << ": settlement of the plate [m]";
   }
 }

@@ -76,7 +76,7 @@ inline constexpr Real kSurfaceExposure = Real(0.05);
 template <int D>
 SCREE_INLINE bool surface_node(const GridGeometry<D>& grid, const Real* cells, Index I, const Wall* walls = nullptr,
                                WallMask mask = 0, Real t = 0, bool has_mass = false,
-                               Real exposure = kSurfaceExposure) {
+                               Real exposure = kSurfaceExposure, Real* direction = nullptr) {
   int idx[D];
   grid.unflat(I, idx);
   bool empty = false, full = false;
@@ -126,9 +126,43 @@ SCREE_INLINE bool surface_node(const GridGeometry<D>& grid, const Real* cells, I
       cell += j * stride;
       stride *= grid.n[d];
     }
-    if (ok && !(cells[cell] > 0)) return true;
+    if (ok && !(cells[cell] > 0)) {
+      if (direction)
+        for (int d = 0; d < D; ++d) direction[d] = a[d];
+      return true;
+    }
   }
   return false;
+}
+
+/// The open surfaces (bits of `open_masks`, by node) that hold at a node on the surface by its
+/// exposure alone (surface_node's `direction` a, nonzero): those of the nodes next to it
+/// towards the surface, I + k with k_d in {0, sign(a_d)}. The face crosses such a node's
+/// support between it and those nodes, which the selection by node position sees on the
+/// surface (the empty and filled cells around them): a level top that settled a third of a
+/// cell below a node row leaves the row under it an exposure of 0.3 (0.5 once a row of points
+/// crossed down), with the open surface's box drawn around the top row. Its condition is the
+/// surface's: opened with it, p_w = 0 there as at the node above; closed, it would stop the
+/// flow along a (seepage along the normal set to zero) one node row inside the drained soil.
+template <int D>
+SCREE_INLINE std::uint32_t exposed_open_masks(const GridGeometry<D>& grid, const std::uint32_t* open_masks, Index I,
+                                             const Real* direction) {
+  if (!open_masks) return 0u;
+  int idx[D];
+  grid.unflat(I, idx);
+  std::uint32_t m = open_masks[I];
+  for (int k = 1; k < (1 << D); ++k) {
+    int j[D];
+    bool ok = true;
+    for (int d = 0; d < D; ++d) {
+      const int step = (k >> d) & 1 ? (direction[d] > 0 ? 1 : direction[d] < 0 ? -1 : 0) : 0;
+      ok = ok && ((k >> d) & 1 ? step != 0 : true);
+      j[d] = idx[d] + step;
+      ok = ok && j[d] >= 0 && j[d] < grid.n[d];
+    }
+    if (ok) m |= open_masks[grid.flat(j)];
+  }
+  return m;
 }
 
 /// The seepage through a surface node set to w . n (w: a prescribed seepage velocity, e.g.
