@@ -84,10 +84,17 @@ struct TwoPhaseGridUpdate {
     bool closed = false;  // a closed surface node: no seepage through it (below)
     bool inflow_face = false;  // an open surface node where the liquid flows in
     bool outflow_only = false; // open as a seepage face only: closed again if the liquid would enter
-    if (cells && ml > 0 && surface[I] && surface_node<D>(grid, cells, I, walls, mask, t, true)) {
+    Real exposed[D] = {};  // a node on the surface by its exposure alone: the exposure (surface_node)
+    if (cells && ml > 0 && surface[I] && surface_node<D>(grid, cells, I, walls, mask, t, true, kSurfaceExposure, exposed)) {
       bool is_open = (mask & ~lmask) != 0;  // on a drained wall
       bool seepage = false;                 // open as a seepage face
-      for (std::uint32_t m = open_masks ? open_masks[I] : 0u; m; m &= m - 1) {
+      bool by_exposure = false;
+      for (int d = 0; d < D; ++d) by_exposure = by_exposure || exposed[d] != 0;
+      // A node on the surface by its exposure alone has the open surfaces of its neighbours
+      // towards the surface (exposed_open_masks).
+      const std::uint32_t opened = by_exposure ? exposed_open_masks<D>(grid, open_masks, I, exposed)
+                                               : (open_masks ? open_masks[I] : 0u);
+      for (std::uint32_t m = opened; m; m &= m - 1) {
         const int b = lowest_bit(m);
         if (t < open[b].t_start || t >= open[b].t_end) continue;
         if (!open[b].outflow_only)

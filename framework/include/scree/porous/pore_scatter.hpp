@@ -59,7 +59,7 @@ struct PoreColumns {
 ///     (porous/two_phase.hpp), added as one value per node and axis,
 ///   the liquid: porosity from J, M_l, M_lm, the drag and conductance sums, the liquid
 ///     momentum, F_l = V p_w grad N + N m_l g, sum N V,
-/// and counts the points per cell. The fields read only at surface nodes follow in
+/// and the volume the points fill in each cell. The fields read only at surface nodes follow in
 /// SurfaceScatter.
 /// One pass for both phases builds the stencil and the warp's runs once, and the mixture
 /// force takes one atomic per node and axis where the solid's scatter and a separate liquid
@@ -109,20 +109,25 @@ struct MixtureScatter : PorePass<D, Shape> {
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
     active = active && st.inside;  // outside: frozen by the next gather (above)
     const bool serial = pp.policy.serial;
+    // The cells' filling: sum V_p / h^D over the points in each cell, the volume fraction the
+    // points fill (surface_node reads it; 1 inside the soil, 0 in an empty cell).
+    Real inv_cell = 1;
+    for (int d = 0; d < D; ++d) inv_cell /= pp.grid.h;
+    const Real fill = V * inv_cell;
 #if defined(__CUDA_ARCH__)
     const WarpSegment seg(active ? static_cast<long long>(pp.grid.flat(st.base))
                                  : -1 - static_cast<long long>(threadIdx.x));
     if (lp.cells) {
-      // The points per cell: the lanes of one cell (sorted points share it) add their count
-      // in one atomic (one per point serialised on a few addresses per warp).
-      const long long cell = active ? static_cast<long long>(cell_of<D>(pp.grid, x)) : -1;
-      const unsigned peers = __match_any_sync(0xffffffffu, cell);
-      if (active && __ffs(peers) - 1 == static_cast<int>(threadIdx.x & 31u))
-        atomic_add(lp.cells + cell, Real(__popc(peers)), serial);
+      // The lanes of one cell (sorted points share it: a run of lanes) add their volumes in
+      // one atomic (one per point would serialise on a few addresses per warp).
+      const long long cell = active ? static_cast<long long>(cell_of<D>(pp.grid, x)) : -1 - static_cast<long long>(threadIdx.x);
+      const WarpSegment run(cell);
+      const Real sum = run.sum(active ? fill : Real(0));
+      if (active && run.head && sum != 0) atomic_add(lp.cells + cell, sum, serial);
     }
 #else
     const WarpSegment seg(0);
-    if (active && lp.cells) atomic_add(lp.cells + cell_of<D>(pp.grid, x), Real(1), serial);
+    if (active && lp.cells && fill != 0) atomic_add(lp.cells + cell_of<D>(pp.grid, x), fill, serial);
 #endif
     auto add = [&](Real* field, Real value) {
 #if defined(__CUDA_ARCH__)
