@@ -22,7 +22,8 @@ sed -i -E 's/^(checkpointInterval[[:space:]]+)[^;]+;/\10;/' "$v/system/controlDi
 sed -i -E 's/particles \{ type vtk; fields \(velocity\); \}/particles { type vtk; fields (velocity); precision single; compression none; }/' \
   "$v/system/controlDict"
 extra=()
-[ "${PROFILE:-0}" = 1 ] && extra=(--profile --no-output)
+[ "${PROFILE:-0}" = 1 ] && extra=(--profile)
+[ "${PROFILE:-0}" = 1 ] && [ "${FRAMES:-0}" != 1 ] && extra+=(--no-output)
 nvidia-smi --query-gpu=timestamp,index,memory.used,utilization.gpu --format=csv -l 2 > "$out/memory.csv" 2>&1 &
 smi=$!
 start=$(date +%s.%N)
@@ -32,7 +33,7 @@ mpirun --allow-run-as-root -np "$n" --bind-to none "$bin/scree" --case "$v" --ma
 end=$(date +%s.%N)
 kill $smi || true
 echo "mpirun wall: $(python3 -c "print(round($end - $start, 1))") s, exit $rc" | tee -a "$out/log"
-if [ "${PROFILE:-0}" != 1 ] && [ -f "$v/VTK/particles.pvd" ]; then
+if [ -f "$v/VTK/particles.pvd" ]; then
   stl=$work/valleyCollapse/constant/triSurface/valley.stl
   [ "${FIRST:-0}" = 1 ] && { python3 "$here/utilities/render/plan_view.py" "$v/VTK/particles.pvd" "$out/valley-first.png" \
     --time 0 --ground "$stl" --axis-y 6 --bin 0.1 --title "valleyCollapse, quarterBillion" || rc=1; }
