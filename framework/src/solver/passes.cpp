@@ -112,7 +112,7 @@ void Solver<D>::set_split(bool on) {
   split_ = on;
   // The split's kernels clear the counter of the step after theirs: when they stop, the
   // last step's count stays behind, and a later split step of that parity would re-run
-  // the points it lists (a 2.5 mm column collapse on the GPU took 50% more steps so).
+  // the points it lists (their stress updated twice in one step).
   for (auto& b : bodies_) b->reset_split();
   if (graphs_) graphs_->clear();  // captured with the other way's kernels
 }

@@ -29,7 +29,7 @@
 //                 ledger-unsplit)
 //
 // A register cap is a compile-time launch bound, so only the values a kernel was compiled
-// for exist: check() rejects any other (an unsupported cap used to run uncapped, silently).
+// for exist: check() rejects any other rather than run it uncapped without a word.
 #pragma once
 
 #include <cstdint>

@@ -88,9 +88,8 @@ inline constexpr int kCudaBlockSize = 256;
 /// CPU loops shorter than this run on the calling thread alone. A parallel region costs
 /// a fork and a barrier (microseconds when the team is hot), and a barrier waits for a
 /// whole scheduler time slice (milliseconds) whenever one of its threads has been
-/// descheduled -- which happens on every step when other processes share the cores (two
-/// ctest jobs on two cores did that: a 320-particle test ran 300x slower). A loop of a
-/// few hundred particles or nodes does less work than one such wait.
+/// descheduled -- which happens on every step when other processes share the cores. A
+/// loop of a few hundred particles or nodes does less work than one such wait.
 inline constexpr Index kCpuParallelMinItems = 2048;
 /// The same for loops whose items are each a whole stress update with substepping
 /// (parallel_for_listed_warps): tens of microseconds each, so a few dozen fill a thread.

@@ -62,8 +62,8 @@ struct PoreColumns {
 /// and the volume the points fill in each cell. The fields read only at surface nodes follow in
 /// SurfaceScatter.
 /// One pass for both phases builds the stencil and the warp's runs once, and the mixture
-/// force takes one atomic per node and axis where the solid's scatter and a separate liquid
-/// pass took two.
+/// force takes one atomic per node and axis where a solid scatter and a separate liquid
+/// pass would take two.
 /// A point whose stencil at x^{k+1} leaves the grid adds nothing; the next step's gather
 /// (or the run's last flush) freezes and reports it (ParticlePass::lost), one step later
 /// than a single-phase pass would.

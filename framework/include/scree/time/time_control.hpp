@@ -41,7 +41,7 @@ class SCREE_API TimeControl {
 
   /// The most steps a run may take from startTime to endTime at its largest step.
   /// Beyond it (a) the run cannot end in any useful time: 1e12 steps are more than three
-  /// months at 1e5 steps/s, about the rate of the smallest cases on one GPU; and (b) the
+  /// months even at 1e5 steps a second; and (b) the
   /// clock itself degrades: every t += dt is rounded by up to half an ulp of t, about
   /// 1.1e-16 endTime, which at 1e12 steps is 1e-4 of each step, so that the time a step
   /// reports drifts from the steps taken.
