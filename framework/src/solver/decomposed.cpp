@@ -449,6 +449,23 @@ void Solver<D>::migrate(bool scheduled) {
     all += h;
   }
   if (all == 0 || static_cast<double>(most) * R <= kRebalanceRatio * static_cast<double>(all)) return;
+  // The cells of the points this rank holds (not frozen), read once from the positions for
+  // every level of the tree.
+  std::vector<int> cells;
+  for (auto& body : bodies_) {
+    const ParticleArrays<D>& pa = body->arrays();
+    const std::size_t n = static_cast<std::size_t>(pa.n);
+    if (n == 0) continue;
+    std::vector<Real> col(n), vol(n);
+    std::vector<int> mine(D * n);
+    mem::copy(vol.data(), Device::cpu, pa.volume0, exec_.device, n * sizeof(Real));
+    for (int d = 0; d < D; ++d) {
+      mem::copy(col.data(), Device::cpu, pa.x[d], exec_.device, n * sizeof(Real));
+      for (std::size_t p = 0; p < n; ++p) mine[D * p + static_cast<std::size_t>(d)] = domain_cell(global_, d, col[p]);
+    }
+    for (std::size_t p = 0; p < n; ++p)
+      if (vol[p] >= 0) cells.insert(cells.end(), mine.begin() + static_cast<std::ptrdiff_t>(D * p), mine.begin() + static_cast<std::ptrdiff_t>(D * (p + 1)));
+  }
   const CountBoxes<D> count = [&](const std::vector<CellBox<D>>& boxes, const std::function<int(const int*)>& which) {
     std::vector<std::size_t> start(boxes.size() + 1, 0);
     for (std::size_t k = 0; k < boxes.size(); ++k) {
@@ -456,20 +473,15 @@ void Solver<D>::migrate(bool scheduled) {
       for (int d = 0; d < D; ++d) start[k + 1] += static_cast<std::size_t>(boxes[k].hi[d] - boxes[k].lo[d]);
     }
     std::vector<std::uint64_t> flat(start.back(), 0);  // every box's layers along every axis, one reduction
-    for (auto& body : bodies_) {
-      const Index n = body->size();
-      const std::vector<Real> block = body->save_state();
-      for (Index p = 0; p < n; ++p) {
-        if (block[static_cast<std::size_t>(S::kColVolume0) * n + p] < 0) continue;
-        int c[D];
-        for (int d = 0; d < D; ++d) c[d] = domain_cell(global_, d, block[static_cast<std::size_t>(S::kColX + d) * n + p]);
-        const int k = which(c);
-        if (k < 0) continue;
-        std::size_t at = start[static_cast<std::size_t>(k)];
-        for (int d = 0; d < D; ++d) {
-          ++flat[at + static_cast<std::size_t>(c[d] - boxes[static_cast<std::size_t>(k)].lo[d])];
-          at += static_cast<std::size_t>(boxes[static_cast<std::size_t>(k)].hi[d] - boxes[static_cast<std::size_t>(k)].lo[d]);
-        }
+    for (std::size_t q = 0; q < cells.size(); q += D) {
+      const int* c = cells.data() + q;
+      const int k = which(c);
+      if (k < 0) continue;
+      const CellBox<D>& bx = boxes[static_cast<std::size_t>(k)];
+      std::size_t at = start[static_cast<std::size_t>(k)];
+      for (int d = 0; d < D; ++d) {
+        ++flat[at + static_cast<std::size_t>(c[d] - bx.lo[d])];
+        at += static_cast<std::size_t>(bx.hi[d] - bx.lo[d]);
       }
     }
     comm_->sum(flat.data(), static_cast<int>(flat.size()));
