@@ -93,7 +93,7 @@ struct RainfallKernel {
         g.liquid.velocity_new[d][I] = vl[d];
       }
     }
-    if (g.totals) book(I, w, vs, vl);
+    if (g.totals && g.owned.holds(g.grid, I)) book(I, w, vs, vl);
   }
 
   /// The rain offered to node I, rho_l |w . a_I| dt (a_I = sum V grad N_I, the node's share

@@ -354,6 +354,174 @@ TEST_P(Decomposed, FollowsTheUndecomposedRunAndKeepsEveryPoint) {
 INSTANTIATE_TEST_SUITE_P(Cases, Decomposed, ::testing::ValuesIn(setups()),
                          [](const auto& info) { return info.param.name; });
 
+// ---------------------------------------------------------------------------------
+// Two-phase bodies over the ranks (porous/porous_media.hpp): the pore liquid's three
+// exchanges (its mass balance per cell, both phases' P2G with the cells' filling, the
+// surface's sums) and its inflow totals, counted by the owner of each node and summed over
+// the ranks. The decomposed run follows the one-rank run within round-off, as the
+// single-phase cases above: positions, both phases' velocities, the effective stress and
+// the pore pressure, and the totals of the liquid that entered, which must also match the
+// rain that fell (rho_l w L t, the inflow's independent measure, within the 2% the
+// one-rank tests of the rain hold: tests/verification/twophase).
+
+const char* kSlopeSoil =
+    "twoPhase { porosity 0.487; liquidDensity 1000; liquidBulkModulus 2e7; viscosity 1e-3; hydraulicConductivity "
+    "1e-2; retention { type vanGenuchten; p0 22295; lambda 0.671; Smin 0.23; Smax 1; } permeability { type "
+    "mualemVanGenuchten; } initialPorePressure { type hydrostatic; waterTable -0.5; } }";
+
+struct TwoPhaseVariant {
+  Variant v;
+  double rain = 0;     ///< intensity [m/s] on the whole top
+  double top = 0;      ///< the top's horizontal area (per metre in 2D) [m^2]
+  bool slides = false; ///< the body crosses the cuts: the boxes must move with it
+};
+
+void PrintTo(const TwoPhaseVariant& v, std::ostream* os) { *os << v.v.name; }
+
+std::vector<TwoPhaseVariant> two_phase_setups() {
+  const std::string rain2 = "rain { type rainfall; box { min (-1 0.15); max (3 2); } intensity 2e-3; unit m/s; }";
+  return {
+      // The inclined slope under rain (tests/verification/twophase), cut across the face:
+      // the surface, its exposure test and the rain's nodes on both sides of a cut.
+      {{"slopeRainGimp", "endTime 0.3; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; maxDeltaT 1e-3; writeInterval 1;",
+        "updateScheme USL; shapeFunction gimp;", "dimension 2; lower (0 0); upper (2.0 1.4); cellSize 0.1;",
+        "soil { type linearElastic; E 5e7; nu 0.2; rho 2650; }",
+        std::string("slope { material soil; region { type polygon; points ((0 0) (2 0) (2 0.2) (1.5 0.2) (0.9 1.1) "
+                    "(0 1.1)); } particlesPerCell 2; initialStress { type geostatic; K0 0.5; } ") +
+            kSlopeSoil + " }",
+        "base { type fixed; face yMin; } left { type slip; face xMin; } right { type slip; face xMax; } " + rain2,
+        "value (0 -9.81);", 1e-12, 1e-9, 1e-9},
+       2e-3, 2.0},
+      // A saturated body at rest beside a single-phase block that slides at 3 m/s across
+      // the cuts over a slip floor: the cuts move with the block (rebalances), and every
+      // rank's grid, the pore liquid's included, is set up anew; linear shape functions.
+      // The bounds are the sliding block's: with the saturated body single-phase too it
+      // differs as much (6.1e-9, 5.7e-7, 2.6e-7 on 2 ranks; linear shapes, above), the
+      // saturated body by 1e-15.
+      {{"restingSaturatedBesideSlidingBlock", "endTime 0.15; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; writeInterval 1;",
+        "updateScheme USL;", "dimension 2; lower (0 0); upper (1.2 0.3); cellSize 0.02;",
+        "soil { type linearElastic; E 1e6; nu 0.3; rho 2000; }",
+        "b { material soil; velocity (3 0); region { type rectangle; lower (0.1 0); upper (0.4 0.06); } } "
+        "w { material soil; region { type rectangle; lower (1.0 0); upper (1.16 0.1); } "
+        "initialStress { type geostatic; K0 0.5; } "
+        "twoPhase { porosity 0.4; liquidBulkModulus 2e6; hydraulicConductivity 1e-3; } }",
+        "floor { type slip; face yMin; }", "value (0 -9.81);", 1e-7, 1e-5, 1e-5},
+       0, 0, true},
+      // 3D: an unsaturated column under rain, GIMP: cut into boxes on 3 and 4 ranks.
+      {{"columnRain3D", "endTime 0.05; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; maxDeltaT 1e-3; writeInterval 1;",
+        "updateScheme USL; shapeFunction gimp;", "dimension 3; lower (0 0 0); upper (0.56 0.56 0.72); cellSize 0.04;",
+        "soil { type linearElastic; E 5e7; nu 0.2; rho 2650; }",
+        std::string("col { material soil; region { type box; lower (0 0 0); upper (0.56 0.56 0.4); } "
+                    "particlesPerCell 1; initialStress { type geostatic; K0 0.5; } ") +
+            kSlopeSoil + " }",
+        "base { type fixed; face zMin; } x0 { type slip; face xMin; } x1 { type slip; face xMax; } "
+        "y0 { type slip; face yMin; } y1 { type slip; face yMax; } "
+        "rain { type rainfall; box { min (-1 -1 0.35); max (1 1 1); } intensity 2e-3; unit m/s; }",
+        "value (0 0 -9.81);", 1e-12, 1e-9, 1e-9},
+       2e-3, 0.56 * 0.56},
+  };
+}
+
+class DecomposedTwoPhase : public ::testing::TestWithParam<TwoPhaseVariant> {};
+
+TEST_P(DecomposedTwoPhase, FollowsTheUndecomposedRunAndCountsTheWaterOnce) {
+  const TwoPhaseVariant& tp = GetParam();
+  const Variant& s = tp.v;
+  SharedCase c(s.name);
+  write_case(c, s);
+  Case cs = Case::read(c.dir(), runtime());
+  const double t_end = cs.settings().control.time.end_time;
+  RunStats st;
+  std::ostringstream log;
+  const Snapshot dec = run_to(c.dir(), world(), t_end, &st, &log);
+  if (!is_root()) return;
+  std::cout << "[ " << s.name << " ] cut across " << axes_cut(log.str()) << " axes, " << st.rebalances
+            << " rebalances\n";
+  if (tp.slides) EXPECT_GT(st.rebalances, 0) << "no rebalance";
+  const Snapshot one = run_to(c.dir(), self(), t_end);
+  ASSERT_EQ(dec.bodies.size(), one.bodies.size());
+  for (std::size_t k = 0; k < one.bodies.size(); ++k) {
+    const BodySnapshot &a = dec.bodies[k], &b = one.bodies[k];
+    expect_same_points(a, b);
+    double lo = INFINITY, hi = -INFINITY;
+    for (Index p = 0; p < b.n; ++p) {
+      lo = std::min(lo, b.position[3 * static_cast<std::size_t>(p)]);
+      hi = std::max(hi, b.position[3 * static_cast<std::size_t>(p)]);
+    }
+    const double dx = position_difference(a, b) / (hi - lo);
+    const double dv = difference(a, b, "velocity"), ds = difference(a, b, "stress");
+    std::cout << "[ " << s.name << " ] body " << a.name << ", " << world_comm().size()
+              << " ranks against one: position " << dx << ", velocity " << dv << ", stress " << ds;
+    EXPECT_LT(dx, s.tol_x);
+    EXPECT_LT(dv, s.tol_v);
+    EXPECT_LT(ds, s.tol_s);
+    if (!b.find("porePressure")) {
+      std::cout << "\n";
+      continue;
+    }
+    const double dp = difference(a, b, "porePressure"), dl = difference(a, b, "liquidVelocity"),
+                 dS = difference(a, b, "saturation");
+    std::cout << ", pore pressure " << dp << ", liquid velocity " << dl << ", saturation " << dS << "\n";
+    EXPECT_LT(dp, s.tol_s);
+    EXPECT_LT(dl, s.tol_v);
+    EXPECT_LT(dS, s.tol_s);
+    // The liquid's totals: one count of every node over the ranks.
+    for (const char* name : {"liquidInflowSurface", "liquidInflowPrescribed", "liquidRainOffered", "liquidRainNotTaken"}) {
+      const auto *x = a.scalar(name), *y = b.scalar(name);
+      if (k > 0 && !y) continue;  // the totals go with the first two-phase body
+      ASSERT_TRUE(x && y) << name;
+      std::cout << "[ " << s.name << " ] " << name << " " << x->value << " kg against " << y->value << " on one rank\n";
+      EXPECT_NEAR(x->value, y->value, 1e-9 * std::max(1.0, std::fabs(y->value))) << name;
+    }
+    if (tp.rain > 0) {
+      const double rain = 1000 * tp.rain * tp.top * t_end;
+      const double offered = a.scalar("liquidRainOffered")->value, entered = a.scalar("liquidInflowSurface")->value;
+      EXPECT_NEAR(offered, rain, 0.02 * rain) << "kg: the rain offered to the surface";
+      EXPECT_NEAR(entered, rain, 0.02 * rain) << "kg: what entered through the surface";
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, DecomposedTwoPhase, ::testing::ValuesIn(two_phase_setups()),
+                         [](const auto& info) { return info.param.v.name; });
+
+// A decomposed two-phase run restarted from its own checkpoint ends in the uninterrupted
+// run's state bit for bit (every point's fields, the pore liquid's columns included); the
+// liquid's totals, summed over the ranks into the checkpoint and continued from the root's
+// share, within round-off of the uninterrupted run's.
+TEST(DecomposedTwoPhaseRestart, EndsInTheUninterruptedRunsState) {
+  Variant s = two_phase_setups()[0].v;
+  s.control = "endTime 0.2; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; maxDeltaT 1e-3; writeInterval 0.1; "
+              "checkpointKeep 10; writers { particles { type vtk; } }";
+  SharedCase c("restartTwoPhase");
+  write_case(c, s);
+  auto run = [&](const fs::path& restart) {
+    Case cs = Case::read(c.dir(), runtime());
+    RunOptions o = opts(world(), true);
+    o.restart = restart;
+    Simulation sim(cs, runtime(), o);
+    sim.run();
+    return sim.snapshot();
+  };
+  const Snapshot whole = run({});
+  world_comm().barrier();
+  const Snapshot again = run(checkpoint_file(c.dir(), 0.1));
+  if (!is_root()) return;
+  const BodySnapshot &a = whole.bodies[0], &b = again.bodies[0];
+  ASSERT_EQ(a.id, b.id);
+  EXPECT_EQ(0, std::memcmp(a.position.data(), b.position.data(), a.position.size() * sizeof(Real)));
+  for (const FieldData& f : a.fields) {
+    const FieldData& g = field(b, f.name.c_str());
+    EXPECT_EQ(0, std::memcmp(f.values.data(), g.values.data(), f.values.size() * sizeof(Real))) << f.name;
+  }
+  for (const char* name : {"liquidInflowSurface", "liquidRainOffered", "liquidRainNotTaken"}) {
+    const auto *x = a.scalar(name), *y = b.scalar(name);
+    ASSERT_TRUE(x && y) << name;
+    EXPECT_NEAR(x->value, y->value, 1e-12 * std::max(1.0, std::fabs(x->value))) << name;
+    EXPECT_NE(x->value, 0) << name;
+  }
+}
+
 /// The text of a file ("" when it cannot be read).
 std::string slurp(const fs::path& f) {
   std::ifstream in(f, std::ios::binary);

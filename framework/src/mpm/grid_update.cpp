@@ -109,15 +109,9 @@ struct GridUpdate {
     return Real(0.5) * m * v2;
   }
   /// Add node I's share to a term of the energy ledger (GridUpdateParams::energy); zeros,
-  /// and the shares of nodes another rank owns (ledger_owned), are not added.
+  /// and the shares of nodes another rank owns (ledger_nodes), are not added.
   SCREE_INLINE void ledger(Index I, int term, Real value) const {
-    if (value == 0) return;
-    if (p.ledger_owned) {
-      int idx[D];
-      p.grid.unflat(I, idx);
-      for (int d = 0; d < D; ++d)
-        if (idx[d] < p.ledger_lo[d] || idx[d] >= p.ledger_hi[d]) return;
-    }
+    if (value == 0 || !p.ledger_nodes.holds(p.grid, I)) return;
     atomic_add(p.control->energy + term, value, false);
   }
 

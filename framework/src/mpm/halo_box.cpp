@@ -26,6 +26,17 @@ void pack_box(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>& peer,
 }
 
 template <int D>
+void clear_box(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>& peer, const HaloFields& f) {
+  const HaloPeer<D> p = peer;
+  const Index per = p.nodes();
+  parallel_for(ex, per * f.count, [=] SCREE_HD(Index k) {
+    int i[D];
+    p.node(k % per, i);
+    f.field[k / per][g.flat(i)] = 0;
+  });
+}
+
+template <int D>
 void ordered_sum(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>* peers, const HaloPeer<D>* host_peers,
                  int count, int self, const HaloFields& f, const Real* buf) {
   for (int b = 0; b < count; ++b) {
@@ -71,6 +82,8 @@ void stamp_box_tiles(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>
 
 template void pack_box<2>(const Exec&, const GridGeometry<2>&, const HaloPeer<2>&, const HaloFields&, Real*);
 template void pack_box<3>(const Exec&, const GridGeometry<3>&, const HaloPeer<3>&, const HaloFields&, Real*);
+template void clear_box<2>(const Exec&, const GridGeometry<2>&, const HaloPeer<2>&, const HaloFields&);
+template void clear_box<3>(const Exec&, const GridGeometry<3>&, const HaloPeer<3>&, const HaloFields&);
 template void ordered_sum<2>(const Exec&, const GridGeometry<2>&, const HaloPeer<2>*, const HaloPeer<2>*, int, int,
                              const HaloFields&, const Real*);
 template void ordered_sum<3>(const Exec&, const GridGeometry<3>&, const HaloPeer<3>*, const HaloPeer<3>*, int, int,

@@ -113,9 +113,21 @@ PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>&
       gmax = std::fabs(gravity[d]);
       vertical_ = d;
     }
+  set_grid(grid);
+  // Inflow through the surfaces, added by prescribed pore pressures, rain offered, rain not taken.
+  totals_.resize(kTotals, exec_.device);
+  totals_.copy_from_host(std::vector<Real>(kTotals, Real(0)));
+}
+
+template <int D>
+PorousMedia<D>::~PorousMedia() = default;
+
+template <int D>
+void PorousMedia<D>::set_grid(const GridGeometry<D>& grid) {
+  grid_ = grid;
   const Index nn = grid_.num_nodes();
   n_cells_ = nn;  // cell (i, j) indexed as node (i, j): the last row of cells is unused
-  for (int s = 0; s < 2; ++s) {
+  for (int s = 0; s < 2; ++s) {  // resize: zeroed
     liquid_data_[s].resize(static_cast<std::size_t>(nn) * kLiquidFieldCount<D>, exec_.device);
     Real* b = liquid_data_[s].data();
     int k = 0;
@@ -137,16 +149,25 @@ PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>&
   surface_.resize(static_cast<std::size_t>(nn), exec_.device);
   // Per cell: inflow, capacity, and the moments sum V C p, sum V C x_d (PoreRate).
   balance_.resize(static_cast<std::size_t>((3 + D) * nn), exec_.device);
-  balance_.copy_from_host(std::vector<Real>(static_cast<std::size_t>((3 + D) * nn), Real(0)));
   // Per cell: the reconstructed pressure P_c, x_c and g_c per axis (CellPressure).
   cell_pressure_.resize(static_cast<std::size_t>((1 + 2 * D) * nn), exec_.device);
-  // Inflow through the surfaces, added by prescribed pore pressures, rain offered, rain not taken.
-  totals_.resize(kTotals, exec_.device);
-  totals_.copy_from_host(std::vector<Real>(kTotals, Real(0)));
 }
 
 template <int D>
-PorousMedia<D>::~PorousMedia() = default;
+void PorousMedia<D>::clear_conditions() {
+  laws_.clear();
+  node_laws_.clear();
+  open_windows_.clear();
+  host_open_.clear();
+  open_masks_.resize(0, exec_.device);
+}
+
+template <int D>
+std::vector<Real> PorousMedia<D>::totals() const {
+  mem::synchronize(exec_.device);
+  return totals_.to_host();
+}
+
 
 template <int D>
 std::function<Real(Real)> PorousMedia<D>::mixture_density(const Dictionary& body, Real grain_density) const {
@@ -220,7 +241,12 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
   using Col = typename BodySetup<D>::ExtraColumn;
   s.extra.clear();
   // The columns in the order of two_phase_fields(), whose names, units and meaning they take.
-  const std::vector<Real>* initial[] = {&pw, &sat, &por, &suction, nullptr, nullptr};
+  // The liquid moves with the skeleton at t = 0 (a body thrown with a `velocity` carries its
+  // water): no seepage. A liquid at rest in a moving skeleton would be a Darcy flux n |v|.
+  std::vector<Real> vl(n * D);
+  for (std::size_t p = 0; p < n; ++p)
+    for (int d = 0; d < D; ++d) vl[p * D + static_cast<std::size_t>(d)] = p < s.v.size() ? s.v[p][d] : Real(0);
+  const std::vector<Real>* initial[] = {&pw, &sat, &por, &suction, &vl, nullptr};
   for (std::size_t k = 0; k < two_phase_fields().size(); ++k) {
     const FieldInfo& f = two_phase_fields()[k];
     s.extra.push_back(Col{f.name, f.unit, f.doc, f.components == 1 ? 1 : D, 0,
@@ -338,6 +364,11 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
     for (const PorousBody& b : bodies_)
       parallel_for(exec_, b.body->arrays().n, PoreRate<D, Shape>{{pp, pass_params(b, gather_set, scatter_set),
                                                                  b.body->arrays(), sh}});
+    if (halo_.sum) {  // the cells' sums from the points of every rank (CellPressure reads a cell's neighbours)
+      HaloFields f;
+      for (int k = 0; k < 3 + D; ++k) f.add(balance_.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(n_cells_));
+      halo_.sum(f);
+    }
     if (!bodies_.empty()) {
       const PorePassParams<D> lp = pass_params(bodies_.front(), gather_set, scatter_set);
       parallel_for(exec_, n_cells_,
@@ -356,6 +387,38 @@ void PorousMedia<D>::gather(const PassParams<D>& pp, int gather_set, int scatter
 }
 
 template <int D>
+HaloFields PorousMedia<D>::mixture_fields(const GridFields<D>& solid, int set) const {
+  // What MixtureScatter adds (and the solid passes of single-phase bodies before it).
+  HaloFields f;
+  const LiquidFields<D>& l = sets_[set];
+  f.add(solid.mass);
+  for (int d = 0; d < D; ++d) f.add(solid.momentum[d]);
+  for (int d = 0; d < D; ++d) f.add(solid.force[d]);
+  f.add(l.mass);
+  f.add(l.mass_mix);
+  f.add(l.conductance);
+  if (!(drag_per_mass_ > 0)) {
+    f.add(l.drag);
+    f.add(l.volume);
+  }
+  for (int d = 0; d < D; ++d) f.add(l.momentum[d]);
+  for (int d = 0; d < D; ++d) f.add(l.force[d]);
+  f.add(const_cast<Real*>(cells_[set].data()));
+  return f;
+}
+
+template <int D>
+HaloFields PorousMedia<D>::surface_fields(int set) const {
+  // What SurfaceScatter adds at the surface nodes.
+  HaloFields f;
+  const LiquidFields<D>& l = sets_[set];
+  for (int d = 0; d < D; ++d) f.add(l.gradient[d]);
+  for (int d = 0; d < D; ++d) f.add(l.area[d]);
+  f.add(l.pressure);
+  return f;
+}
+
+template <int D>
 void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatter_set) {
   // Every body's P2G of both phases and points per cell first (MixtureScatter), then the
   // surface nodes they make, then every body's surface-only fields (SurfaceScatter).
@@ -365,12 +428,14 @@ void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatte
     for (const PorousBody& b : bodies_)
       parallel_for_warps(exec_, b.body->arrays().n,
                          MixtureScatter<D, Shape>{{pp, pass_params(b, gather_set, scatter_set), b.body->arrays(), sh}});
+    if (halo_.sum) halo_.sum(mixture_fields(pp.scatter, scatter_set));
     parallel_for(exec_, grid_.num_nodes(),
                  SurfaceMask<D>{grid_, cells_[scatter_set].data(), pp.scatter.mass, sets_[scatter_set].mass,
                                 surface_.data()});
     for (const PorousBody& b : bodies_)
       parallel_for_warps(exec_, b.body->arrays().n, SurfaceScatter<D, Shape>{{pp, pass_params(b, gather_set, scatter_set),
                                                                              b.body->arrays(), sh}});
+    if (halo_.sum) halo_.sum(surface_fields(scatter_set));
   };
   switch (shape_) {
     case ShapeKind::linear: go(ShapeLinear{inv_h}); break;
@@ -420,6 +485,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.parity = parity;
   g.mass_eps = mass_eps;
   g.totals = totals_.data();
+  g.owned = halo_.owned;
   g.serial = exec_.device == Device::cpu && exec_.threads == 1;
   g.drag_per_mass = u.drag_per_mass;
   g.rho_l = u.rho_l;
@@ -432,23 +498,26 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   f.control = control;
   f.parity = parity;
   f.totals = totals_.data();
+  f.owned = halo_.owned;
   f.serial = exec_.device == Device::cpu && exec_.threads == 1;
   f.drag_per_mass = u.drag_per_mass;
   f.rho_l = u.rho_l;
   parallel_for(exec_, grid_.num_nodes(), f);
+  // SurfaceInflow cleared the surface's sums where this rank's SurfaceMask selected a node;
+  // on a shared node next to the edge of this rank's grid (where the cells beyond are
+  // missing) a neighbour's mask may have selected it when this rank's did not.
+  if (halo_.clear) halo_.clear(surface_fields(set));
 }
 
 template <int D>
-void PorousMedia<D>::scalars(const Body<D>* body, std::vector<BodySnapshot::Scalar>& out) const {
+void PorousMedia<D>::scalars(const Body<D>* body, const std::vector<Real>& t,
+                             std::vector<BodySnapshot::Scalar>& out) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (bodies_[i].body != body) continue;
     const PoreParams& P = bodies_[i].params;
     out.push_back({"liquidDensity", "kg/m^3", "the pore liquid's density rho_l", P.rho_l});
     out.push_back({"liquidBulkModulus", "Pa", "the pore liquid's bulk modulus K_l", P.bulk_l});
     if (i != 0) return;  // the case's liquid totals go with its first two-phase body
-    std::vector<Real> t(kTotals);
-    mem::synchronize(exec_.device);
-    totals_.copy_to_host(t.data());
     const char* per = D == 2 ? " (per metre of thickness), all two-phase bodies of the case" : ", all two-phase bodies";
     out.push_back({"liquidInflowSurface", "kg",
                    std::string("the pore liquid's net mass that entered through the surfaces since t = 0") + per, t[0]});

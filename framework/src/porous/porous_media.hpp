@@ -12,6 +12,8 @@
 #include "scree/exec/memory.hpp"
 #include "scree/io/dictionary.hpp"
 #include "scree/mpm/body.hpp"
+#include "scree/mpm/halo_box.hpp"
+#include "scree/mpm/owned_nodes.hpp"
 #include "scree/mpm/schemes.hpp"
 #include "scree/output/snapshot.hpp"
 #include "scree/params/spec.hpp"
@@ -29,6 +31,24 @@ class PorousMedia {
   PorousMedia(HydraulicModelFactory models, const GridGeometry<D>& grid, const Exec& exec, const Vec<D>& gravity,
               ShapeKind shape, Real gimp_half_length);
   ~PorousMedia();
+
+  /// The grid of this rank, its liquid's nodal fields allocated anew, all zero (a
+  /// decomposed run's rebalance: after a flush, when no step is pending). The hydraulic
+  /// conditions are then added anew (clear_conditions).
+  void set_grid(const GridGeometry<D>& grid);
+  /// A run decomposed over ranks (case/decomposition.hpp): `sum` adds the partial sums of
+  /// nodal fields on the nodes this rank's grid shares with its neighbours (Solver's halo
+  /// sum), `clear` zeroes fields on those nodes, `owned` the nodes whose inflows this rank
+  /// counts. The liquid's three exchanges: its mass balance per cell before CellPressure,
+  /// both phases' P2G and the cells' filling before SurfaceMask, and the surface's sums
+  /// before the grid update.
+  struct Halo {
+    std::function<void(const HaloFields&)> sum, clear;
+    OwnedNodes<D> owned;
+  };
+  void set_halo(Halo halo) { halo_ = std::move(halo); }
+  /// Forget the hydraulic conditions (add_condition), before they are added anew on a new grid.
+  void clear_conditions();
 
   /// Before a body is made: if its dictionary has a twoPhase block, set the setup's extra
   /// columns (the pore liquid's initial state), its mass factor (1 - n0) and its
@@ -63,7 +83,10 @@ class PorousMedia {
 
   /// Checkpoints (case/checkpoint.hpp): what the liquid carries from step to step beside
   /// the points' extra columns (which the bodies save): the cumulative inflows.
-  std::vector<Real> save_state() const { return totals_.to_host(); }
+  std::vector<Real> save_state() const { return totals(); }
+  /// This rank's share of the cumulative inflows (kTotals values; synchronises with the
+  /// device): a decomposed run sums them over the ranks.
+  std::vector<Real> totals() const;
   /// Throws std::invalid_argument when `s` is not a state of save_state's size.
   void restore_state(const std::vector<Real>& s);
 
@@ -72,8 +95,8 @@ class PorousMedia {
   bool empty() const { return bodies_.empty(); }
   /// The scalars of a two-phase body's snapshot (BodySnapshot::scalars): its liquid's
   /// constants, and on the first two-phase body the case's cumulative liquid inflows
-  /// (synchronises with the device).
-  void scalars(const Body<D>* body, std::vector<BodySnapshot::Scalar>& out) const;
+  /// `totals` (totals(), summed over the ranks of a decomposed run).
+  void scalars(const Body<D>* body, const std::vector<Real>& totals, std::vector<BodySnapshot::Scalar>& out) const;
 
  private:
   struct PorousBody {
@@ -85,6 +108,10 @@ class PorousMedia {
     std::unique_ptr<PermeabilityModel> permeability;
   };
   PorePassParams<D> pass_params(const PorousBody& b, int gather_set, int scatter_set) const;
+  /// The nodal sums of a two-phase scatter into set `set` (`solid`: the solid's fields of it)
+  /// before SurfaceMask, and those of SurfaceScatter: a decomposed run's halo sums.
+  HaloFields mixture_fields(const GridFields<D>& solid, int set) const;
+  HaloFields surface_fields(int set) const;
 
   HydraulicModelFactory models_;
   GridGeometry<D> grid_;
@@ -114,6 +141,7 @@ class PorousMedia {
   std::vector<std::uint32_t> host_open_;         // ... and per node the ones selecting it
   Buffer<std::uint32_t> open_masks_;
   bool has_liquid_walls_ = false;
+  Halo halo_;
 };
 
 }  // namespace scree

@@ -25,10 +25,6 @@ namespace scree {
 
 template <int D>
 void Solver<D>::decompose_case() {
-  if (porous_)
-    throw InputError(case_.bodies().where(),
-                     "a case with two-phase bodies runs on one rank; this run has " + std::to_string(comm_->size()) +
-                         " (run it without mpirun, or with -np 1)");
   // The boxes from the positions generate_particles will make, in the whole grid's lattice,
   // counted alike on every rank (no reduction): one walk over every body per level of the
   // bisection tree.
@@ -178,6 +174,21 @@ void Solver<D>::set_local_grid() {
   }
   halo_peers_dev_.resize(halo_peers_.size(), exec_.device);
   if (!halo_peers_.empty()) halo_peers_dev_.copy_from_host(halo_peers_);
+  if (porous_) {
+    porous_->set_grid(grid_);
+    set_porous_halo();
+  }
+}
+
+template <int D>
+void Solver<D>::set_porous_halo() {
+  typename PorousMedia<D>::Halo h;
+  h.sum = [this](const HaloFields& f) { halo_exchange(f); };
+  h.clear = [this](const HaloFields& f) {
+    for (const HaloPeer<D>& p : halo_peers_) clear_box<D>(exec_, grid_, p, f);
+  };
+  h.owned = owned_nodes();
+  porous_->set_halo(std::move(h));
 }
 
 template <int D>
@@ -236,11 +247,21 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
   HaloFields fields;
   const GridFields<D>& g = sets_[set];
   if (scattered & kScatterMassMomentum) {
-    fields.field[fields.count++] = g.mass;
-    for (int d = 0; d < D; ++d) fields.field[fields.count++] = g.momentum[d];
+    fields.add(g.mass);
+    for (int d = 0; d < D; ++d) fields.add(g.momentum[d]);
   }
   if (scattered & (kScatterForce | kScatterMomentum))  // MUSL re-maps momentum into the force array
-    for (int d = 0; d < D; ++d) fields.field[fields.count++] = g.force[d];
+    for (int d = 0; d < D; ++d) fields.add(g.force[d]);
+  halo_exchange(fields);
+  // The sparse grid update visits only stamped tiles: the shared boxes may hold sums that
+  // only a neighbour's points made.
+  if (fields.count > 0 && policy_.sparse())
+    for (const HaloPeer<D>& p : halo_peers_)
+      stamp_box_tiles<D>(exec_, grid_, p, tile_stamps_[set].data(), tile_stamp(host_ctl_.step[parity()]));
+}
+
+template <int D>
+void Solver<D>::halo_exchange(const HaloFields& fields) {
   const int count = static_cast<int>(halo_peers_.size());
   if (fields.count == 0 || count == 0) return;
   // Every neighbour at once: the boxes shared with each are packed side by side into one
@@ -267,11 +288,26 @@ void Solver<D>::halo_sum(int set, unsigned scattered) {
   mem::synchronize(exec_.device);  // the copy landed before the stream's kernel reads it
   ordered_sum<D>(exec_, grid_, halo_peers_dev_.data(), halo_peers_.data(), count, halo_self_, fields,
                  halo_buffer_.data());
-  // The sparse grid update visits only stamped tiles: the shared boxes may hold sums that
-  // only a neighbour's points made.
-  if (policy_.sparse())
-    for (const HaloPeer<D>& p : halo_peers_)
-      stamp_box_tiles<D>(exec_, grid_, p, tile_stamps_[set].data(), tile_stamp(host_ctl_.step[parity()]));
+}
+
+template <int D>
+OwnedNodes<D> Solver<D>::owned_nodes() const {
+  OwnedNodes<D> o;
+  if (!decomposed()) return o;
+  const NodeRange<D> own = decomp_.owned_local();
+  o.all = false;
+  for (int d = 0; d < D; ++d) {
+    o.lo[d] = own.lo[d];
+    o.hi[d] = own.hi[d];
+  }
+  return o;
+}
+
+template <int D>
+std::vector<Real> Solver<D>::liquid_totals() const {
+  std::vector<Real> t = porous_->totals();
+  if (decomposed()) comm_->sum(t.data(), static_cast<int>(t.size()));
+  return t;
 }
 
 template <int D>
@@ -321,6 +357,9 @@ void Solver<D>::check_health_ranks() {
   for (int r = 0; r < R && who < 0; ++r)
     if (own[static_cast<std::size_t>(r)] != 0) who = r;
   if (who < 0) return;
+  // The diagnosis reads the points after the pending G2P, whose pore-liquid gather sums
+  // over the ranks: every rank applies it first.
+  flush();
   std::string msg = comm_->rank() == who ? diagnosis() : std::string();
   std::uint64_t len = msg.size();
   comm_->broadcast(&len, sizeof len, who);
@@ -604,6 +643,8 @@ void Solver<D>::reduce_checkpoint_clock(Checkpoint& ck) {
 
 template void Solver<2>::set_local_grid();
 template void Solver<3>::set_local_grid();
+template void Solver<2>::set_porous_halo();
+template void Solver<3>::set_porous_halo();
 template void Solver<2>::adopt(Decomposition<2>);
 template void Solver<3>::adopt(Decomposition<3>);
 template void Solver<2>::apply_recut();
@@ -622,6 +663,12 @@ template void Solver<2>::exchange_before_grid(int, unsigned);
 template void Solver<3>::exchange_before_grid(int, unsigned);
 template void Solver<2>::halo_sum(int, unsigned);
 template void Solver<3>::halo_sum(int, unsigned);
+template void Solver<2>::halo_exchange(const HaloFields&);
+template void Solver<3>::halo_exchange(const HaloFields&);
+template OwnedNodes<2> Solver<2>::owned_nodes() const;
+template OwnedNodes<3> Solver<3>::owned_nodes() const;
+template std::vector<Real> Solver<2>::liquid_totals() const;
+template std::vector<Real> Solver<3>::liquid_totals() const;
 template void Solver<2>::agree_chunk(std::int64_t&, double&);
 template void Solver<3>::agree_chunk(std::int64_t&, double&);
 template int Solver<2>::agree_signal();

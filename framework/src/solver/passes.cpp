@@ -50,14 +50,7 @@ void Solver<D>::setup_passes() {
   gp.energy = energy_ledger_;
   gp.energy_walls = energy_ledger_ && (sch.update_scheme == UpdateScheme::MUSL || porous_);
   gp.health = policy_.health_checks;
-  if (decomposed()) {  // the halo's nodes are updated as their owner's are, and counted by it
-    const NodeRange<D> own = decomp_.owned_local();
-    gp.ledger_owned = true;
-    for (int d = 0; d < D; ++d) {
-      gp.ledger_lo[d] = own.lo[d];
-      gp.ledger_hi[d] = own.hi[d];
-    }
-  }
+  gp.ledger_nodes = owned_nodes();  // the halo's nodes are updated as their owner's are, and counted by it
 }
 
 template <int D>

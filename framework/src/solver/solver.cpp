@@ -76,7 +76,8 @@ void Solver<D>::step_two_phase() {
   phase("particles: G2P + stress (+ P2G of single-phase bodies)", [&] {
     for (auto& b : bodies_) b->pass(porous_->holds(b.get()) ? gather_only : pp);
   });
-  phase("both phases: P2G", [&] { porous_->scatter(pp, A, B); });
+  phase("both phases: P2G", [&] { porous_->scatter(pp, A, B); });  // with its halo sums (PorousMedia::set_halo)
+  if (decomposed()) exchange_before_grid(B, kAdvance);  // the clock's reduction
   phase("grid: both phases, implicit drag", [&] {
     const DampingSettings& damping = settings_.schemes.damping;
     porous_->grid_update(B, ctl_.data(), p, mass_eps_, damping.coefficient, damping.start_time, damping.end_time,

@@ -173,8 +173,11 @@ class Solver {
                          const std::vector<std::uint64_t>& totals) const;
   /// Log how the grid was cut and the points each rank holds.
   void report_decomposition();
-  /// Make decomp_'s box this rank's grid: its geometry, its grid sets, the plugins' context.
+  /// Make decomp_'s box this rank's grid: its geometry, its grid sets (the pore liquid's
+  /// too), the plugins' context.
   void set_local_grid();
+  /// The pore liquid's halo sums, through this rank's (PorousMedia::set_halo).
+  void set_porous_halo();
   /// Take up the boxes `d` (a rebalance, a restart's): this rank's grid, the boundary
   /// conditions' nodes on it and the passes' parameters set up anew.
   void adopt(Decomposition<D> d);
@@ -188,6 +191,15 @@ class Solver {
   /// reduction of the clock's inputs over the ranks.
   void exchange_before_grid(int set, unsigned modes);
   void halo_sum(int set, unsigned scattered);
+  /// The halo sum of any nodal fields (grid-sized arrays of this rank's grid, cells
+  /// indexed as nodes included): the pore liquid's sums (PorousMedia::set_halo) as the
+  /// solid's.
+  void halo_exchange(const HaloFields& fields);
+  /// The nodes whose shares this rank adds to the case's sums: its own box's (all on one rank).
+  OwnedNodes<D> owned_nodes() const;
+  /// The pore liquid's cumulative inflows over the ranks (PorousMedia::totals), for a
+  /// snapshot or a checkpoint.
+  std::vector<Real> liquid_totals() const;
   void reduce_clock();
   /// One agreement per chunk: the root's length n (its output schedule and wall clock)
   /// and target, no longer than the points may move before they migrate again.

@@ -53,9 +53,10 @@ void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
     // builds the fields and writes. The run stops only for the flush's pass.
     flush();
     snap = std::make_shared<Snapshot>(snapshot_header());
+    const std::vector<Real> liquid = porous_ ? liquid_totals() : std::vector<Real>{};
     for (auto& b : bodies_) {
       std::vector<BodySnapshot::Scalar> scalars;  // taken now, at this time
-      if (porous_) porous_->scalars(b.get(), scalars);
+      if (porous_) porous_->scalars(b.get(), liquid, scalars);
       finish.push_back([fill = b->snapshot_async(copy_stream_), scalars](BodySnapshot& out) {
         fill(out);
         out.scalars = scalars;
@@ -170,7 +171,7 @@ void Solver<D>::write_checkpoint(const std::vector<double>& schedule) {
     b.columns = bodies_[i]->bytes_per_particle() / sizeof(Real);
     ck->bodies.push_back(std::move(b));
   }
-  if (porous_) ck->liquid = porous_->save_state();
+  if (porous_) ck->liquid = liquid_totals();  // over the ranks: the root's share on a restart
   checkpoint_time_ = ck->time;
   const std::filesystem::path file = checkpoint_file(case_.dir(), ck->time), dir = case_.dir();
   if (decomposed()) {
@@ -242,10 +243,11 @@ Snapshot Solver<D>::local_snapshot(bool with_grid) {
   flush();
   mem::synchronize(exec_.device);
   Snapshot s = snapshot_header();
+  const std::vector<Real> liquid = porous_ ? liquid_totals() : std::vector<Real>{};  // over the ranks
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const std::string material = s.bodies[i].material;
     bodies_[i]->snapshot(s.bodies[i]);
-    if (porous_) porous_->scalars(bodies_[i].get(), s.bodies[i].scalars);
+    if (porous_) porous_->scalars(bodies_[i].get(), liquid, s.bodies[i].scalars);
     s.bodies[i].material = material;
   }
   if (with_grid) {

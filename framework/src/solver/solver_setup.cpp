@@ -151,7 +151,11 @@ void Solver<D>::restore(const Checkpoint& ck) {
   if (static_cast<bool>(porous_) != !ck.liquid.empty())
     throw mismatch(porous_ ? "it has no pore liquid, the case has two-phase bodies"
                            : "it has a pore liquid, the case no two-phase body");
-  if (porous_) porous_->restore_state(ck.liquid);
+  if (porous_) {
+    std::vector<Real> liquid = ck.liquid;  // the checkpoint's sums over the ranks stay with the root's share
+    if (decomposed() && !root()) std::fill(liquid.begin(), liquid.end(), Real(0));
+    porous_->restore_state(liquid);
+  }
 
   // The clock as it was, with the case's settings of now: a restart may change deltaT,
   // maxCo, maxDeltaT and the health limits (and endTime, which the loop aims at).
@@ -251,6 +255,8 @@ void Solver<D>::setup_bodies() {
   std::int64_t next_id = 0;
   int id = 0;
   Real min_mass = 1e300;
+  body_totals_.clear();
+  if (decomposed()) decompose_case();  // this rank's box first: each rank makes only its points
   for (const Entry* e : case_.body_entries()) {
     if (!e->dict().has("twoPhase")) continue;
     // A two-phase body (porous/two_phase.hpp): the case runs the two-phase step, USL only.
@@ -269,8 +275,7 @@ void Solver<D>::setup_bodies() {
     }
     break;
   }
-  body_totals_.clear();
-  if (decomposed()) decompose_case();  // this rank's box first: each rank makes only its points
+  if (porous_ && decomposed()) set_porous_halo();
   // The overburden of a geostatic stress from the material above (case/overburden.hpp):
   // every body's columns, each with its density (a two-phase body's mixture's), over the
   // whole lattice, so every rank holds the same columns. Gravity off one axis: none, and
@@ -426,6 +431,7 @@ template <int D>
 void Solver<D>::setup_boundaries(bool warn) {
   boundaries_.clear();
   node_laws_.clear();
+  if (porous_) porous_->clear_conditions();
   WallSet set(NodeLattice::of(ctx_));
   const Registry& reg = rt_.registry();
   for (const Entry* e : case_.boundary_entries()) {

@@ -24,6 +24,7 @@
 
 #include "scree/exec/parallel.hpp"
 #include "scree/mpm/grid.hpp"
+#include "scree/mpm/owned_nodes.hpp"
 #include "scree/mpm/wall_law.hpp"
 
 namespace scree {
@@ -61,13 +62,9 @@ struct GridUpdateParams {
   /// With `energy`: whether the walls' share is measured here (MUSL) or on the points
   /// (USF, USL: PassPolicy::wall_ledger).
   bool energy_walls = false;
-  /// With `energy` in a decomposed run (case/decomposition.hpp): the ledger counts only the
-  /// nodes this rank owns, those with ledger_lo[d] <= index < ledger_hi[d] along every axis
-  /// (its halo nodes hold the same sums as their owner's and are updated alike). false:
-  /// every node.
-  bool ledger_owned = false;
-  int ledger_lo[D] = {};
-  int ledger_hi[D] = {};
+  /// With `energy`: the nodes the ledger counts (a decomposed run: those this rank owns; its
+  /// halo nodes hold the same sums as their owner's and are updated alike).
+  OwnedNodes<D> ledger_nodes;
   /// Probe the nodal velocity and force for non-finite values (report_nonfinite_node):
   /// KernelPolicy::health_checks; off only to measure the probe's cost.
   bool health = true;

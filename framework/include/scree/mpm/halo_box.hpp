@@ -10,17 +10,24 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 
 #include "scree/exec/parallel.hpp"
 #include "scree/mpm/grid.hpp"
 
 namespace scree {
 
-/// Up to the 1 + 2 D fields a pass scatters (mass, momentum, force).
+/// The nodal fields one halo sum adds (grid-sized arrays): the 1 + 2 D a solid pass
+/// scatters (mass, momentum, force), or the both phases' sums of a two-phase scatter (at
+/// most 8 + 4 D, porous/porous_media.hpp).
 struct HaloFields {
-  static constexpr int kMax = 7;
+  static constexpr int kMax = 20;
   Real* field[kMax];
   int count = 0;
+  void add(Real* f) {
+    if (count == kMax) throw std::logic_error("HaloFields: more than kMax fields");
+    field[count++] = f;
+  }
 };
 
 /// A box of this rank's nodes shared with one neighbour (lo <= i < hi along each axis, local
@@ -73,6 +80,12 @@ SCREE_API void pack_box(const Exec& ex, const GridGeometry<D>& g, const HaloPeer
 template <int D>
 SCREE_API void ordered_sum(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>* peers,
                            const HaloPeer<D>* host_peers, int count, int self, const HaloFields& f, const Real* buf);
+
+/// Every field <- 0 on the peer's box: sums added only where a rank's own test selects a
+/// node (the pore liquid's surface sums, which each rank clears where it tested them), kept
+/// from surviving on nodes of the box its test did not select.
+template <int D>
+SCREE_API void clear_box(const Exec& ex, const GridGeometry<D>& g, const HaloPeer<D>& peer, const HaloFields& f);
 
 /// Stamp every tile (Tiles<D>) that holds a node of the peer's box with `stamp`: the sparse
 /// grid update then visits the sums the neighbour's points added there.

@@ -8,6 +8,7 @@
 #include "scree/core/config.hpp"
 #include "scree/exec/parallel.hpp"
 #include "scree/mpm/grid.hpp"
+#include "scree/mpm/owned_nodes.hpp"
 #include "scree/mpm/schemes.hpp"
 #include "scree/mpm/wall_law.hpp"
 #include "scree/porous/free_surface.hpp"
@@ -214,13 +215,14 @@ struct SurfaceInflow {
   const StepControl* control = nullptr;
   int parity = 0;
   Real* totals = nullptr;
+  OwnedNodes<D> owned;  ///< the nodes whose inflow this rank counts
   bool serial = false;
   Real drag_per_mass = 0, rho_l = 0;  ///< as TwoPhaseGridUpdate's
 
   SCREE_HD void operator()(Index I) const {
     if (!surface[I]) return;
     const Real ml = liquid.mass[I], vol = nodal_volume<D>(liquid, I, drag_per_mass, rho_l);
-    if (ml > 0 && vol > 0 && solid.mass[I] > 0) {
+    if (ml > 0 && vol > 0 && solid.mass[I] > 0 && owned.holds(grid, I)) {
       const Real nS = liquid.mass_mix[I] / ml;
       Real qa = 0;
       for (int d = 0; d < D; ++d)

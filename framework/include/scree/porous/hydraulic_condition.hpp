@@ -26,6 +26,7 @@
 #include "scree/core/constants.hpp"
 #include "scree/exec/parallel.hpp"
 #include "scree/mpm/grid.hpp"
+#include "scree/mpm/owned_nodes.hpp"
 #include "scree/mpm/wall_law.hpp"
 #include "scree/porous/liquid_fields.hpp"
 #include "scree/time/step_control.hpp"
@@ -71,6 +72,8 @@ struct TwoPhaseNodes {
   /// falls onto the node's share of the surface a_I; [3] of it, what the surface did not take
   /// (ponded or run off): offered less the node's inflow, as SurfaceInflow counts it.
   Real* totals = nullptr;
+  /// The nodes whose shares the totals count (a decomposed run: this rank's own).
+  OwnedNodes<D> owned;
   bool serial = false;
   Real drag_per_mass = 0, rho_l = 0;  ///< as TwoPhaseGridUpdate's (nodal_volume)
 };
