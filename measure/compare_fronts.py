@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compare the runOut CSVs of three runs of one case: A and B (the same configuration run
+"""Compare the function objects' CSVs (run-out, water balance, probes, ...) of three runs of one case: A and B (the same configuration run
 twice: their difference is the run-to-run spread) and C (another configuration, e.g. on
 several ranks). For each function object and column, prints the largest |B - A| and
 |C - A| over the rows the runs share, and the values of the last shared row.
@@ -11,10 +11,17 @@ import os
 import sys
 
 
+def number(x):
+    try:
+        return float(x)
+    except ValueError:  # a column of names (a body's): compared as equal
+        return 0.0
+
+
 def read(path):
     with open(path) as f:
         rows = list(csv.reader(f))
-    return rows[0], {row[0]: [float(x) for x in row[1:]] for row in rows[1:] if row}
+    return rows[0], {row[0]: [number(x) for x in row[1:]] for row in rows[1:] if row}
 
 
 def main():
@@ -23,10 +30,10 @@ def main():
     if not os.path.isdir(base):
         print("no postProcessing in", a)
         return 1
-    for fo in sorted(os.listdir(base)):
-        path = os.path.join(fo, "runOut.csv")
-        if not os.path.exists(os.path.join(base, path)):
-            continue
+    paths = [os.path.join(fo, f) for fo in sorted(os.listdir(base)) if os.path.isdir(os.path.join(base, fo))
+             for f in sorted(os.listdir(os.path.join(base, fo))) if f.endswith(".csv")]
+    for path in paths:
+        fo = path
         runs = []
         for r in (a, b, c):
             p = os.path.join(r, "postProcessing", path)
@@ -35,8 +42,8 @@ def main():
             print(f"{fo}: missing in", [r for r, x in zip((a, b, c), runs) if x is None])
             continue
         header = runs[0][0]
-        times = sorted(set(runs[0][1]) & set(runs[1][1]) & set(runs[2][1]), key=float)
-        print(f"{fo}/runOut.csv: {len(times)} rows shared, last t = {times[-1] if times else '-'} s")
+        times = sorted(set(runs[0][1]) & set(runs[1][1]) & set(runs[2][1]), key=lambda t: (number(t), t))
+        print(f"{path}: {len(times)} rows shared, last t = {times[-1] if times else '-'} s")
         print(f"  {'column':32s} {'max|B-A|':>12s} {'max|C-A|':>12s}   last row A / B / C")
         for k, name in enumerate(header[1:]):
             dba = max(abs(runs[1][1][t][k] - runs[0][1][t][k]) for t in times) if times else 0

@@ -8,7 +8,7 @@
 # The three runs start together: the one-GPU runs on GPUs 0 and N-1, the decomposed one on
 # GPUs 0..N-1 (one rank each), so they share GPUs and their wall times are not performance
 # figures. END_TIME replaces the case's endTime. Each run's postProcessing/ and log land in
-# OUT_DIR/<run>/; OUT_DIR/fronts.txt compares every runOut column of every function object
+# OUT_DIR/<run>/; OUT_DIR/fronts.txt compares every column of every function object's CSVs
 # at every row: the largest difference between the one-GPU runs and between the decomposed
 # run and the first one-GPU run (measure/compare_fronts.py).
 set -euo pipefail
