@@ -111,7 +111,7 @@ const CoreSpecs& CoreSpecs::get() {
         .choices({"USF", "USL", "MUSL"})
         .default_value("USF");
     m->word("shapeFunction", "linear: the paper's tent functions; gimp: uGIMP; bspline2: quadratic B-spline "
-                             "(the last two remove cell-crossing noise)")
+                             "(the last two remove cell-crossing noise; a case with two-phase bodies: linear or gimp)")
         .choices({"linear", "gimp", "bspline2"})
         .default_value("linear");
     m->word("transfer", "particle velocity update: FLIP (blended with PIC by picRate or picFraction) or APIC")
