@@ -145,12 +145,25 @@ Snapshot run_to(const fs::path& dir, std::shared_ptr<Comm> comm, double t, RunSt
   return sim.snapshot();
 }
 
-/// The case run to its endTime over every rank, with its writers, function objects and checkpoints.
-Snapshot run_with_output(const fs::path& dir) {
+/// The case run to its endTime over every rank, with its writers, function objects and
+/// checkpoints; from the checkpoint `restart` when given.
+Snapshot run_with_output(const fs::path& dir, const fs::path& restart = {}) {
   Case c = Case::read(dir, runtime());
-  Simulation sim(c, runtime(), opts(world(), true));
+  RunOptions o = opts(world(), true);
+  o.restart = restart;
+  Simulation sim(c, runtime(), o);
   sim.run();
   return sim.snapshot();
+}
+
+/// The same points with the same values, bit for bit: ids, positions and every field.
+void expect_bitwise_same(const BodySnapshot& a, const BodySnapshot& b) {
+  ASSERT_EQ(a.id, b.id);
+  EXPECT_EQ(0, std::memcmp(a.position.data(), b.position.data(), a.position.size() * sizeof(Real)));
+  for (const FieldData& f : a.fields) {
+    const FieldData& g = field(b, f.name.c_str());
+    EXPECT_EQ(0, std::memcmp(f.values.data(), g.values.data(), f.values.size() * sizeof(Real))) << f.name;
+  }
 }
 
 /// Point p's row of a snapshot field, found through the ids.
@@ -495,25 +508,12 @@ TEST(DecomposedTwoPhaseRestart, EndsInTheUninterruptedRunsState) {
               "checkpointKeep 10; writers { particles { type vtk; } }";
   SharedCase c("restartTwoPhase");
   write_case(c, s);
-  auto run = [&](const fs::path& restart) {
-    Case cs = Case::read(c.dir(), runtime());
-    RunOptions o = opts(world(), true);
-    o.restart = restart;
-    Simulation sim(cs, runtime(), o);
-    sim.run();
-    return sim.snapshot();
-  };
-  const Snapshot whole = run({});
+  const Snapshot whole = run_with_output(c.dir());
   world_comm().barrier();
-  const Snapshot again = run(checkpoint_file(c.dir(), 0.1));
+  const Snapshot again = run_with_output(c.dir(), checkpoint_file(c.dir(), 0.1));
   if (!is_root()) return;
   const BodySnapshot &a = whole.bodies[0], &b = again.bodies[0];
-  ASSERT_EQ(a.id, b.id);
-  EXPECT_EQ(0, std::memcmp(a.position.data(), b.position.data(), a.position.size() * sizeof(Real)));
-  for (const FieldData& f : a.fields) {
-    const FieldData& g = field(b, f.name.c_str());
-    EXPECT_EQ(0, std::memcmp(f.values.data(), g.values.data(), f.values.size() * sizeof(Real))) << f.name;
-  }
+  expect_bitwise_same(a, b);
   for (const char* name : {"liquidInflowSurface", "liquidRainOffered", "liquidRainNotTaken"}) {
     const auto *x = a.scalar(name), *y = b.scalar(name);
     ASSERT_TRUE(x && y) << name;
@@ -616,15 +616,7 @@ TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
       "functions { front { type runOut; } }";
   SharedCase c("restart");
   write_case(c, s);
-  auto run = [&](const fs::path& restart) {
-    Case cs = Case::read(c.dir(), runtime());
-    RunOptions o = opts(world(), true);
-    o.restart = restart;
-    Simulation sim(cs, runtime(), o);
-    sim.run();
-    return sim.snapshot();
-  };
-  const Snapshot whole = run({});
+  const Snapshot whole = run_with_output(c.dir());
   std::string front_whole;
   if (is_root()) {
     std::ifstream in(c.dir() / "postProcessing/front/runOut.csv");
@@ -635,16 +627,10 @@ TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
     EXPECT_FALSE(front_whole.empty());
   }
   world_comm().barrier();
-  const Snapshot again = run(checkpoint_file(c.dir(), 0.1));
+  const Snapshot again = run_with_output(c.dir(), checkpoint_file(c.dir(), 0.1));
   if (!is_root()) return;
   ASSERT_EQ(whole.bodies.size(), again.bodies.size());
-  const BodySnapshot &a = whole.bodies[0], &b = again.bodies[0];
-  ASSERT_EQ(a.id, b.id);
-  EXPECT_EQ(0, std::memcmp(a.position.data(), b.position.data(), a.position.size() * sizeof(Real)));
-  for (const FieldData& f : a.fields) {
-    const FieldData& g = field(b, f.name.c_str());
-    EXPECT_EQ(0, std::memcmp(f.values.data(), g.values.data(), f.values.size() * sizeof(Real))) << f.name;
-  }
+  expect_bitwise_same(whole.bodies[0], again.bodies[0]);
   std::ifstream in(c.dir() / "postProcessing/front/runOut.csv");
   std::stringstream ss;
   ss << in.rdbuf();
