@@ -227,6 +227,32 @@ void expect_same_points(const BodySnapshot& b, const BodySnapshot& ref) {
   EXPECT_EQ(total, total_ref);
 }
 
+/// A body of a decomposed run against the same body run by one process: every point once
+/// with its mass (expect_same_points), then the largest differences of the positions (of
+/// the body's extent along x) and of the velocities and stresses (of their largest).
+struct Differences {
+  double x = 0, v = 0, s = 0;
+  double lo = INFINITY, hi = -INFINITY;  ///< the one-process body's extent along x
+};
+Differences compare_bodies(const BodySnapshot& a, const BodySnapshot& b) {
+  expect_same_points(a, b);
+  Differences d;
+  for (Index p = 0; p < b.n; ++p) {
+    d.lo = std::min(d.lo, b.position[3 * static_cast<std::size_t>(p)]);
+    d.hi = std::max(d.hi, b.position[3 * static_cast<std::size_t>(p)]);
+  }
+  d.x = position_difference(a, b) / (d.hi - d.lo);
+  d.v = difference(a, b, "velocity");
+  d.s = difference(a, b, "stress");
+  return d;
+}
+
+void expect_within(const Differences& d, const Variant& s) {
+  EXPECT_LT(d.x, s.tol_x);
+  EXPECT_LT(d.v, s.tol_v);
+  EXPECT_LT(d.s, s.tol_s);
+}
+
 const char* kElastic = "m { type linearElastic; E 2e5; nu 0.3; rho 1000; }";
 
 std::vector<Variant> setups() {
@@ -340,27 +366,16 @@ TEST_P(Decomposed, FollowsTheUndecomposedRunAndKeepsEveryPoint) {
   const Snapshot one = run_to(c.dir(), self(), t_end);
   ASSERT_EQ(dec.bodies.size(), one.bodies.size());
   for (std::size_t k = 0; k < one.bodies.size(); ++k) {
-    const BodySnapshot &a = dec.bodies[k], &b = one.bodies[k];
-    expect_same_points(a, b);
-    // the block's extent: the scale of the positions
-    double lo = INFINITY, hi = -INFINITY;
-    for (Index p = 0; p < b.n; ++p) {
-      lo = std::min(lo, b.position[3 * static_cast<std::size_t>(p)]);
-      hi = std::max(hi, b.position[3 * static_cast<std::size_t>(p)]);
-    }
+    const Differences d = compare_bodies(dec.bodies[k], one.bodies[k]);
     if (s.name.rfind("sliding", 0) == 0) {  // every point crossed the cuts, which start inside the block
-      EXPECT_GT(lo, 0.4) << "the block did not slide past where it started";
+      EXPECT_GT(d.lo, 0.4) << "the block did not slide past where it started";
       // and the mass left its first ranks: the cuts moved with it
       EXPECT_GT(st.rebalances, 0) << "no rebalance";
     }
-    const double dx = position_difference(a, b) / (hi - lo);
-    const double dv = difference(a, b, "velocity"), ds = difference(a, b, "stress");
     std::cout << "[ " << s.name << " ] " << world_comm().size() << " ranks (" << st.rebalances
-              << " rebalances) against one: position " << dx
-              << " of the block's length, velocity " << dv << ", stress " << ds << " of the largest\n";
-    EXPECT_LT(dx, s.tol_x);
-    EXPECT_LT(dv, s.tol_v);
-    EXPECT_LT(ds, s.tol_s);
+              << " rebalances) against one: position " << d.x
+              << " of the block's length, velocity " << d.v << ", stress " << d.s << " of the largest\n";
+    expect_within(d, s);
   }
 }
 
@@ -455,19 +470,10 @@ TEST_P(DecomposedTwoPhase, FollowsTheUndecomposedRunAndCountsTheWaterOnce) {
   ASSERT_EQ(dec.bodies.size(), one.bodies.size());
   for (std::size_t k = 0; k < one.bodies.size(); ++k) {
     const BodySnapshot &a = dec.bodies[k], &b = one.bodies[k];
-    expect_same_points(a, b);
-    double lo = INFINITY, hi = -INFINITY;
-    for (Index p = 0; p < b.n; ++p) {
-      lo = std::min(lo, b.position[3 * static_cast<std::size_t>(p)]);
-      hi = std::max(hi, b.position[3 * static_cast<std::size_t>(p)]);
-    }
-    const double dx = position_difference(a, b) / (hi - lo);
-    const double dv = difference(a, b, "velocity"), ds = difference(a, b, "stress");
+    const Differences d = compare_bodies(a, b);
     std::cout << "[ " << s.name << " ] body " << a.name << ", " << world_comm().size()
-              << " ranks against one: position " << dx << ", velocity " << dv << ", stress " << ds;
-    EXPECT_LT(dx, s.tol_x);
-    EXPECT_LT(dv, s.tol_v);
-    EXPECT_LT(ds, s.tol_s);
+              << " ranks against one: position " << d.x << ", velocity " << d.v << ", stress " << d.s;
+    expect_within(d, s);
     if (!b.find("porePressure")) {
       std::cout << "\n";
       continue;
