@@ -731,13 +731,13 @@ TEST(DecomposedMemory, ARankWhoseSlabDoesNotFitIsRefusedBeforeAllocation) {
   EXPECT_TRUE(fits);
 }
 
-TEST(DecomposedFailure, StopsEveryRankWithOneDiagnosis) {
-  // A fixed step four times the stable one: the Courant check (stopCo), or the non-finite
-  // values that follow, stop the run. Every rank throws the same RunFailure, which names
-  // the rank that diagnosed it (no rank waits for another that has stopped).
-  Variant s = setups()[3];
-  s.control = "endTime 0.1; deltaT 2e-3; writeInterval 1;";
-  SharedCase c("failure");
+// A fixed step four times the stable one: the Courant check (stopCo), or the non-finite
+// values that follow, stop the run. Every rank throws the same RunFailure, which names the
+// rank that diagnosed it (no rank waits for another that has stopped: the diagnosis of one
+// rank takes no collective step, the pore liquid's sums over the ranks included).
+void expect_one_diagnosis(Variant s, const std::string& tag, const std::string& control) {
+  s.control = control;
+  SharedCase c(tag);
   write_case(c, s);
   Case cs = Case::read(c.dir(), runtime());
   Simulation sim(cs, runtime(), opts(world()));
@@ -749,6 +749,14 @@ TEST(DecomposedFailure, StopsEveryRankWithOneDiagnosis) {
   }
   EXPECT_EQ(what.rfind("rank ", 0), 0u) << what;
   EXPECT_NE(what.find(" of " + std::to_string(world_comm().size()) + ": "), std::string::npos) << what;
+}
+
+TEST(DecomposedFailure, StopsEveryRankWithOneDiagnosis) {
+  expect_one_diagnosis(setups()[3], "failure", "endTime 0.1; deltaT 2e-3; writeInterval 1;");
+}
+
+TEST(DecomposedFailure, StopsEveryRankOfATwoPhaseRunWithOneDiagnosis) {
+  expect_one_diagnosis(two_phase_setups()[0].v, "failureTwoPhase", "endTime 0.1; deltaT 2e-3; writeInterval 1;");
 }
 
 }  // namespace

@@ -51,7 +51,8 @@ std::string where(const Dictionary& d, const char* key) {
 template <int D>
 std::string Solver<D>::diagnosis() {
   const StepControl c = host_ctl_;
-  const Snapshot s = local_snapshot(false);  // the state the clock stopped in (a host copy of this rank's part)
+  // The state the clock stopped in (a host copy of this rank's part; no other rank takes part).
+  const Snapshot s = local_snapshot(false, true);
   std::ostringstream m;
   m.precision(6);
   m << "the run went wrong and was stopped in step " << c.failed_step << " (t = " << time() << " s):";

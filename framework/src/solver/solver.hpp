@@ -83,8 +83,10 @@ class Solver {
   void run_steps(std::int64_t n);
   /// Every body (and the grid): a decomposed run's whole case, on its root rank (collective).
   Snapshot snapshot(bool with_grid);
-  /// This rank's part of it.
-  Snapshot local_snapshot(bool with_grid);
+  /// This rank's part of it. The case's sums over the ranks (the liquid's inflow totals)
+  /// are summed with the other ranks (collective) unless `alone` (a diagnosis of one rank:
+  /// this rank's share).
+  Snapshot local_snapshot(bool with_grid, bool alone = false);
   void set_velocities(std::size_t body, const std::vector<Real>& v);
   double time() const { return host_ctl_.t[parity()]; }
   std::int64_t steps() const { return step_; }

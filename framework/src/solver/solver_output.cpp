@@ -239,11 +239,12 @@ Snapshot Solver<D>::snapshot(bool with_grid) {
 }
 
 template <int D>
-Snapshot Solver<D>::local_snapshot(bool with_grid) {
+Snapshot Solver<D>::local_snapshot(bool with_grid, bool alone) {
   flush();
   mem::synchronize(exec_.device);
   Snapshot s = snapshot_header();
-  const std::vector<Real> liquid = porous_ ? liquid_totals() : std::vector<Real>{};  // over the ranks
+  const std::vector<Real> liquid =
+      !porous_ ? std::vector<Real>{} : (alone ? porous_->totals() : liquid_totals());  // over the ranks
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const std::string material = s.bodies[i].material;
     bodies_[i]->snapshot(s.bodies[i]);
@@ -310,8 +311,8 @@ template void Solver<2>::finish_output(CheckpointWhen);
 template void Solver<3>::finish_output(CheckpointWhen);
 template Snapshot Solver<2>::snapshot_header() const;
 template Snapshot Solver<3>::snapshot_header() const;
-template Snapshot Solver<2>::local_snapshot(bool);
-template Snapshot Solver<3>::local_snapshot(bool);
+template Snapshot Solver<2>::local_snapshot(bool, bool);
+template Snapshot Solver<3>::local_snapshot(bool, bool);
 template Snapshot Solver<2>::snapshot(bool);
 template Snapshot Solver<3>::snapshot(bool);
 
