@@ -164,6 +164,16 @@ std::string Solver<D>::diagnosis() {
         << " s exceeds the stable step h / (c + |v|) = " << settings_.control.time.delta_t / c.failed_co
         << " s: reduce it, or use adjustTimeStep yes";
   }
+  // Two-phase bodies with linear shape functions: where points linger just past a cell face,
+  // the nodes of the cell they entered carry a sliver of the liquid's mass but the whole
+  // gradient of its pressure, and the liquid's stiff storage makes that grow within a few
+  // steps (a saturated mass that slides or falls). GIMP's overlapping domains have no such
+  // nodes.
+  if (porous_ && settings_.schemes.shape == ShapeKind::linear &&
+      (c.failure & (kFailNonFinite | kFailLost | kFailStalled)))
+    m << "\n  the case has two-phase bodies and linear shape functions (" << where(case_.schemes(), "shapeFunction")
+      << "): where their points move across cells the pore liquid is unstable at the nodes of the cells they have "
+         "just entered; shapeFunction gimp keeps it stable";
   return m.str();
 }
 
