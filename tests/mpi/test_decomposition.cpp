@@ -423,9 +423,9 @@ std::vector<TwoPhaseVariant> two_phase_setups() {
       // A saturated body at rest beside a single-phase block that slides at 3 m/s across
       // the cuts over a slip floor: the cuts move with the block (rebalances), and every
       // rank's grid, the pore liquid's included, is set up anew; linear shape functions.
-      // The bounds are the sliding block's: with the saturated body single-phase too it
-      // differs as much (6.1e-9, 5.7e-7, 2.6e-7 on 2 ranks; linear shapes, above), the
-      // saturated body by 1e-15.
+      // The bounds are the sliding block's: with the saturated body made single-phase the
+      // block differs as much (linear shapes amplify round-off at cell crossings, above);
+      // the saturated body's fields agree to round-off.
       {{"restingSaturatedBesideSlidingBlock", "endTime 0.15; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; writeInterval 1;",
         "updateScheme USL;", "dimension 2; lower (0 0); upper (1.2 0.3); cellSize 0.02;",
         "soil { type linearElastic; E 1e6; nu 0.3; rho 2000; }",
