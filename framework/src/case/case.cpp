@@ -143,7 +143,9 @@ const CoreSpecs& CoreSpecs::get() {
                                "kernels never sort)")
         .default_value(200.0)
         .non_negative();
-    m->scalar("massTolerance", "-", "nodes lighter than this fraction of the lightest particle are not accelerated")
+    m->scalar("massTolerance", "-", "nodes lighter than this fraction of the lightest particle are not accelerated (0.1 keeps "
+                                     "USL with linear shape functions from blowing up where points cross cells, at "
+                                     "the price of those nodes' share of the forces; gimp is the cure)")
         .default_value(1e-6)
         .range(0, 1);
     m->scalar("maxVolumeRatio", "-",

@@ -164,16 +164,25 @@ std::string Solver<D>::diagnosis() {
         << " s exceeds the stable step h / (c + |v|) = " << settings_.control.time.delta_t / c.failed_co
         << " s: reduce it, or use adjustTimeStep yes";
   }
-  // Two-phase bodies with linear shape functions: where points linger just past a cell face,
-  // the nodes of the cell they entered carry a sliver of the liquid's mass but the whole
-  // gradient of its pressure, and the liquid's stiff storage makes that grow within a few
-  // steps (a saturated mass that slides or falls). GIMP's overlapping domains have no such
-  // nodes.
-  if (porous_ && settings_.schemes.shape == ShapeKind::linear &&
-      (c.failure & (kFailNonFinite | kFailLost | kFailStalled)))
-    m << "\n  the case has two-phase bodies and linear shape functions (" << where(case_.schemes(), "shapeFunction")
-      << "): where their points move across cells the pore liquid is unstable at the nodes of the cells they have "
-         "just entered; shapeFunction gimp keeps it stable";
+  // USL with linear shape functions: where points linger just past a cell face, the nodes of
+  // the cell they entered carry a sliver of a point's mass but a whole share of its force
+  // (the stress's or the pore pressure's gradient times V grad N), so the updated nodal
+  // velocity, from which USL takes the strain rate, grows without bound there (a block that
+  // slides or falls; the liquid's stiff storage makes it fast). GIMP's overlapping domains
+  // have no such nodes; USF and MUSL take the strain rate from mass-weighted velocities; a
+  // mass tolerance of a tenth of a point leaves them unaccelerated, and so drops their share
+  // of the forces (many of them along a wall inclined to the grid).
+  const SchemeSettings& sch = settings_.schemes;
+  if (sch.update_scheme == UpdateScheme::USL && sch.shape == ShapeKind::linear && sch.mass_tolerance < 0.1 &&
+      (c.failure & (kFailNonFinite | kFailLost | kFailStalled))) {
+    m << "\n  the case runs USL with linear shape functions (" << where(case_.schemes(), "shapeFunction")
+      << "): where points move across cells, the nodes of the cells they have just entered carry a sliver of their "
+         "mass and are unstable" << (porous_ ? " (two-phase bodies: their pore liquid)" : "")
+      << "; shapeFunction gimp keeps it stable" << (porous_ ? "" : ", as does updateScheme USF or MUSL")
+      << "; massTolerance 0.1 (" << where(case_.schemes(), "massTolerance")
+      << ": nodes lighter than a tenth of a point are not accelerated) keeps it from blowing up, at the price of "
+         "those nodes' share of the forces";
+  }
   return m.str();
 }
 
