@@ -8,18 +8,35 @@
 namespace scree {
 namespace {
 
+/// A thread's shares of the energy ledger (GridUpdateParams::energy) over the nodes it
+/// updated: added to StepControl::energy once per warp (the sparse CUDA kernel) or once per
+/// loop (the CPU), not once per node: every node adds to the same few addresses, and atomics
+/// on one address serialise (the local damping books every node with mass).
+struct LedgerShares {
+  Real damping = 0, walls = 0;
+};
+
 template <int D>
 struct GridUpdate {
   GridUpdateParams<D> p;
 
-  /// The dense update: every node.
+  /// The dense update: every node (tests, the reference kernels): one atomic per share.
   SCREE_HD void operator()(Index I) const {
     if ((p.modes & kAdvance) && I == 0) advance_clock(p.control, p.parity);
-    node(I, true, (p.modes & kZeroOther) != 0);
+    LedgerShares e;
+    node(I, true, (p.modes & kZeroOther) != 0, e);
+    book(e);
   }
 
-  /// The update of node I: `update` the set cur, `clear` the set other.
-  SCREE_INLINE void node(Index I, bool update, bool clear) const {
+  /// Add shares to the ledger.
+  SCREE_INLINE void book(const LedgerShares& e) const {
+    if (e.damping != 0) atomic_add(p.control->energy + kEnergyDamping, e.damping, false);
+    if (e.walls != 0) atomic_add(p.control->energy + kEnergyWalls, e.walls, false);
+  }
+
+  /// The update of node I: `update` the set cur, `clear` the set other; its ledger shares
+  /// added to e.
+  SCREE_INLINE void node(Index I, bool update, bool clear, LedgerShares& e) const {
     if (clear) {
       // Sparse: every field, so that the set is zero outside its stamped tiles; dense:
       // what the next P2G adds to (velocities are overwritten before they are read).
@@ -60,7 +77,7 @@ struct GridUpdate {
         const bool count = p.energy_walls && (p.modes & kNormalize);
         const Real e0 = count ? kinetic(m, v) : Real(0);
         apply_walls<D>(p.walls, mask, v, x, t);
-        if (count) ledger(I, kEnergyWalls, e0 - kinetic(m, v));
+        if (count) share(I, e.walls, e0 - kinetic(m, v));
       }
       for (int d = 0; d < D; ++d) g.velocity[d][I] = v[d];
     }
@@ -93,8 +110,8 @@ struct GridUpdate {
           w_damp += m * (v_damped[d] - v_free[d]) * vm;
           w_wall += m * (v[d] - v_damped[d]) * vm;
         }
-        ledger(I, kEnergyDamping, -w_damp);
-        if (p.energy_walls) ledger(I, kEnergyWalls, -w_wall);
+        share(I, e.damping, -w_damp);
+        if (p.energy_walls) share(I, e.walls, -w_wall);
       }
       for (int d = 0; d < D; ++d) g.velocity_new[d][I] = v[d];
     }
@@ -108,16 +125,15 @@ struct GridUpdate {
     for (int d = 0; d < D; ++d) v2 += v[d] * v[d];
     return Real(0.5) * m * v2;
   }
-  /// Add node I's share to a term of the energy ledger (GridUpdateParams::energy); zeros,
-  /// and the shares of nodes another rank owns (ledger_nodes), are not added.
-  SCREE_INLINE void ledger(Index I, int term, Real value) const {
-    if (value == 0 || !p.ledger_nodes.holds(p.grid, I)) return;
-    atomic_add(p.control->energy + term, value, false);
+  /// Node I's share of a term of the energy ledger (GridUpdateParams::energy), added to
+  /// `to`; the shares of nodes another rank owns (ledger_nodes) are not counted.
+  SCREE_INLINE void share(Index I, Real& to, Real value) const {
+    if (value != 0 && p.ledger_nodes.holds(p.grid, I)) to += value;
   }
 
   /// The sparse update of lane `lane` of tile `t` (Tiles<D>): the node it stands for,
   /// if the tile was stamped (cur: this step; other: the previous one).
-  SCREE_INLINE void tile(Index t, int lane, bool act, bool clr) const {
+  SCREE_INLINE void tile(Index t, int lane, bool act, bool clr, LedgerShares& e) const {
     const GridGeometry<D>& g = p.grid;
     int idx[D];
     Index r = t;
@@ -129,7 +145,7 @@ struct GridUpdate {
       l /= e;
       if (idx[d] >= g.n[d]) return;
     }
-    node(g.flat(idx), act, clr);
+    node(g.flat(idx), act, clr, e);
   }
   /// Whether tile t is updated (act) and/or cleared in `other` (clr) in this step.
   SCREE_INLINE void tile_flags(Index t, bool& act, bool& clr) const {
@@ -142,13 +158,21 @@ struct GridUpdate {
 #if defined(__CUDACC__)
 /// Sparse update on CUDA: one block of Tiles<D>::kNodes threads per tile, the blocks
 /// striding over the tiles; a tile nobody stamped costs one load.
+/// Every thread of a block walks the same tiles, so the warps reach the ledger's warp sums
+/// whole.
 template <int D>
 __global__ void __launch_bounds__(Tiles<D>::kNodes) sparse_kernel(Index tiles, GridUpdate<D> u) {
   if ((u.p.modes & kAdvance) && blockIdx.x == 0 && threadIdx.x == 0) advance_clock(u.p.control, u.p.parity);
+  LedgerShares e;
   for (Index t = blockIdx.x; t < tiles; t += gridDim.x) {
     bool act, clr;
     u.tile_flags(t, act, clr);
-    if (act || clr) u.tile(t, static_cast<int>(threadIdx.x), act, clr);
+    if (act || clr) u.tile(t, static_cast<int>(threadIdx.x), act, clr, e);
+  }
+  if (u.p.energy) {
+    e.damping = warp_sum(e.damping);
+    e.walls = warp_sum(e.walls);
+    if (first_lane_of_warp()) u.book(e);
   }
 }
 #endif
@@ -172,16 +196,21 @@ void grid_update(const Exec& ex, const GridUpdateParams<D>& p) {
     return;
   }
   if (p.modes & kAdvance) advance_clock(p.control, p.parity);
+  Real damping = 0, walls = 0;
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(static) if (tiles * Tiles<D>::kNodes >= kCpuParallelMinItems) \
-    num_threads(ex.threads > 0 ? ex.threads : 1)
+    num_threads(ex.threads > 0 ? ex.threads : 1) reduction(+ : damping, walls)
 #endif
   for (Index t = 0; t < tiles; ++t) {
     bool act, clr;
     u.tile_flags(t, act, clr);
-    if (act || clr)
-      for (int lane = 0; lane < Tiles<D>::kNodes; ++lane) u.tile(t, lane, act, clr);
+    if (!(act || clr)) continue;
+    LedgerShares e;
+    for (int lane = 0; lane < Tiles<D>::kNodes; ++lane) u.tile(t, lane, act, clr, e);
+    damping += e.damping;
+    walls += e.walls;
   }
+  u.book({damping, walls});
 }
 
 template void grid_update<2>(const Exec&, const GridUpdateParams<2>&);

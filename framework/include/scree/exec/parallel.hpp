@@ -230,6 +230,25 @@ SCREE_INLINE void atomic_add(Real* a, Real v, bool serial) {
 #endif
 }
 
+/// The sum of v over the warp, valid in every lane (CUDA: warp-collective, every lane of the
+/// warp calls it); v itself on the CPU. Sums that many threads add to one place go through it
+/// first, one atomic per warp instead of one per thread: atomics on one address serialise.
+SCREE_INLINE Real warp_sum(Real v) {
+#if defined(__CUDA_ARCH__)
+  for (int off = 16; off > 0; off >>= 1) v += __shfl_xor_sync(0xffffffffu, v, off);
+#endif
+  return v;
+}
+
+/// Whether this thread is the first lane of its warp (CUDA), or always (CPU).
+SCREE_INLINE bool first_lane_of_warp() {
+#if defined(__CUDA_ARCH__)
+  return (threadIdx.x & 31u) == 0;
+#else
+  return true;
+#endif
+}
+
 /// Atomic ++a on a counter.
 SCREE_INLINE void atomic_increment(unsigned long long* a, bool serial) {
 #if defined(__CUDA_ARCH__)

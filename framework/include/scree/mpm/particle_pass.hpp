@@ -169,14 +169,6 @@ SCREE_INLINE Real pic_share(const PassPhysics<D>& ph, Real dt) {
   return ph.pic_rate > 0 ? -expm1(-ph.pic_rate * dt) : ph.pic_fraction;
 }
 
-/// The sum of v over the warp, valid in every lane (CUDA); v itself on the CPU.
-SCREE_INLINE Real warp_sum(Real v) {
-#if defined(__CUDA_ARCH__)
-  for (int off = 16; off > 0; off >>= 1) v += __shfl_xor_sync(0xffffffffu, v, off);
-#endif
-  return v;
-}
-
 /// Whether M declares the collisional dissipation of a step (material.hpp, optional).
 template <class M>
 inline constexpr bool material_has_collisional_dissipation() {
@@ -267,15 +259,6 @@ struct Stencil {
 /// velocity fields exactly.
 template <class Shape>
 inline constexpr bool kApicFromInertia = Shape::kStencil == 3 && sizeof(Shape) == sizeof(Real);
-
-/// Whether the first lane of the warp (CUDA), or always (CPU).
-SCREE_INLINE bool first_lane() {
-#if defined(__CUDA_ARCH__)
-  return (threadIdx.x & 31u) == 0;
-#else
-  return true;
-#endif
-}
 
 }  // namespace detail
 
@@ -473,7 +456,7 @@ SCREE_UNROLL
           if (speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.policy.serial);
         } else {
           speed = warp_max(speed);
-          if (detail::first_lane() && speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.policy.serial);
+          if (first_lane_of_warp() && speed > 0) atomic_max_nonneg(&ctl->max_speed[pp.parity], speed, pp.policy.serial);
         }
       }
 
@@ -498,7 +481,7 @@ SCREE_UNROLL
       const int p1 = __popc(__ballot_sync(all, paths & 1u)), p2 = __popc(__ballot_sync(all, paths & 2u)),
                 p4 = __popc(__ballot_sync(all, paths & 4u));
       const long long slowest = warp_max(Real(pass_cycles));
-      if (detail::first_lane() && slowest > SCREE_REPORT_CYCLES)
+      if (first_lane_of_warp() && slowest > SCREE_REPORT_CYCLES)
         printf("pass-cycles %lld step %llu elastic-first %d block %u lanes %d substeps-sum %u substeps-max %u "
                "paths %d %d %d\n",
                slowest, ctl->step[pp.gather_parity], ElasticFirst ? 1 : 0, blockIdx.x, busy, sum, top, p1, p2, p4);
@@ -512,7 +495,7 @@ SCREE_UNROLL
     Real* e = pp.control->energy;
     const Real pic = warp_sum(pic_loss), work = warp_sum(fresh.work), diss = warp_sum(fresh.dissipated);
     const Real wall = warp_sum(wall_loss);
-    if (detail::first_lane()) {
+    if (first_lane_of_warp()) {
       if (pic != 0) atomic_add(e + kEnergyPic, pic, pp.policy.serial);
       if (wall != 0) atomic_add(e + kEnergyWalls, wall, pp.policy.serial);
       if (work != 0) atomic_add(e + kEnergyStressWork, work, pp.policy.serial);
