@@ -355,16 +355,24 @@ TEST(TwoPhase, TerzaghiConsolidation) {
 // every point within 2% of the fall and of the velocity of free fall and its pore pressure
 // within 10% of the block's weight at rest: its points lose the weight of the nodes left
 // unaccelerated while they cross (about 1% of the fall here), which GIMP does not.
-void write_falling_block(const TempCase& tc, const std::string& shape, const std::string& schemes = "") {
-  tc.write("system/controlDict", "endTime 0.1; deltaT 1e-4; writeInterval 1;");  // a Courant number of about 0.3
+/// A saturated block `b` (entries `body`: its region, its velocity) of a soft skeleton, USL
+/// on a 1.2 x 0.3 m grid of 0.02 m cells under gravity.
+void write_saturated_block(const TempCase& tc, const std::string& control, const std::string& schemes,
+                           const std::string& body, const std::string& conditions) {
+  tc.write("system/controlDict", control);
   tc.write("system/gridDict", "dimension 2; lower (0 0); upper (1.2 0.3); cellSize 0.02;");
-  tc.write("system/mpmSchemes", "updateScheme USL; shapeFunction " + shape + "; " + schemes);
+  tc.write("system/mpmSchemes", "updateScheme USL; " + schemes);
   tc.write("constant/g", "value (0 -9.81);");
   tc.write("constant/materialProperties", "soil { type linearElastic; E 1e6; nu 0.3; rho 2000; }");
-  tc.write("constant/bodies",
-           "b { material soil; region { type rectangle; lower (0.1 0.1); upper (0.4 0.16); } "
-           "twoPhase { porosity 0.4; liquidBulkModulus 2e6; intrinsicPermeability 1e-10; } }");
-  tc.write("constant/boundaryConditions", "");
+  tc.write("constant/bodies", "b { material soil; " + body +
+                                  " twoPhase { porosity 0.4; liquidBulkModulus 2e6; intrinsicPermeability 1e-10; } }");
+  tc.write("constant/boundaryConditions", conditions);
+}
+
+void write_falling_block(const TempCase& tc, const std::string& shape, const std::string& schemes = "") {
+  write_saturated_block(tc, "endTime 0.1; deltaT 1e-4; writeInterval 1;",  // a Courant number of about 0.3
+                        "shapeFunction " + shape + "; " + schemes,
+                        "region { type rectangle; lower (0.1 0.1); upper (0.4 0.16); }", "");
 }
 
 /// The largest departures of a falling block's points from free fall after 0.1 s.
@@ -449,18 +457,12 @@ struct Slide {
   bool finished = false;
   double mean_vx = 0, spread_vx = 0, pmax = 0, base_p = 0;
 };
-Slide slide(const std::string& name, const std::string& shape, const std::string& schemes, double h = 0.02, double co = 0.5) {
+Slide slide(const std::string& name, const std::string& shape, const std::string& schemes) {
   TempCase tc(name);
-  tc.write("system/controlDict", "endTime 0.2; deltaT 1e-4; adjustTimeStep yes; maxCo " + std::to_string(co) +
-                                      "; maxDeltaT 1e-3; writeInterval 1;");
-  tc.write("system/gridDict", "dimension 2; lower (0 0); upper (1.2 0.3); cellSize " + std::to_string(h) + ";");
-  tc.write("system/mpmSchemes", "updateScheme USL; shapeFunction " + shape + "; " + schemes);
-  tc.write("constant/g", "value (0 -9.81);");
-  tc.write("constant/materialProperties", "soil { type linearElastic; E 1e6; nu 0.3; rho 2000; }");
-  tc.write("constant/bodies",
-           "b { material soil; velocity (2 0); region { type rectangle; lower (0.1 0); upper (0.4 0.06); } "
-           "twoPhase { porosity 0.4; liquidBulkModulus 2e6; intrinsicPermeability 1e-10; } }");
-  tc.write("constant/boundaryConditions", "floor { type slip; face yMin; }");
+  write_saturated_block(tc, "endTime 0.2; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; maxDeltaT 1e-3; writeInterval 1;",
+                        "shapeFunction " + shape + "; " + schemes,
+                        "velocity (2 0); region { type rectangle; lower (0.1 0); upper (0.4 0.06); }",
+                        "floor { type slip; face yMin; }");
   Case cs = Case::read(tc.dir(), runtime());
   Simulation sim(cs, runtime(), options());
   Slide r;
