@@ -180,13 +180,21 @@ Row make_row(const scree::Case& c, const fs::path& dir, const std::string& name,
   return r;
 }
 
-/// Run `warm` steps, then time each window [0, w0), [w0, w1), ... of the following steps
-/// (one row per window). The time of a window is its steps' wall time, the host's
-/// progress bookkeeping included, output excluded. A window whose label starts with '-' is
-/// run untimed (steps to skip between two timed windows).
+/// A window of steps: timed (`steps` steps), or, with a label starting with '-', run untimed
+/// to skip to the next: `steps` steps, or up to step `to_step` or time `to_time` where set.
+struct Window {
+  std::string label;
+  long long steps = 0;
+  long long to_step = -1;
+  double to_time = -1;
+};
+
+/// Run `warm` steps, then time each window of the following steps (one row per timed
+/// window). The time of a window is its steps' wall time, the host's progress bookkeeping
+/// included, output excluded.
 std::vector<Row> measure_windows(scree::PluginRuntime& rt, const fs::path& dir, const std::string& name,
                                  scree::Device dev, int threads, const std::string& variant, long long warm,
-                                 const std::vector<std::pair<std::string, long long>>& windows, double copy_gbs) {
+                                 const std::vector<Window>& windows, double copy_gbs) {
   scree::Case c = scree::Case::read(dir, rt);
   const scree::RunOptions o = options_for(dev, threads, variant);
   scree::mem::reset_peak(dev);
@@ -195,10 +203,13 @@ std::vector<Row> measure_windows(scree::PluginRuntime& rt, const fs::path& dir, 
   scree::mem::synchronize(dev);
   std::vector<Row> rows;
   long long done = warm;
-  for (const auto& [label, steps] : windows) {
+  for (const auto& [label, steps, to_step, to_time] : windows) {
     if (!label.empty() && label[0] == '-') {
-      sim.run_steps(steps);
-      done += steps;
+      if (to_time >= 0)
+        sim.advance_to(to_time);
+      else
+        sim.run_steps(to_step >= 0 ? std::max(0LL, to_step - static_cast<long long>(sim.steps())) : steps);
+      done = static_cast<long long>(sim.steps());
       continue;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -557,8 +568,15 @@ int main(int argc, char** argv) {
     const char* key;
     std::string name;
     fs::path dir;
-    long long release, after, total;  // steps: to the release, timed after it, of the paper's run
+    long long release, after, total;  // steps: to the release (at rest), timed after it, of the paper's run
     long long late_at;                // step of the late flowing window (0: none)
+  };
+  // The flowing window starts at the case's release (system/stages: _releaseTime), however
+  // many steps its adaptive step takes to get there.
+  auto release_time = [&](const fs::path& dir) {
+    const scree::Case c = scree::Case::read(dir, rt);
+    const scree::Entry* e = c.control().find("_releaseTime");
+    return e ? e->as_scalar() : -1.0;
   };
   std::vector<Paper> paper;
   if (wants("column"))
@@ -579,11 +597,14 @@ int main(int argc, char** argv) {
         const bool gpu = d == scree::Device::cuda;
         // CPU: a short look at the rest state only (the collapse takes minutes per 1000 steps).
         const long long pre = gpu ? pc.release : std::min(pc.release, cpu_steps), warm = std::min(pre / 5, 2000LL);
-        std::vector<std::pair<std::string, long long>> w = {{"at rest", pre - warm}};
-        if (gpu) w.push_back({"flowing", pc.after});
+        std::vector<Window> w = {{"at rest", pre - warm}};
+        if (gpu) {
+          w.push_back({"-", 0, -1, release_time(pc.dir)});
+          w.push_back({"flowing", pc.after});
+        }
         const bool late = gpu && pc.late_at > pc.release + pc.after;
         if (late) {
-          w.push_back({"-", pc.late_at - pc.release - pc.after});
+          w.push_back({"-", 0, pc.late_at});
           w.push_back({"flowing from step " + std::to_string(pc.late_at), pc.after});
         }
         try {
