@@ -30,8 +30,9 @@ struct GridUpdate {
 
   /// Add shares to the ledger.
   SCREE_INLINE void book(const LedgerShares& e) const {
-    if (e.damping != 0) atomic_add(p.control->energy + kEnergyDamping, e.damping, false);
-    if (e.walls != 0) atomic_add(p.control->energy + kEnergyWalls, e.walls, false);
+    Real* to = p.control->energy.at(warp_index());
+    if (e.damping != 0) atomic_add(to + kEnergyDamping, e.damping, false);
+    if (e.walls != 0) atomic_add(to + kEnergyWalls, e.walls, false);
   }
 
   /// The update of node I: `update` the set cur, `clear` the set other; its ledger shares

@@ -635,7 +635,10 @@ void Solver<D>::reduce_checkpoint_clock(Checkpoint& ck) {
   StepControl c{};
   std::memcpy(&c, ck.clock.data(), sizeof c);
   c.lost = comm_->sum(static_cast<std::uint64_t>(c.lost));
-  comm_->sum(c.energy, kEnergyTerms);
+  Real energy[kEnergyTerms];
+  for (int t = 0; t < kEnergyTerms; ++t) energy[t] = c.energy.total(t);
+  comm_->sum(energy, kEnergyTerms);
+  for (int t = 0; t < kEnergyTerms; ++t) c.energy.set(t, energy[t]);
   // The signal speed each rank's flush measured (the next step's dt takes the largest).
   comm_->max(c.max_speed, 2);
   std::memcpy(ck.clock.data(), &c, sizeof c);

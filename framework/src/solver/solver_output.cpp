@@ -224,7 +224,7 @@ Snapshot Solver<D>::snapshot_header() const {
   // The ledger as of the last sync with the device: flush() has just read the clock back.
   s.energy.kept = energy_ledger_;
   if (energy_ledger_)
-    for (int t = 0; t < kEnergyTerms; ++t) s.energy.term[t] = host_ctl_.energy[t];
+    for (int t = 0; t < kEnergyTerms; ++t) s.energy.term[t] = host_ctl_.energy.total(t);
   s.bodies.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     s.bodies[i].material = material_names_[i];

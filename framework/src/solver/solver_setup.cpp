@@ -168,7 +168,7 @@ void Solver<D>::restore(const Checkpoint& ck) {
   c.stop_co = host_ctl_.stop_co;
   if (decomposed() && !root()) {  // the checkpoint's sums over the ranks stay with the root's clock
     c.lost = 0;
-    for (Real& e : c.energy) e = 0;
+    c.energy.clear();
   }
   host_ctl_ = c;
   sync_control_to_device();

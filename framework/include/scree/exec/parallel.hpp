@@ -240,6 +240,15 @@ SCREE_INLINE Real warp_sum(Real v) {
   return v;
 }
 
+/// The index of this thread's warp in the launch (CUDA), or 0 (CPU).
+SCREE_INLINE unsigned warp_index() {
+#if defined(__CUDA_ARCH__)
+  return (blockIdx.x * blockDim.x + threadIdx.x) >> 5;
+#else
+  return 0;
+#endif
+}
+
 /// Whether this thread is the first lane of its warp (CUDA), or always (CPU).
 SCREE_INLINE bool first_lane_of_warp() {
 #if defined(__CUDA_ARCH__)

@@ -492,7 +492,7 @@ SCREE_UNROLL
   /// The energy ledger (PassPolicy::energy): the warp's sums, added by its first lane.
   /// Warp-collective: every lane calls it (inactive ones with zeros).
   SCREE_INLINE void ledger(Real pic_loss, Real wall_loss, const FreshStress& fresh) const {
-    Real* e = pp.control->energy;
+    Real* e = pp.control->energy.at(warp_index());
     const Real pic = warp_sum(pic_loss), work = warp_sum(fresh.work), diss = warp_sum(fresh.dissipated);
     const Real wall = warp_sum(wall_loss);
     if (first_lane_of_warp()) {

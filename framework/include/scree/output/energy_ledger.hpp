@@ -33,6 +33,35 @@ struct EnergyTermInfo {
 inline constexpr EnergyTermInfo kEnergyTermInfo[kEnergyTerms] = {
     {"stressWork", true}, {"collisional", false}, {"picLoss", true}, {"dampingLoss", true}, {"wallLoss", true}};
 
+/// The ledger as the kernels keep it (StepControl::energy). Many warps add to each term in
+/// every pass, and atomics on one address serialise: each term is kept as kEnergySlots
+/// partial sums, each slot a cache line of its own, a warp adding to the slot of its index
+/// (at); the term is the sum of its slots in slot order (total). A run on one CPU thread
+/// adds to slot 0 alone, so its totals are its running sums as they were added.
+inline constexpr int kEnergySlots = 16;
+struct alignas(64) EnergySlot {
+  Real term[8];
+};
+static_assert(kEnergyTerms <= 8, "an EnergySlot holds every term");
+struct EnergySlots {
+  EnergySlot slot[kEnergySlots];
+
+  /// The terms of the slot of warp `warp` (exec/parallel.hpp: warp_index).
+  SCREE_INLINE Real* at(unsigned warp) { return slot[warp % kEnergySlots].term; }
+  Real total(int t) const {
+    Real s = 0;
+    for (int k = 0; k < kEnergySlots; ++k) s += slot[k].term[t];
+    return s;
+  }
+  /// Term t as the single value v (in slot 0).
+  void set(int t, Real v) {
+    for (int k = 0; k < kEnergySlots; ++k) slot[k].term[t] = k == 0 ? v : Real(0);
+  }
+  void clear() {
+    for (int t = 0; t < kEnergyTerms; ++t) set(t, 0);
+  }
+};
+
 /// The ledger at a snapshot's time. Kept only when a function object asks for it
 /// (FunctionObject::needs_energy_ledger); `kept` says whether it was.
 struct EnergyLedger {

@@ -74,7 +74,7 @@ struct StepControl {
   /// The energy ledger (output/energy_ledger.hpp), cumulative since t = 0: lives with the
   /// clock, so that a checkpoint carries it and a restart continues it. Kept only when
   /// PassPolicy::energy / GridUpdateParams::energy is set: off, nothing is added.
-  Real energy[kEnergyTerms];
+  EnergySlots energy;
 };
 
 /// Health: a node of the grid update found a non-finite velocity or force (every
