@@ -354,7 +354,7 @@ TEST(TwoPhase, TerzaghiConsolidation) {
 // it stable. With massTolerance 0.1 (those nodes not accelerated) the block falls to the end,
 // every point within 2% of the fall and of the velocity of free fall and its pore pressure
 // within 10% of the block's weight at rest: its points lose the weight of the nodes left
-// unaccelerated while they cross (about 1% of the fall here), which GIMP does not.
+// unaccelerated while they cross, which GIMP does not.
 /// A saturated block `b` (entries `body`: its region, its velocity) of a soft skeleton, USL
 /// on a 1.2 x 0.3 m grid of 0.02 m cells under gravity.
 void write_saturated_block(const TempCase& tc, const std::string& control, const std::string& schemes,
@@ -443,8 +443,8 @@ TEST(TwoPhase, LinearShapesFallWithAMassTolerance) {
 }
 
 // A saturated block (0.3 x 0.06 m, closed surface) sliding at 2 m/s on a slip floor for 0.2 s,
-// USL at maxCo 0.5. With linear shape functions it blows up within a few hundred steps (even
-// at maxCo 0.2); with massTolerance 0.1 it slides to the end. Nothing acts on it along x (the
+// USL at maxCo 0.5. With linear shape functions it blows up as its points cross cell faces;
+// with massTolerance 0.1 it slides to the end. Nothing acts on it along x (the
 // floor holds only the normal), so its mean velocity stays 2 m/s: the skeleton's within 1e-6
 // of it with GIMP (the drag trades a little momentum with the liquid), within 1e-3 with the
 // mass tolerance (the nodes left unaccelerated drop their share of the internal forces, whose
