@@ -129,9 +129,9 @@ struct PassPolicy {
   /// With `energy`: the walls' share measured on the points (USF, USL; the grid update then
   /// leaves it out): the work of the velocity change the walls made at the point's nodes,
   /// m sum N (v^{k+1} - v^{k+1} without walls) . (v_old + v_new)/2. The grid's own measure
-  /// misses what the FLIP update takes from the points beyond it (sum m_p N_Ip^2 < m_I): by
-  /// the budget's residual, 0.9 times the grid's figure in the flume and the column at 5-20
-  /// mm. MUSL re-maps momentum into the force array before its gather: measured on the grid.
+  /// misses what the FLIP update takes from the points beyond it (sum m_p N_Ip^2 < m_I), which
+  /// the budget's residual would then carry. MUSL re-maps momentum into the force array
+  /// before its gather: measured on the grid.
   bool wall_ledger = false;
 };
 
