@@ -287,7 +287,13 @@ void VtkWriter::start_series() {
   }
   // This writer's files that its series does not list: from t = 0 every old one (files of a
   // longer earlier run would otherwise sit beside the new ones), on a restart those no
-  // series lists; and the temporaries of a killed run.
+  // series lists; and the temporaries of a killed run. From t = 0 the series files go
+  // first: a run killed while it removes the old frames then leaves unlisted frames (the
+  // next run's clean-up), never a .pvd that lists a frame already removed.
+  if (start_time_ <= 0) {
+    fs::remove(particles_.path(), ec);
+    fs::remove(grid_series_.path(), ec);
+  }
   std::set<std::string> listed;
   for (const auto& e : particles_.entries()) listed.insert(e.file);
   for (const auto& e : grid_series_.entries()) listed.insert(e.file);
