@@ -5,6 +5,8 @@
 //   scree --case DIR --restart[=TIME]                         continue it from its newest checkpoint (or TIME's)
 //   scree --case DIR --restart --accept-changes               ... although the case's physics changed since
 //   scree --case DIR --check                                  validate a case and exit
+//   (a case with a system/ensembleDict is an ensemble: each command runs, continues or
+//   checks its members, scree/ensemble/ensemble.hpp)
 //   scree --list-plugins [material|boundaryCondition|writer|functionObject|case|fields]
 //   scree --version | --help
 //
@@ -49,6 +51,7 @@
 #include "scree/case/run_lock.hpp"
 #include "scree/case/setup_check.hpp"
 #include "scree/comm/comm.hpp"
+#include "scree/ensemble/ensemble.hpp"
 #include "scree/exec/memory.hpp"
 #include "scree/output/field_info.hpp"
 #include "scree/plugin/loader.hpp"
@@ -226,6 +229,31 @@ int main(int argc, char** argv) {
   opt.accept_changes = vm.count("accept-changes") > 0;
 
   const fs::path dir = vm["case"].as<std::string>();
+  if (scree::EnsembleSpec::present(dir)) {
+    // An ensemble: its members are cases of their own, each run by scree as a process.
+    if (ranks > 1) {
+      err << "scree: case " << dir.string() << " is an ensemble (" << scree::EnsembleSpec::kFile
+          << "): it runs its members as processes of their own; run it without mpirun\n";
+      return 2;
+    }
+    if (vm.count("restart") && !vm["restart"].as<std::string>().empty()) {
+      err << "scree: --restart=TIME: an ensemble continues each member from its newest checkpoint (--restart)\n";
+      return 2;
+    }
+    for (const char* o : {"max-steps", "no-output", "no-graphs", "reference-kernels", "profile", "accept-changes"})
+      if (vm.count(o) && !vm[o].defaulted()) {
+        err << "scree: --" << o << ": not for an ensemble (run a member's case, ensemble/member_NNNN, with it)\n";
+        return 2;
+      }
+    scree::EnsembleRunOptions eo;
+    eo.scree = fs::read_symlink("/proc/self/exe");
+    eo.device = device;
+    eo.threads = opt.threads;
+    eo.overwrite = vm.count("overwrite") > 0;
+    eo.restart = vm.count("restart") > 0;
+    eo.check = vm.count("check") > 0;
+    return scree::run_ensemble(dir, eo);
+  }
   try {
     scree::Case c = scree::Case::read(dir, rt);
     // The setup's checks (the run would reject what they find), reported together. The
