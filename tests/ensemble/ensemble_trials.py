@@ -17,6 +17,8 @@ under the floor's traction, mu rho g H L / E, is 1e-4 of it).
 4. A member that blows up stops alone with its diagnosis; the others finish (exit 5).
 5. A member whose drawn value its case refuses: --check and the run name it and exit 1
    before anything runs.
+6. Members that each fit in the free memory but not membersAtOnce of them together: refused
+   (exit 1) before anything runs, with the number that fits.
 """
 import argparse
 import csv
@@ -240,6 +242,21 @@ def main():
                    f"{args}: the member and its file:line are not named: {r.stdout[-600:]}")
             expect(not os.path.exists(os.path.join(bad, "ensemble")), f"{args}: something was written before the refusal")
         print(r.stdout[-600:])
+
+        # 6. Members that fit one at a time but not two at once: refused before anything runs.
+        mem = os.path.join(tmp, "memory")
+        base_case(mem)
+        r = run(mem, "--check")
+        need = re.search(r"a run needs about ([0-9.]+) (kB|MB) of host memory", r.stdout)
+        expect(need, f"--check of the base case says nothing of its memory: {r.stdout[-300:]}")
+        with open(os.path.join(mem, "system", "ensembleDict"), "w") as f:
+            f.write("membersAtOnce 2;\nparameters { E { file constant/materialProperties; entry block/E; values (1e6 2e6); } }\n")
+        free = 1.5 * float(need.group(1)) * (1e3 if need.group(2) == "kB" else 1e6)
+        r = subprocess.run(base + ["--case", mem], env=dict(env, SCREE_TEST_FREE_MEMORY=str(free)), stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True)
+        expect(r.returncode == 1 and "membersAtOnce 1 fits" in r.stdout,
+               f"two members at once in 1.5 members' memory: exit {r.returncode}, {r.stdout[-400:]}")
+        expect(not os.path.exists(os.path.join(mem, "ensemble")), "the refused ensemble wrote ensemble/")
     finally:
         if a.keep:
             print("kept", tmp)

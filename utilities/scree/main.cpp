@@ -252,7 +252,7 @@ int main(int argc, char** argv) {
     eo.overwrite = vm.count("overwrite") > 0;
     eo.restart = vm.count("restart") > 0;
     eo.check = vm.count("check") > 0;
-    return scree::run_ensemble(dir, eo);
+    return scree::run_ensemble(dir, eo, rt);
   }
   try {
     scree::Case c = scree::Case::read(dir, rt);

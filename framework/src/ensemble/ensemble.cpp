@@ -379,7 +379,12 @@ EnsembleSpec EnsembleSpec::read(const fs::path& case_dir) {
         EnsembleQuantity q;
         const std::size_t before = errors.size();
         read_quantity_spec(e, q, errors);
-        if (errors.size() == before) s.summary.push_back(std::move(q));
+        if (errors.size() != before) continue;
+        for (const auto& p : s.parameters)
+          if (p.name == q.name)
+            errors.emplace_back(e.where(), "summary quantity '" + q.name + "' has the name of a parameter (" +
+                                               p.where.str() + "): members.csv has a column for each; rename one");
+        s.summary.push_back(std::move(q));
       }
     }
   }

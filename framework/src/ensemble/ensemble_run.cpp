@@ -19,8 +19,11 @@
 #include <sstream>
 #include <thread>
 
+#include "scree/case/case.hpp"
+#include "scree/case/memory_estimate.hpp"
 #include "scree/case/run_lock.hpp"
 #include "scree/ensemble/ensemble.hpp"
+#include "scree/exec/memory.hpp"
 #include "scree/output/writer.hpp"
 
 extern char** environ;
@@ -227,7 +230,7 @@ std::string values_text(const EnsembleSpec& spec, const std::vector<std::string>
 
 }  // namespace
 
-int run_ensemble(const fs::path& case_dir, const EnsembleRunOptions& opt) {
+int run_ensemble(const fs::path& case_dir, const EnsembleRunOptions& opt, PluginRuntime& rt) {
   std::ostream& log = std::cout;
   std::ostream& err = std::cerr;
   EnsembleSpec spec;
@@ -375,9 +378,47 @@ int run_ensemble(const fs::path& case_dir, const EnsembleRunOptions& opt) {
   for (std::int64_t k : todo) fs::remove(dir_of(k) / ".check.log");
   if (!bad.empty()) {
     err << "scree: " << bad.size() << " of " << todo.size() << " members have errors (above); their values are set by";
-    for (const auto& p : spec.parameters) err << " " << p.name << " at " << p.where.str();
+    for (std::size_t i = 0; i < spec.parameters.size(); ++i)
+      err << (i ? ", " : " ") << spec.parameters[i].name << " at " << spec.parameters[i].where.str();
     err << " (in " << case_dir.string() << "); nothing was run\n";
     return 1;
+  }
+  // The members that run at once share the machine: the largest at_once of them must fit
+  // in the free memory together (each member's own check compared it with all of it).
+  {
+    const Device device =
+        gpu || (opt.device.empty() && mem::cuda_compiled() && mem::cuda_available()) ? Device::cuda : Device::cpu;
+    std::vector<std::pair<double, std::int64_t>> host, dev;
+    try {
+      for (std::int64_t k : todo) {
+        const Case c = Case::read(dir_of(k), rt);
+        const MemoryEstimate e = estimate_memory(c, rt.registry(), device, true);
+        host.emplace_back(e.host_bytes(), k);
+        dev.emplace_back(e.device_bytes(), k);
+      }
+    } catch (const std::exception& e) {
+      err << "scree: ensemble: " << e.what() << "\n";
+      return 1;
+    }
+    for (auto* v : {&host, &dev}) {
+      std::sort(v->rbegin(), v->rend());
+      const bool is_dev = v == &dev;
+      if (v->empty() || (is_dev && device != Device::cuda)) continue;
+      double need = 0;
+      for (int i = 0; i < at_once && i < static_cast<int>(v->size()); ++i) need += (*v)[static_cast<std::size_t>(i)].first;
+      const mem::Available a = mem::available(is_dev ? Device::cuda : Device::cpu);
+      if (!a.known || need <= static_cast<double>(a.bytes)) continue;
+      int fits = 0;
+      for (double sum = 0; fits < static_cast<int>(v->size()) && sum + (*v)[static_cast<std::size_t>(fits)].first <= static_cast<double>(a.bytes);)
+        sum += (*v)[static_cast<std::size_t>(fits++)].first;
+      err << (case_dir / EnsembleSpec::kFile).string() << ": membersAtOnce: " << at_once
+          << " members at once need about " << mem::format_bytes(need) << " of " << (is_dev ? "GPU" : "host")
+          << " memory (the largest, member " << v->front().second << ", " << mem::format_bytes(v->front().first)
+          << "), more than the " << mem::format_bytes(static_cast<double>(a.bytes)) << " free (" << a.source << "): "
+          << (fits > 0 ? "membersAtOnce " + std::to_string(fits) + " fits" : std::string("not one member fits"))
+          << "; nothing was run\n";
+      return 1;
+    }
   }
   if (opt.check) {
     log << "scree: ensemble of " << case_dir.string() << ": every member's case is valid (" << n << " members)\n";

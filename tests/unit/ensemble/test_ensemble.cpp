@@ -169,6 +169,9 @@ TEST(Ensemble, DictionaryErrorsNameTheirLines) {
   check("parameters { E { file constant/materialProperties; entry sand/E; values (1 2); } }\n"
         "summary\n{\n  r { file postProcessing/front/runOut.csv; column runout; at last; }\n}\n",
         "system/ensembleDict:4:", "at: expected end, max, min or a time in seconds, found 'last'");
+  check("parameters\n{\n  E { file constant/materialProperties; entry sand/E; values (1 2); }\n}\n"
+        "summary\n{\n  E { file postProcessing/front/runOut.csv; column runout; }\n}\n",
+        "system/ensembleDict:7:", "summary quantity 'E' has the name of a parameter");
   write(d / "constant/materialProperties", "_E 1e6;\nsand { type linearElastic; E $_E; nu 0.3; rho 2000; }\n");
   check("parameters\n{\n  E { file constant/materialProperties; entry _E; values (1 2); }\n}\n", "system/ensembleDict:3:",
         "_E is used as $_E in constant/materialProperties:2");

@@ -49,6 +49,7 @@
 
 #include "scree/core/config.hpp"
 #include "scree/io/dictionary.hpp"
+#include "scree/plugin/loader.hpp"
 
 namespace scree {
 
@@ -135,8 +136,10 @@ struct EnsembleRunOptions {
 };
 
 /// Run (or, with check, validate) the ensemble of `case_dir`; returns scree's exit status
-/// (0 every member finished; 1 errors in the ensemble or a member's case; 4 earlier
-/// results; 5 a member went wrong, the others finished; 128 + N stopped by signal N).
-SCREE_API int run_ensemble(const std::filesystem::path& case_dir, const EnsembleRunOptions& opt);
+/// (0 every member finished; 1 errors in the ensemble or a member's case, among them
+/// members that together do not fit in the free memory; 4 earlier results; 5 a member went
+/// wrong, the others finished; 128 + N stopped by signal N). `rt` reads the members' cases
+/// for their memory estimates.
+SCREE_API int run_ensemble(const std::filesystem::path& case_dir, const EnsembleRunOptions& opt, PluginRuntime& rt);
 
 }  // namespace scree
