@@ -278,6 +278,14 @@ int run_ensemble(const fs::path& case_dir, const EnsembleRunOptions& opt, Plugin
     return 1;
   }
 
+  // SIGINT, SIGTERM: passed to the running members (which write the state they reached)
+  // or checks; the ensemble then stops with what it has.
+  struct sigaction sa {};
+  sa.sa_handler = [](int s) { g_signal.store(s); };
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+
   // The members' cases, written and checked in a temporary place before anything runs or
   // an earlier ensemble is replaced; then written into ensemble/ for the run.
   const fs::path check_dir = fs::temp_directory_path() / ("scree-ensemble-check-" + std::to_string(getpid()));
@@ -442,12 +450,6 @@ int run_ensemble(const fs::path& case_dir, const EnsembleRunOptions& opt, Plugin
     if (rows[static_cast<std::size_t>(k)].state == State::done) read_q(k);
   write_members(ens / "members.csv", spec, rows, q);
 
-  // SIGINT, SIGTERM: passed to the running members, which write the state they reached.
-  struct sigaction sa {};
-  sa.sa_handler = [](int s) { g_signal.store(s); };
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
   std::size_t finished = n - todo.size(), failed = 0;
   const auto t0 = std::chrono::steady_clock::now();
   const int sig = run_all(

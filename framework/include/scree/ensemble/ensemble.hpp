@@ -8,8 +8,9 @@
 //                               // seed, the parameter's name and k: adding members keeps
 //                               // the earlier ones)
 //   samples     64;             // draws of the distributions (default 1)
-//   membersAtOnce 2;            // members run at the same time (default: 1 on a GPU, the
-//                               // CPU threads on the CPU, each member on one thread)
+//   membersAtOnce 2;            // members run at the same time (default: 1 on a GPU; on
+//                               // the CPU one per thread, the threads shared out among
+//                               // them); together they must fit in the free memory
 //   parameters
 //   {
 //       friction                                  // the name in members.csv and summaries
@@ -30,9 +31,11 @@
 // draws of the distributed ones (uniform {lower upper}; normal and lognormal {mean
 // standardDeviation} of the quantity itself, each optionally truncated to [lower, upper]).
 //
-// Each member is a case directory of its own, ensemble/member_NNNN/: the base case's files
-// with every dictionary written out whole (its #include files and macros expanded, so the
-// member runs anywhere alone) and the member's values set; other files are copied. Its
+// Each member is a case directory of its own, ensemble/member_NNNN/: the base case's
+// system/ and constant/ with every dictionary written out whole (its #include files and
+// macros expanded, so the member runs anywhere alone) and the member's values set; other
+// files there are copied. An entry used as a $macro elsewhere cannot be a parameter (its
+// uses are expanded where they stand): vary the entries that use it. Its
 // results are those of that case run alone (scree runs it as a process of its own: a
 // member that goes wrong stops alone, with its diagnosis in its log.scree, and the others
 // go on). ensemble/members.csv lists each member's values, status and run time;
