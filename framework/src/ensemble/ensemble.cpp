@@ -10,9 +10,8 @@
 #include <numeric>
 #include <regex>
 #include <set>
-#include <sstream>
 
-#include "scree/output/writer.hpp"
+#include "scree/output/csv_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -531,12 +530,7 @@ std::optional<double> read_quantity(const fs::path& member, const EnsembleQuanti
   }
   std::string line;
   std::getline(in, line);
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string h;
-    while (std::getline(ss, h, ',')) header.push_back(h);
-  }
+  const std::vector<std::string> header = csv_split(line);
   // A column named as in the header, or without its unit ("runout" for "runout [m]").
   std::size_t col = header.size();
   for (std::size_t i = 0; i < header.size(); ++i) {
@@ -551,10 +545,7 @@ std::optional<double> read_quantity(const fs::path& member, const EnsembleQuanti
   double best_dt = 1e300;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cells.push_back(c);
+    const std::vector<std::string> cells = csv_split(line);
     if (cells.size() <= col) continue;  // a row being written when the run stopped
     double t = 0, v = 0;
     try {

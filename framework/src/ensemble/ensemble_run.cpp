@@ -24,6 +24,7 @@
 #include "scree/case/run_lock.hpp"
 #include "scree/ensemble/ensemble.hpp"
 #include "scree/exec/memory.hpp"
+#include "scree/output/csv_file.hpp"
 #include "scree/output/writer.hpp"
 
 extern char** environ;
@@ -85,42 +86,6 @@ int exit_code(int status) {
   return 3;
 }
 
-std::string csv_cell(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-std::vector<std::string> csv_split(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cell;
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cell += c, ++i;
-      else if (c == '"') quoted = false;
-      else cell += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      out.push_back(cell);
-      cell.clear();
-    } else {
-      cell += c;
-    }
-  }
-  out.push_back(cell);
-  return out;
-}
-
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.12g", v);
-  return b;
-}
-
 /// A duration in seconds, to the millisecond.
 std::string secs(double v) {
   char b[32];
@@ -133,17 +98,17 @@ void write_members(const fs::path& file, const EnsembleSpec& spec, const std::ve
   write_file_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out << "member";
-    for (const auto& p : spec.parameters) out << "," << csv_cell(p.name);
+    for (const auto& p : spec.parameters) out << "," << csv_text(p.name);
     out << ",status,exit,wall [s]";
-    for (const auto& s : spec.summary) out << "," << csv_cell(s.name);
+    for (const auto& s : spec.summary) out << "," << csv_text(s.name);
     out << "\n";
     for (std::size_t k = 0; k < rows.size(); ++k) {
       out << k;
-      for (const auto& v : rows[k].values) out << "," << csv_cell(v);
+      for (const auto& v : rows[k].values) out << "," << csv_text(v);
       out << "," << state_name(rows[k].state) << "," << (rows[k].exit < 0 ? std::string() : std::to_string(rows[k].exit))
           << "," << (rows[k].wall > 0 ? secs(rows[k].wall) : std::string());
       for (std::size_t i = 0; i < spec.summary.size(); ++i)
-        out << "," << (k < q.size() && q[k][i] ? fmt(*q[k][i]) : std::string());
+        out << "," << (k < q.size() && q[k][i] ? csv_number(*q[k][i]) : std::string());
       out << "\n";
     }
     out.close();
@@ -193,12 +158,12 @@ void write_summary(const fs::path& dir, const EnsembleSpec& spec, const std::vec
     out << "quantity,members,mean,standard deviation,min,p5,p25,p50,p75,p95,max\n";
     for (std::size_t i = 0; i < x.size(); ++i) {
       const SampleStats s = sample_stats(x[i]);
-      out << csv_cell(spec.summary[i].name) << "," << s.n;
-      for (double v : {s.mean, s.sd, s.min, s.p05, s.p25, s.p50, s.p75, s.p95, s.max}) out << "," << (s.n ? fmt(v) : "");
+      out << csv_text(spec.summary[i].name) << "," << s.n;
+      for (double v : {s.mean, s.sd, s.min, s.p05, s.p25, s.p50, s.p75, s.p95, s.max}) out << "," << (s.n ? csv_number(v) : "");
       out << "\n";
-      log << "scree: ensemble: " << spec.summary[i].name << " over " << s.n << " members: mean " << fmt(s.mean)
-          << ", standard deviation " << fmt(s.sd) << ", p5 " << fmt(s.p05) << ", p50 " << fmt(s.p50) << ", p95 "
-          << fmt(s.p95) << std::endl;
+      log << "scree: ensemble: " << spec.summary[i].name << " over " << s.n << " members: mean " << csv_number(s.mean)
+          << ", standard deviation " << csv_number(s.sd) << ", p5 " << csv_number(s.p05) << ", p50 " << csv_number(s.p50) << ", p95 "
+          << csv_number(s.p95) << std::endl;
     }
     out.close();
     if (!out) throw std::runtime_error("error writing " + tmp.string());
@@ -214,7 +179,7 @@ void write_summary(const fs::path& dir, const EnsembleSpec& spec, const std::vec
       for (std::size_t j = 0; j < v.size(); ++j) {
         std::size_t above = v.size() - j - 1;
         while (above > 0 && v[v.size() - above] == v[j]) --above;  // ties: none of them above
-        out << csv_cell(spec.summary[i].name) << "," << fmt(v[j]) << "," << fmt(static_cast<double>(above) / n) << "\n";
+        out << csv_text(spec.summary[i].name) << "," << csv_number(v[j]) << "," << csv_number(static_cast<double>(above) / n) << "\n";
       }
     }
     out.close();
