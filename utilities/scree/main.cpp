@@ -252,7 +252,12 @@ int main(int argc, char** argv) {
     eo.overwrite = vm.count("overwrite") > 0;
     eo.restart = vm.count("restart") > 0;
     eo.check = vm.count("check") > 0;
-    return scree::run_ensemble(dir, eo, rt);
+    try {
+      return scree::run_ensemble(dir, eo, rt);
+    } catch (const std::exception& e) {  // the file system (a full disk, a member's folder not writable), a spawn
+      err << "scree: ensemble of " << dir.string() << ": " << e.what() << "\n";
+      return 3;
+    }
   }
   try {
     scree::Case c = scree::Case::read(dir, rt);
