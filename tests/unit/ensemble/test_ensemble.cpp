@@ -98,8 +98,12 @@ TEST(Ensemble, DrawsHaveTheirDistributionsMoments) {
     const SampleStats st = sample_stats(x[i]);
     const double se = want_sd[i] / std::sqrt(static_cast<double>(st.n));
     EXPECT_NEAR(st.mean, want_mean[i], 4 * se) << "parameter " << i;
-    // the standard deviation's standard error: about sd / sqrt(2 n) (more for the skewed lognormal)
-    EXPECT_NEAR(st.sd, want_sd[i], (i == 0 ? 12 : 4) * want_sd[i] / std::sqrt(2.0 * static_cast<double>(st.n)))
+    // the standard deviation's standard error, sd sqrt((kurtosis - 1) / (4 n)): the normal's
+    // kurtosis is 3, the uniform's 1.8, the lognormal's 3 + e^(4s^2) + 2 e^(3s^2) + 3 e^(2s^2) - 6
+    // (s^2 = ln(1 + (sd/mean)^2)); the truncated normal's, below 3, taken as 3
+    const double s2 = std::log1p(0.25 * 0.25);
+    const double kurtosis[] = {std::exp(4 * s2) + 2 * std::exp(3 * s2) + 3 * std::exp(2 * s2) - 3, 3, 1.8};
+    EXPECT_NEAR(st.sd, want_sd[i], 4 * want_sd[i] * std::sqrt((kurtosis[i] - 1) / (4.0 * static_cast<double>(st.n))))
         << "parameter " << i;
   }
   EXPECT_GE(sample_stats(x[1]).min, 0.25);
