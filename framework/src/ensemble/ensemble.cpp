@@ -332,7 +332,7 @@ bool EnsembleSpec::present(const fs::path& case_dir) { return fs::exists(case_di
 EnsembleSpec EnsembleSpec::read(const fs::path& case_dir) {
   const Dictionary d = Dictionary::read_file(case_dir / kFile, kFile);
   std::vector<InputError> errors;
-  check_keys(d, {"seed", "samples", "membersAtOnce", "parameters", "summary"}, kFile, errors);
+  check_keys(d, {"seed", "samples", "membersAtOnce", "writers", "parameters", "summary"}, kFile, errors);
   EnsembleSpec s;
   try {
     const long long seed = d.get_integer_or("seed", 0);
@@ -342,6 +342,7 @@ EnsembleSpec EnsembleSpec::read(const fs::path& case_dir) {
     if (s.samples < 1 || s.samples > kMaxMembers)
       throw InputError(d.at("samples").where(), "samples must be 1 to " + std::to_string(kMaxMembers) + ", found " +
                                                     std::to_string(s.samples));
+    s.writers = d.get_bool_or("writers", true);
     s.members_at_once = d.get_integer_or("membersAtOnce", 0);
     if (d.has("membersAtOnce") && s.members_at_once < 1)
       throw InputError(d.at("membersAtOnce").where(), "membersAtOnce must be >= 1, found " +
@@ -497,11 +498,14 @@ void write_member_case(const fs::path& case_dir, const EnsembleSpec& spec, std::
       set_path(d, p.entry, 0, std::vector<Item>(items.begin(), items.end()), SourcePos::of(p.where));
       applied.insert(i);
     }
+    if (!spec.writers && rel.lexically_normal() == fs::path("system/controlDict") && d.has("writers"))
+      d.set(Entry("writers", d.find("writers")->pos(), std::make_shared<const Dictionary>()));
     std::string text = "// Member " + std::to_string(k) + " of the ensemble of " + fs::absolute(case_dir).lexically_normal().string() +
                        " (system/ensembleDict):\n// " + rel.string() + " written out whole";
     for (std::size_t i = 0; i < spec.parameters.size(); ++i)
       if (spec.parameters[i].file.lexically_normal() == rel.lexically_normal())
         text += ", " + join_path(spec.parameters[i].entry) + " = " + values[i];
+    if (!spec.writers && rel.lexically_normal() == fs::path("system/controlDict")) text += ", without writers";
     text += ".\n\n" + d.to_string();
     // The text reads back as the same dictionary (it is what the member runs).
     if (Dictionary::parse(text, rel.string()).to_string() != d.to_string())

@@ -206,6 +206,15 @@ TEST(Ensemble, AMemberCaseIsTheBaseWithItsValues) {
             Dictionary::read_file(d / "system/controlDict").to_string());
   EXPECT_EQ(slurp(m / "constant/column.xy"), slurp(d / "constant/column.xy"));
   EXPECT_FALSE(fs::exists(m / "system/ensembleDict"));
+  // writers no: the members' controlDict without its writers, the rest as it was
+  write(d / "system/controlDict", "endTime 1;\nwriters { particles { type vtk; } }\nfunctions { f { type runOut; } }\n");
+  write(d / "system/ensembleDict",
+        "writers no;\nparameters { E { file constant/materialProperties; entry sand/E; values (5e6); } }\n");
+  write_member_case(d, EnsembleSpec::read(d), 0, m);
+  const Dictionary control = Dictionary::read_file(m / "system/controlDict");
+  EXPECT_EQ(control.sub("writers").entries().size(), 0u);
+  EXPECT_EQ(control.sub("functions").sub("f").get_word("type"), "runOut");
+  EXPECT_EQ(control.get_scalar("endTime"), 1);
   fs::remove_all(d);
 }
 

@@ -11,6 +11,8 @@
 //   membersAtOnce 2;            // members run at the same time (default: 1 on a GPU; on
 //                               // the CPU one per thread, the threads shared out among
 //                               // them); together they must fit in the free memory
+//   writers     no;             // the members without the case's writers (VTK frames);
+//                               // their function objects' CSVs stay (default yes)
 //   parameters
 //   {
 //       friction                                  // the name in members.csv and summaries
@@ -90,6 +92,7 @@ struct EnsembleSpec {
   std::uint64_t seed = 0;
   std::int64_t samples = 1;
   std::int64_t members_at_once = 0;  ///< 0: the backend's default
+  bool writers = true;               ///< false: the members' cases without the writers {} of controlDict
   std::vector<EnsembleParameter> parameters;
   std::vector<EnsembleQuantity> summary;
 
