@@ -13,7 +13,8 @@ under the floor's traction, mu rho g H L / E, is 1e-4 of it).
    with that member's values written in by hand and run alone.
 3. An ensemble stopped by SIGTERM and continued with --restart ends with the uninterrupted
    ensemble's members' results and summary, byte for byte; started again without
-   --restart or --overwrite it is refused (exit 4) and nothing changes.
+   --restart or --overwrite it is refused (exit 4) and nothing changes. Killed outright
+   (SIGKILL), its running members end too, and --restart finishes it the same.
 4. A member that blows up stops alone with its diagnosis; the others finish (exit 5).
 5. A member whose drawn value its case refuses: --check and the run name it and exit 1
    before anything runs.
@@ -209,6 +210,50 @@ def main():
             f1, f2 = results(d1), results(d2)
             bad = [f for f in f1 if f not in f2 or read(os.path.join(d1, f)) != read(os.path.join(d2, f))]
             expect(f1 == f2 and not bad, f"member {k} after the stop and --restart: files differ {bad[:3]}")
+
+        # 3b. The ensemble killed outright (SIGKILL): its running members are told (SIGTERM),
+        # write the state they reached and end; --restart finishes it as uninterrupted.
+        killed = os.path.join(tmp, "killed")
+        base_case(killed)
+        with open(os.path.join(killed, "system", "ensembleDict"), "w") as f:
+            f.write(ENSEMBLE)
+        p = subprocess.Popen(base + ["--case", killed], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and p.poll() is None:
+            mc = os.path.join(killed, "ensemble", "members.csv")
+            if os.path.exists(mc) and sum(m["status"] == "done" for m in members(killed)) >= 2:
+                break
+            time.sleep(0.05)
+        time.sleep(0.5)  # the next members past their start-up, running steps
+        p.kill()
+        p.wait()
+
+        def members_running():
+            n = 0
+            for pid in filter(str.isdigit, os.listdir("/proc")):
+                try:
+                    with open(f"/proc/{pid}/cmdline", "rb") as f:
+                        n += os.path.join(killed, "ensemble", "member_").encode() in f.read()
+                except OSError:
+                    pass
+            return n
+
+        deadline = time.monotonic() + 30
+        while members_running() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        expect(members_running() == 0, "members still run 30 s after their ensemble was killed")
+        told = 0
+        for k in range(8):
+            log = os.path.join(killed, "ensemble", f"member_{k:04d}", "log.scree")
+            if os.path.exists(log):
+                with open(log) as f:
+                    told += "stopped by signal 15" in f.read()
+        expect(told >= 1, "no member was stopped by SIGTERM when its ensemble was killed (they ran on alone)")
+        print(f"ensemble killed: {told} running member(s) stopped by SIGTERM")
+        r = run(killed, "--restart")
+        expect(r.returncode == 0, f"--restart after SIGKILL exited {r.returncode}: {r.stdout[-800:]}")
+        expect(read(os.path.join(killed, "ensemble", "summary.csv")) == read(os.path.join(ens, "ensemble", "summary.csv")),
+               "the ensemble killed and continued: summary.csv differs from the uninterrupted one's")
 
         # 4. A member that blows up.
         blow = os.path.join(tmp, "blow")

@@ -3,7 +3,7 @@
 // member's state so that a stopped ensemble continues where it was (--restart).
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -26,8 +27,6 @@
 #include "scree/exec/memory.hpp"
 #include "scree/output/csv_file.hpp"
 #include "scree/output/writer.hpp"
-
-extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -57,26 +56,31 @@ struct MemberRow {
   double wall = 0;
 };
 
-/// A scree process for a member, its output appended to `log`.
+/// A scree process for a member, its output appended to `log`. It runs in a process group of
+/// its own: a Ctrl-C reaches the ensemble, which passes it on once (a member that got it
+/// twice would stop at once, without writing the state it reached). It is sent SIGTERM
+/// when the ensemble dies (killed without a chance to pass anything on), so that it writes
+/// the state it reached and ends, and a later --restart finds it stopped, not running.
 pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  posix_spawnattr_t at;
-  posix_spawnattr_init(&at);
-  // Its own process group: a Ctrl-C reaches the ensemble, which passes it on once (a member
-  // that got it twice would stop at once, without writing the state it reached).
-  posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&at, 0);
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, args[0].c_str(), &fa, &at, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  posix_spawnattr_destroy(&at);
-  if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
+  const std::string log_path = log.string();
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(errno));
+  if (pid == 0) {  // only async-signal-safe calls until exec
+    setpgid(0, 0);
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) _exit(128 + SIGTERM);  // the ensemble died before the line above
+    const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    if (fd < 0) _exit(3);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    close(fd);
+    execv(argv[0], argv.data());
+    _exit(3);
+  }
   return pid;
 }
 
