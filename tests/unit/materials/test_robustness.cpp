@@ -129,16 +129,17 @@ TEST(Robustness, LargeIncrementEqualsManySmall) {
   }
 }
 
-// Stiff updates (simsand_model.hpp, integrate() step 5): eight updates of the 1 mm column
-// collapse that took more than 300 substeps before the implicit returns: three stretched
-// points (e = 19-46, M_p nearly 0) and five grains at a tenth of a pascal (3G|de_d|/p ~ 3,000). Replayed, each must
+// Stiff updates (simsand_model.hpp, integrate() step 5): eight updates recorded from the 1 mm
+// column collapse that take the explicit substepping alone more than 300 substeps: three
+// stretched points (e = 19-46, M_p nearly 0) and five grains at a tenth of a pascal
+// (3G|de_d|/p ~ 3,000). Replayed, each must
 // match the converged path (1,000 sub-increments at STOL = 1e-8, modified Euler throughout)
 // within 1 Pa = 10 STOL s_e (the error the substepping accepts per substep, ten times) and
 // within 1e-4 in kappa. The explicit scheme alone does not: it holds the stretched points at
 // a pressure where the converged path falls to the apex.
 TEST(Robustness, StiffUpdatesMatchConvergedPath) {
   struct Recorded {
-    int substeps;  // what the update took on the GPU before the implicit returns
+    int substeps;  // what the explicit substepping alone takes for this update
     Sym3 sig;
     double e, kappa;
     Sym3 deps;
