@@ -103,6 +103,16 @@ def members(case):
         return list(csv.DictReader(f))
 
 
+def wait_for_two_done(p, case, limit=60):
+    """Until two members of the running ensemble `case` are done (or it ends, or `limit` s)."""
+    deadline = time.monotonic() + limit
+    mc = os.path.join(case, "ensemble", "members.csv")
+    while time.monotonic() < deadline and p.poll() is None:
+        if os.path.exists(mc) and sum(m["status"] == "done" for m in members(case)) >= 2:
+            return
+        time.sleep(0.05)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scree", required=True)
@@ -183,12 +193,7 @@ def main():
         with open(os.path.join(again, "system", "ensembleDict"), "w") as f:
             f.write(ENSEMBLE)
         p = subprocess.Popen(base + ["--case", again], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and p.poll() is None:
-            mc = os.path.join(again, "ensemble", "members.csv")
-            if os.path.exists(mc) and sum(m["status"] == "done" for m in members(again)) >= 2:
-                break
-            time.sleep(0.05)
+        wait_for_two_done(p, again)
         p.send_signal(signal.SIGTERM)
         out, _ = p.communicate()
         expect(p.returncode == 143, f"the ensemble stopped by SIGTERM exited {p.returncode}: {out[-800:]}")
@@ -218,12 +223,7 @@ def main():
         with open(os.path.join(killed, "system", "ensembleDict"), "w") as f:
             f.write(ENSEMBLE)
         p = subprocess.Popen(base + ["--case", killed], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and p.poll() is None:
-            mc = os.path.join(killed, "ensemble", "members.csv")
-            if os.path.exists(mc) and sum(m["status"] == "done" for m in members(killed)) >= 2:
-                break
-            time.sleep(0.05)
+        wait_for_two_done(p, killed)
         time.sleep(0.5)  # the next members past their start-up, running steps
         p.kill()
         p.wait()
