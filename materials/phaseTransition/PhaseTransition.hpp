@@ -84,18 +84,21 @@ struct PhaseTransition {
     return s;
   }
 
-  SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
-    update_with<simsand::Production>(p, s, sigma, inc);
+  /// Returns whether the frictional update reached the bound on its work (maxSubsteps).
+  SCREE_HD static bool update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    return update_with<simsand::Production>(p, s, sigma, inc);
   }
+  static std::string work_bound(const Params& p) { return simsand::work_bound(p.f); }
   /// update() with the frictional part evaluated under the policy Pol (simsand_params.hpp:
   /// the tests compare Production with the reference evaluations).
   template <class Pol>
-  SCREE_HD static void update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+  SCREE_HD static bool update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
     Sym3 sf = corotate(s.sigf, inc.spin);
     simsand::Vars v{s.e, s.kappa, s.epsEq};
-    simsand::integrate<Pol>(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
+    const bool bounded = simsand::integrate<Pol>(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
     collisional(p, s, sf, v, sigma, inc);
+    return bounded;
   }
   /// The same when the frictional increment is elastic; false (nothing changed) otherwise
   /// (material.hpp: optional update_elastic).

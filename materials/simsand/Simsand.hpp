@@ -75,12 +75,15 @@ struct Simsand {
   /// (A stretched point's void ratio follows its volume: 1 + e = (1 + e0) J.)
   SCREE_HD static bool dispersed(const Params& p, Real e) { return dispersed_below(p.Vmin, e); }
 
-  SCREE_HD static void update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+  /// Returns whether the update reached the bound on its work (maxSubsteps).
+  SCREE_HD static bool update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     simsand::Vars v{s.e, s.kappa, s.epsEq};
-    simsand::integrate(p.m, sigma, v, inc.deps);
+    const bool bounded = simsand::integrate(p.m, sigma, v, inc.deps);
     commit(s, v, inc);
     sigma = sigma * (dispersed(p, s.e) ? Real(0) : Real(1));  // a select, not a branch
+    return bounded;
   }
+  static std::string work_bound(const Params& p) { return simsand::work_bound(p.m); }
   /// The elastic case of update() alone (material.hpp: optional update_elastic).
   SCREE_HD static bool update_elastic(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     simsand::Vars v{s.e, s.kappa, s.epsEq};

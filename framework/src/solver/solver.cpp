@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <sstream>
 
 namespace scree {
@@ -252,6 +253,7 @@ RunStats Solver<D>::run() {
     throw;
   } catch (const RunInterrupted&) {
     finish_output(CheckpointWhen::always);  // the state at the stop, and a checkpoint to continue from
+    report_bounded_updates();
     throw;
   }
   if (opt_.output) {
@@ -263,8 +265,28 @@ RunStats Solver<D>::run() {
     output_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   if (opt_.progress) progress_.report(time(), step_, true);
+  report_bounded_updates();
   profile_.report(log_, step_ - first_step_, *comm_);
   return stats();
+}
+
+template <int D>
+void Solver<D>::report_bounded_updates() {
+  std::vector<std::uint64_t> n(bodies_.size(), 0);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) n[i] = bodies_[i]->bounded_updates();
+  comm_->sum(n.data(), static_cast<int>(n.size()));
+  const double steps = static_cast<double>(step_ - first_step_);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const std::string bound = bodies_[i]->work_bound();
+    if (bound.empty()) continue;
+    const double updates = steps * static_cast<double>(body_totals_[i]);
+    std::ostringstream m;
+    m << "scree: body '" << bodies_[i]->name() << "': " << n[i] << " stress update" << (n[i] == 1 ? "" : "s")
+      << " reached the bound on their work (" << bound << ")";
+    if (n[i] > 0 && updates > 0) m << ", " << std::setprecision(3) << static_cast<double>(n[i]) / updates
+                                   << " of its " << updates << " point-updates";
+    log_ << m.str() << "\n";
+  }
 }
 
 template <int D>

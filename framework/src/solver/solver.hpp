@@ -175,6 +175,9 @@ class Solver {
                          const std::vector<std::uint64_t>& totals) const;
   /// Log how the grid was cut and the points each rank holds.
   void report_decomposition();
+  /// Log, per body whose material bounds its stress update's work (Body::work_bound), how
+  /// many updates reached that bound in this run, over every rank (collective).
+  void report_bounded_updates();
   /// Make decomp_'s box this rank's grid: its geometry, its grid sets (the pore liquid's
   /// too), the plugins' context.
   void set_local_grid();

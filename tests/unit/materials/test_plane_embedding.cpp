@@ -95,10 +95,12 @@ struct KernelPoint {
     L(1, 1) = st.l11;
     Real speed = 0;
     FreshStress fresh;
+    bool bounded = false;
     if constexpr (material_has_elastic_path<M>()) {
-      if (elastic_first && pass.template stress_update<true>(0, L, st.dt, 0, mass, speed, fresh)) return speed;
+      if (elastic_first && pass.template stress_update<true>(0, L, st.dt, 0, mass, speed, fresh, bounded))
+        return speed;
     }
-    pass.template stress_update<false>(0, L, st.dt, 0, mass, speed, fresh);
+    pass.template stress_update<false>(0, L, st.dt, 0, mass, speed, fresh, bounded);
     return speed;
   }
   Sym3 stress() const { return detail::load_stress<D>(pass.pa.sigma, 0); }

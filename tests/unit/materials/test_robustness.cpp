@@ -3,9 +3,14 @@
 // states at the densest packing V_sd.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <random>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "material_test_util.hpp"
 
@@ -222,6 +227,60 @@ TEST(Robustness, StiffReturnsLeaveDenseAndCompressedPathsAlone) {
     for (int c = 0; c < 6; ++c) EXPECT_EQ(a[c], b[c]) << "p " << k.p << " e " << k.e;
     EXPECT_EQ(va.kappa, vb.kappa);
   }
+}
+
+// The bound on an update's work (maxSubsteps): the slow updates recorded from the 5 mm column
+// at its shipped tolerance (utilities/scree-bench/simsand-slow-updates-5mm-column.txt: 2,271
+// updates that took 25-92 substeps) replayed with the case's parameters. At the default bound
+// none reaches it; at a bound of 8 every one does, and integrate() says so. The truth is the
+// same path integrated to convergence (STOL 1e-6, a bound it never reaches): at the bound the stress
+// stays within the error control's own absolute scale s_e = 1e-3 p_at of it (an error the
+// control accepts as small at any tolerance), as the unbounded updates at 1e-2 do.
+TEST(Robustness, BoundedUpdatesSayTheyReachedTheBoundAndStayNearTheConvergedPath) {
+  std::ifstream in(std::string(SCREE_SOURCE_DIR) + "/utilities/scree-bench/simsand-slow-updates-5mm-column.txt");
+  ASSERT_TRUE(in) << "the recorded updates";
+  struct Update {
+    Sym3 sig, deps;
+    simsand::Vars v;
+  };
+  std::vector<Update> ups;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("simsand-substeps", 0) != 0) continue;
+    std::istringstream is(line);
+    std::string w;
+    int n = 0, apex = 0;
+    Update u{};
+    is >> w >> n >> w >> apex >> w;
+    for (int i = 0; i < 6; ++i) is >> u.sig[i];
+    is >> w >> u.v.e >> w >> u.v.kappa >> w;
+    for (int i = 0; i < 6; ++i) is >> u.deps[i];
+    if (is) ups.push_back(u);
+  }
+  ASSERT_GT(ups.size(), 2000u);
+  simsand::Params shipped = table3_collapse_f();
+  shipped.stol = 1e-2;
+  simsand::Params capped = shipped;
+  capped.nmax = 8;
+  simsand::Params converged = shipped;
+  converged.stol = 1e-6;
+  converged.nmax = 100000;
+  int bounded_shipped = 0, bounded_capped = 0, bounded_converged = 0;
+  double worst_shipped = 0, worst_capped = 0;
+  for (const Update& u : ups) {
+    Sym3 a = u.sig, b = u.sig, c = u.sig;
+    simsand::Vars va = u.v, vb = u.v, vc = u.v;
+    bounded_shipped += simsand::integrate(shipped, a, va, u.deps);
+    bounded_capped += simsand::integrate(capped, b, vb, u.deps);
+    bounded_converged += simsand::integrate(converged, c, vc, u.deps);
+    worst_shipped = std::max(worst_shipped, norm(a - c));
+    worst_capped = std::max(worst_capped, norm(b - c));
+    EXPECT_NEAR(vb.e, vc.e, 1e-11 * (1 + vc.e));  // 1 + e follows the volume, bound or not
+  }
+  EXPECT_EQ(bounded_shipped, 0);
+  EXPECT_EQ(bounded_converged, 0) << "the reference must not be bounded itself";
+  EXPECT_EQ(bounded_capped, static_cast<int>(ups.size()));
+  EXPECT_LT(worst_shipped, shipped.serr) << "Pa";
+  EXPECT_LT(worst_capped, shipped.serr) << "Pa";
 }
 
 // Free surface: a lightly stressed point under extension separates (stress-free, no

@@ -214,6 +214,21 @@ SCREE_INLINE void push_index(Index* list, unsigned* count, Index i, bool push, b
 #endif
 }
 
+/// *count += the number of lanes of the warp with `flag` set: one atomic per warp on CUDA,
+/// none where no lane has it. Every lane of the warp must call it (warp-collective).
+SCREE_INLINE void warp_count(unsigned long long* count, bool flag, bool serial) {
+#if defined(__CUDA_ARCH__)
+  (void)serial;
+  const unsigned lanes = __ballot_sync(0xffffffffu, flag);
+  if (lanes != 0 && static_cast<int>(threadIdx.x & 31u) == __ffs(lanes) - 1)
+    atomicAdd(count, static_cast<unsigned long long>(__popc(lanes)));
+#else
+  if (!flag) return;
+  if (serial) ++*count;
+  else __atomic_fetch_add(count, 1ull, __ATOMIC_RELAXED);
+#endif
+}
+
 /// Atomic a += v on either backend. On the CPU it is a plain add when the loop runs on
 /// one thread (`serial`), so single-threaded runs pay nothing for atomics.
 SCREE_INLINE void atomic_add(Real* a, Real v, bool serial) {

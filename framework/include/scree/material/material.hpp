@@ -43,6 +43,11 @@
 //   static constexpr bool reads_stress = false;       // optional (default true): update()
 //       // builds sigma from the state and never reads the stress it is given; the kernels
 //       // then skip loading and co-rotating it
+//   static std::string work_bound(const Params& p);   // optional, with update() returning
+//       // bool: a model whose update is iterative and bounded (substeps, Newton iterations)
+//       // returns true from update() when the update reached that bound, and names the
+//       // bound here (e.g. "maxSubsteps 8"); the framework counts those updates per body
+//       // and reports them in the run's log (Body::bounded_updates)
 //
 // The concept Material<M> below states the required part; Registry::add_material<M>()
 // checks it with one message per missing piece.
@@ -100,6 +105,15 @@ struct StrainIncrement {
   Real dt;     ///< time step [s]
   Real J;      ///< volume ratio V/V0 = det F after this increment, [-]
 };
+
+/// Whether M's update() reports reaching a bound on its work (see the top of this file).
+template <class M>
+inline constexpr bool material_reports_bound() {
+  return requires(const typename M::Params& p, typename M::State& s, Sym3& sigma, const StrainIncrement& inc) {
+    { M::update(p, s, sigma, inc) } -> std::same_as<bool>;
+    { M::work_bound(p) } -> std::convertible_to<std::string>;
+  };
+}
 
 /// Whether M has the optional update_elastic (see the top of this file).
 template <class M>
@@ -282,8 +296,11 @@ concept has_initial_state = requires(const typename M::Params& p, Sym3& sigma) {
 template <class M>
 concept has_update =
     requires(const typename M::Params& p, typename M::State& s, Sym3& sigma, const StrainIncrement& inc) {
-      { M::update(p, s, sigma, inc) } -> std::same_as<void>;
-    };
+      M::update(p, s, sigma, inc);  // void, or bool with work_bound (material_reports_bound)
+    } && (std::is_void_v<decltype(M::update(std::declval<const typename M::Params&>(),
+                                            std::declval<typename M::State&>(), std::declval<Sym3&>(),
+                                            std::declval<const StrainIncrement&>()))> ||
+          material_reports_bound<M>());
 template <class M>
 concept has_wave_speed = requires(const typename M::Params& p, const typename M::State& s, const Sym3& sigma, Real x) {
   { M::wave_speed(p, s, sigma, x, x) } -> std::convertible_to<Real>;
@@ -315,7 +332,8 @@ constexpr bool check_material() {
   static_assert(has_density<M>, "material M needs `static Real density(const Params&)`");
   static_assert(has_initial_state<M>, "material M needs `static State initial_state(const Params&, Sym3& sigma)`");
   static_assert(has_update<M>, "material M needs `SCREE_HD static void update(const Params&, State&, Sym3& sigma, "
-                               "const StrainIncrement&)`");
+                               "const StrainIncrement&)` (or returning bool, with `static std::string "
+                               "work_bound(const Params&)`)");
   static_assert(has_wave_speed<M>, "material M needs `SCREE_HD static Real wave_speed(const Params&, const State&, "
                                    "const Sym3& sigma, Real density, Real cell_size)`");
   static_assert(has_describe<M>, "material M needs `static void describe(OutputFields<M>&)`");

@@ -108,6 +108,12 @@ class Body {
   /// Empty the split's list counters (before the stress pass starts or stops splitting:
   /// while it does not split, no kernel clears them). Queued on the body's stream.
   virtual void reset_split() {}
+  /// The bound on its material's stress update, e.g. "maxSubsteps 8" (material.hpp,
+  /// work_bound), or "" when the material has none.
+  virtual std::string work_bound() const { return {}; }
+  /// The stress updates of this body that reached that bound since the body was made (on
+  /// this rank). Waits for the body's queued work.
+  virtual std::uint64_t bounded_updates() const { return 0; }
 };
 
 }  // namespace scree

@@ -95,6 +95,7 @@ class MaterialBody final : public Body<D> {
       deferred_.resize(static_cast<std::size_t>(n), exec_.device);
       deferred_count_.resize(2, exec_.device);
     }
+    if constexpr (material_reports_bound<M>()) bounded_.resize(1, exec_.device);  // zeroed
     OutputFields<M> out;
     M::describe(out);
     fields_ = out.fields();
@@ -106,6 +107,18 @@ class MaterialBody final : public Body<D> {
     if constexpr (material_has_elastic_path<M>()) parallel_for(exec_, 2, detail::ZeroCounters{deferred_count_.data()});
   }
   const std::string& material_type() const override { return type_; }
+  std::string work_bound() const override {
+    if constexpr (material_reports_bound<M>()) return M::work_bound(params_);
+    else return {};
+  }
+  std::uint64_t bounded_updates() const override {
+    if constexpr (material_reports_bound<M>()) {
+      mem::synchronize(exec_.device);
+      return bounded_.to_host()[0];
+    } else {
+      return 0;
+    }
+  }
   Index size() const override { return store_.size(); }
   const ParticleArrays<D>& arrays() const override { return store_.arrays(); }
   std::size_t bytes_per_particle() const override { return store_.bytes_per_particle(); }
@@ -115,6 +128,7 @@ class MaterialBody final : public Body<D> {
     if (store_.size() == 0) return;  // a rank of a decomposed run may hold none of the body's points
     PassParams<D> pp = params;
     pp.body = body_id_;  // named by a point with a non-finite field (StepControl::bad)
+    if constexpr (material_reports_bound<M>()) pp.bounded = bounded_.data();
     const Real inv_h = 1 / pp.grid.h;
     switch (shape_) {
       case ShapeKind::linear: launch(pp, ShapeLinear{inv_h}); break;
@@ -356,6 +370,7 @@ class MaterialBody final : public Body<D> {
   mutable SnapshotCopy copy_;
   Buffer<Index> deferred_;            // the elastic-first split's deferred points
   Buffer<unsigned> deferred_count_;   // their number, one counter per step parity
+  Buffer<unsigned long long> bounded_;  // updates that reached the bound (material_reports_bound)
   std::vector<OutputField> fields_;
 };
 

@@ -154,6 +154,9 @@ struct PassParams {
   std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
   Index* deferred = nullptr;             ///< PassPolicy::split_elastic's list (MaterialBody's)
   unsigned* deferred_count = nullptr;
+  /// The body's count of stress updates that reached their material's bound on the work
+  /// (material_reports_bound; MaterialBody's); null for other materials.
+  unsigned long long* bounded = nullptr;
   /// Body::body_id of the body the pass runs over (MaterialBody::launch sets it): a point
   /// with a non-finite field records it in StepControl::bad.
   int body = 0;
@@ -336,6 +339,7 @@ struct ParticlePass {
     Real pic_loss = 0;   // the energy ledger: kinetic energy the PIC blend removed (PassPolicy::energy)
     Real wall_loss = 0;  // ... and the walls (PassPolicy::wall_ledger)
     bool defer = false;  // ElasticFirst: the update is not elastic, left to the second kernel
+    bool bounded = false;  // the update reached its material's bound on the work
     if ((flags & kAnyGather) && active) {
       const detail::Stencil<D, Shape> st(shape, g, x);
       if (!st.inside) {
@@ -438,7 +442,8 @@ SCREE_UNROLL
         }
         if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
         if constexpr ((May & kStressPhases) != 0)
-          if (flags & kStressPhases) defer = !stress_update<ElasticFirst>(p, L, dt, v_start, mass, speed, fresh);
+          if (flags & kStressPhases)
+            defer = !stress_update<ElasticFirst>(p, L, dt, v_start, mass, speed, fresh, bounded);
       }
     }
     if constexpr (ElasticFirst) {
@@ -449,6 +454,14 @@ SCREE_UNROLL
       }
     }
     if constexpr (Ledger) ledger(pic_loss, wall_loss, fresh);
+    if constexpr (!ElasticFirst && (May & kStressPhases) != 0 && material_reports_bound<M>())
+      if (flags & kStressPhases) {  // the count of bounded updates: one atomic per warp that has any
+        if (pp.policy.reference) {
+          if (bounded) atomic_increment(pp.bounded, pp.policy.serial);
+        } else {
+          warp_count(pp.bounded, bounded, pp.policy.serial);
+        }
+      }
     if constexpr ((May & kStressPhases) != 0)
       if ((flags & kStressPhases) && speed_wanted(pp)) {
         // The step's largest signal speed, for the adaptive time step: one atomic per warp.
@@ -569,10 +582,11 @@ SCREE_UNROLL
   /// eqs. (8)-(9) with an objective stress update. Sets `speed` to the signal speed c +
   /// v_start (|v| at the start of the step) when the step takes it (v_start >= 0), else 0.
   /// ElasticOnly: the material's update_elastic; when that declines, nothing is written and
-  /// the result is false.
+  /// the result is false. `bounded`: the update reached its material's bound on the work
+  /// (material_reports_bound).
   template <bool ElasticOnly>
   SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, Real v_start, Real mass, Real& speed,
-                                  FreshStress& fresh) const {
+                                  FreshStress& fresh, bool& bounded) const {
     // eq. (8), F <- (I + L dt) F, kept as its determinant alone: the point's volume ratio
     // J = det F, the one part of F that anything uses (the volume V0 J; the materials get
     // the increment, its spin and J). F is stored as diag(J, 1[, 1]), so the update is
@@ -622,6 +636,8 @@ SCREE_UNROLL
     load_state<typename M::State, plane>(s, pa.state, pa.n, p);
     if constexpr (ElasticOnly) {
       if (!M::update_elastic(mp, s, sigma, inc)) return false;
+    } else if constexpr (material_reports_bound<M>()) {
+      bounded = M::update(mp, s, sigma, inc);
     } else {
       M::update(mp, s, sigma, inc);
     }

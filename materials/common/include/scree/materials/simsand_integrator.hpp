@@ -227,14 +227,15 @@ SCREE_INLINE bool stiff_stage(const Params& P, Sym3& sig, Vars& v, Substepping& 
   return o != kStiffDeclined;
 }
 
-/// Bounded work: after kMaxSubsteps substeps the error control is switched off and the
-/// substep is not allowed below 1/kMaxSubsteps of what then remained; after 3 kMaxSubsteps
-/// the remainder is done in one step. Returns whether the control is relaxed.
-SCREE_INLINE bool bound_substep(Substepping& s) {
-  const bool relaxed = s.n > kMaxSubsteps;
-  if (relaxed && s.dT_relaxed < 0) s.dT_relaxed = (1 - s.T) / kMaxSubsteps;
+/// Bounded work (`maxSubsteps`, P.nmax = N): after N substeps the error control is switched
+/// off and the substep is not allowed below 1/N of what then remained; after 3N the
+/// remainder is done in one step. So an update takes at most 3N + 1 substeps, whatever its
+/// increment. Returns whether the control is relaxed.
+SCREE_INLINE bool bound_substep(const Params& P, Substepping& s) {
+  const bool relaxed = s.n > P.nmax;
+  if (relaxed && s.dT_relaxed < 0) s.dT_relaxed = (1 - s.T) / P.nmax;
   if (relaxed) s.dT = fmin(fmax(s.dT, s.dT_relaxed), 1 - s.T);
-  if (s.n > 3 * kMaxSubsteps) s.dT = 1 - s.T;
+  if (s.n > 3 * P.nmax) s.dT = 1 - s.T;
   return relaxed;
 }
 
@@ -336,7 +337,7 @@ SCREE_INLINE bool apex_crossing(const Params& P, Sym3& sig, Vars& v, Substepping
 template <class Pol>
 SCREE_INLINE bool toward_apex(const Params& P, Sym3& sig, Vars& v, Substepping& s, Attempt& a, bool relaxed) {
   const Real ph = mean_pressure(a.sn);
-  if (!s.have_r1u || (ph <= P.papex && (norm(sig) <= s.snear || s.n > 3 * kMaxSubsteps))) {
+  if (!s.have_r1u || (ph <= P.papex && (norm(sig) <= s.snear || s.n > 3 * P.nmax))) {
     // - already within the error the control accepts per substep (STOL x s_e) of the
     //   apex, and heading there: finish at the apex (also when the rates fail at sig, or
     //   when the work bound is spent). Only here, on the way to the apex: a grain being
@@ -345,7 +346,7 @@ SCREE_INLINE bool toward_apex(const Params& P, Sym3& sig, Vars& v, Substepping& 
     return true;
   }
   if (!(ph <= P.papex)) {  // a rate could not be evaluated (not finite): smaller substep
-    if (s.dT > kMinSubstep && s.n <= 3 * kMaxSubsteps) {
+    if (s.dT > kMinSubstep && s.n <= 3 * P.nmax) {
       s.dT = fmax(Real(0.1) * s.dT, kMinSubstep);
       return false;
     }
@@ -378,7 +379,7 @@ template <class Pol>
 SCREE_INLINE bool substep(const Params& P, Sym3& sig, Vars& v, Substepping& s) {
   ++s.n;
   if (stiff_stage<Pol>(P, sig, v, s)) return false;
-  const bool relaxed = bound_substep(s);
+  const bool relaxed = bound_substep(P, s);
   const Real eb = s.void_ratio(s.T + s.dT);
   if (!s.have_r1u)
     s.have_r1u = plastic_rate<Pol>(P, sig, v.kappa, s.ea, s.drem, (1 + s.ea) * expm1(s.tr * (1 - s.alpha)), s.r1u,
@@ -408,14 +409,15 @@ SCREE_INLINE void finish(Sym3& sig, Vars& v, const Substepping& s, Real e1) {
 }
 
 /// One stress update of the frictional model: sig (tension positive) and the internal
-/// variables v over the strain increment deps. Always returns a defined state: p >= 0,
-/// no tension, finite values.
+/// variables v over the strain increment deps. Always leaves a defined state: p >= 0,
+/// no tension, finite values. Returns whether the update reached the bound on its work
+/// (bound_substep: more than `maxSubsteps` substeps, the rest without error control).
 template <class Pol = Production>
-SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
+SCREE_HD inline bool integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
   if (!finite_sym(sig)) sig = Sym3::zero();
   if (!finite_sym(deps)) {  // nothing sensible to integrate
     v.e = fmax(v.e, Real(1e-6));
-    return;
+    return false;
   }
 #if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
   const Sym3 sig_in = sig;
@@ -423,19 +425,19 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
 #endif
   if (!(mean_pressure(sig) > P.papex)) {  // 1. a stress-free point
     integrate_at_apex<Pol>(P, sig, v, deps);
-    return;
+    return false;
   }
   const ElasticTrial t = elastic_trial<Pol>(P, sig, v, deps);  // 2. the elastic trial
   sig = t.sig0;
   if (t.separates) {
     separate(sig, v, deps, 1);
     v.e = t.e1;
-    return;
+    return false;
   }
   if (t.elastic) {  // elastic: the common cheap path
     sig = t.sig_tr;
     v.e = t.e1;
-    return;
+    return false;
   }
   Substepping s = start_plastic<Pol>(P, sig, v, deps, t);  // 3. the elastic fraction
   while (s.T < 1)                                          // 4. the plastic part
@@ -448,6 +450,7 @@ SCREE_HD inline void integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& 
            v_in.kappa, deps[0], deps[1], deps[2], deps[3], deps[4], deps[5]);
 #endif
   finish(sig, v, s, t.e1);  // 5. the remainder at the apex, a defined state
+  return s.n > P.nmax;
 }
 
 }  // namespace scree::materials::simsand

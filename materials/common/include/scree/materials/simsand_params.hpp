@@ -47,7 +47,12 @@ struct Params {
   Real Cfac;     ///< K0 p_at^(1-n): K = Cfac F(e) (p + p_min)^n
   Real inv_pat;  ///< 1/p_at
   Real ln_eref;  ///< ln e_ref: ln(e_c/e) of eqs. (16)-(18) without forming e_c (log_critical_ratio)
+  int nmax;      ///< the bound on an update's work: substeps with error control (bound_substep)
 };
+
+/// The default of `maxSubsteps` (Params::nmax): far above what any update of the shipped
+/// cases takes at their tolerances, so that by default the bound only stops a runaway.
+inline constexpr int kDefaultMaxSubsteps = 1000;
 
 /// Internal variables integrated together with the stress.
 struct Vars {
@@ -95,6 +100,7 @@ struct Constants {
   Real pmin = 1;         ///< stiffness regularisation pressure p_min [Pa]
   Real stol = 1e-4;      ///< relative local error tolerance of the substepping
   bool lode = true;      ///< Lode-angle dependent M (Sheng et al. 2000), or M_c everywhere
+  int maxSubsteps = kDefaultMaxSubsteps;  ///< substeps with error control per update (then relaxed)
 };
 
 /// Host: Params, with the derived constants, from the named constants.
@@ -129,6 +135,7 @@ inline Params make_params(const Constants& k) {
   P.Cfac = k.K0 * std::pow(k.pat, 1 - k.n);
   P.inv_pat = 1 / k.pat;
   P.ln_eref = std::log(k.eref);
+  P.nmax = k.maxSubsteps;
   return P;
 }
 

@@ -81,6 +81,13 @@ inline void add_frictional_spec(ParamSpec& s) {
            "cases)")
       .range(1e-10, 1e-1)
       .default_value(1e-4);
+  s.integer("maxSubsteps",
+            "the bound on one update's work: after this many substeps the error control is off and the rest "
+            "takes at least 1/maxSubsteps of what remained, after 3x this many the rest is one substep (at most "
+            "3 maxSubsteps + 1 in all). Updates that reach it are counted in the run's log. The default only stops a "
+            "runaway; 8-16 bounds the cost of a flowing step (materials/simsand/README.md)")
+      .range(2, 1e6)
+      .default_value(kDefaultMaxSubsteps);
 }
 
 /// The initial void ratio e0 of a material built on the model (simsand, phaseTransition):
@@ -93,6 +100,9 @@ inline void add_initial_void_ratio(ParamSpec& s, const char* what) {
       .range(0.0, 2.0)
       .open_min();
 }
+/// The bound on an update's work, as the run's log names it (material.hpp, work_bound).
+inline std::string work_bound(const Params& P) { return "maxSubsteps " + std::to_string(P.nmax); }
+
 inline Params read_frictional(const ParamReader& r) {
   return make_params(Constants{.K0 = r.scalar("referenceBulkModulus"),
                                .nu = r.scalar("poissonRatio"),
@@ -108,7 +118,8 @@ inline Params read_frictional(const ParamReader& r) {
                                .nd = r.scalar("phaseTransformationExponent"),
                                .pmin = r.scalar("minPressure"),
                                .stol = r.scalar("integrationTolerance"),
-                               .lode = r.word("lodeDependence") == "sheng"});
+                               .lode = r.word("lodeDependence") == "sheng",
+                               .maxSubsteps = static_cast<int>(r.integer("maxSubsteps"))});
 }
 
 }  // namespace scree::materials::simsand

@@ -22,7 +22,6 @@
 namespace scree::materials::simsand {
 
 inline constexpr Real kFtol = 1e-9;        ///< yield-function tolerance (f is a stress ratio)
-inline constexpr int kMaxSubsteps = 1000;  ///< substeps with error control per update (then relaxed)
 inline constexpr Real kMinSubstep = 1e-4;  ///< smallest substep, as a fraction of the increment
 inline constexpr int kApexIter = 8;        ///< rate evaluations to locate where a substep reaches the apex
 /// Stiff updates (integrate(), README step 5): after kStiffAfter substep attempts, a remainder
