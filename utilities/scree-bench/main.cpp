@@ -59,6 +59,7 @@
 #include "scalar_mpm.hpp"
 #include "scree/case/case.hpp"
 #include "scree/exec/memory.hpp"
+#include "scree/materials/simsand_recorded_updates.hpp"
 #include "scree/plugin/loader.hpp"
 #include "scree/solver/simulation.hpp"
 
@@ -393,23 +394,7 @@ void replay_updates(scree::PluginRuntime& rt, const fs::path& src, std::vector<R
   const fs::path data = src / "utilities/scree-bench/simsand-slow-updates-5mm-column.txt";
   std::ifstream in(data);
   if (!in) throw std::runtime_error(data.string() + ": cannot read the recorded updates");
-  struct Update {
-    scree::Sym3 sig, deps;
-    ss::Vars v;
-  };
-  std::vector<Update> ups;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("simsand-substeps", 0) != 0) continue;  // comments
-    std::istringstream is(line);
-    std::string w;
-    int n = 0, apex = 0;
-    Update u{};
-    is >> w >> n >> w >> apex >> w;
-    for (int i = 0; i < 6; ++i) is >> u.sig[i];
-    is >> w >> u.v.e >> w >> u.v.kappa >> w;
-    for (int i = 0; i < 6; ++i) is >> u.deps[i];
-    if (is) ups.push_back(u);
-  }
+  const std::vector<ss::RecordedUpdate> ups = ss::read_recorded_updates(in);
   if (ups.empty()) throw std::runtime_error(data.string() + ": no updates in it");
   const ss::Params P =
       case_material_params<scree::materials::PhaseTransition>(scree::Case::read(src / "cases/columnCollapse", rt), "sand")
@@ -417,7 +402,7 @@ void replay_updates(scree::PluginRuntime& rt, const fs::path& src, std::vector<R
   double best = 1e300, sink = 0;
   for (int rep = 0; rep < 5; ++rep) {
     const auto t0 = std::chrono::steady_clock::now();
-    for (const Update& u : ups) {
+    for (const ss::RecordedUpdate& u : ups) {
       scree::Sym3 sig = u.sig;
       ss::Vars v = u.v;
       ss::integrate(P, sig, v, u.deps);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "material_test_util.hpp"
+#include "scree/materials/simsand_recorded_updates.hpp"
 
 using namespace scree;
 using namespace scree::materials;
@@ -239,23 +240,7 @@ TEST(Robustness, StiffReturnsLeaveDenseAndCompressedPathsAlone) {
 TEST(Robustness, BoundedUpdatesSayTheyReachedTheBoundAndStayNearTheConvergedPath) {
   std::ifstream in(std::string(SCREE_SOURCE_DIR) + "/utilities/scree-bench/simsand-slow-updates-5mm-column.txt");
   ASSERT_TRUE(in) << "the recorded updates";
-  struct Update {
-    Sym3 sig, deps;
-    simsand::Vars v;
-  };
-  std::vector<Update> ups;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("simsand-substeps", 0) != 0) continue;
-    std::istringstream is(line);
-    std::string w;
-    int n = 0, apex = 0;
-    Update u{};
-    is >> w >> n >> w >> apex >> w;
-    for (int i = 0; i < 6; ++i) is >> u.sig[i];
-    is >> w >> u.v.e >> w >> u.v.kappa >> w;
-    for (int i = 0; i < 6; ++i) is >> u.deps[i];
-    if (is) ups.push_back(u);
-  }
+  const std::vector<simsand::RecordedUpdate> ups = simsand::read_recorded_updates(in);
   ASSERT_GT(ups.size(), 2000u);
   simsand::Params shipped = table3_collapse_f();
   shipped.stol = 1e-2;
@@ -266,7 +251,7 @@ TEST(Robustness, BoundedUpdatesSayTheyReachedTheBoundAndStayNearTheConvergedPath
   converged.nmax = 100000;
   int bounded_shipped = 0, bounded_capped = 0, bounded_converged = 0;
   double worst_shipped = 0, worst_capped = 0;
-  for (const Update& u : ups) {
+  for (const simsand::RecordedUpdate& u : ups) {
     Sym3 a = u.sig, b = u.sig, c = u.sig;
     simsand::Vars va = u.v, vb = u.v, vc = u.v;
     bounded_shipped += simsand::integrate(shipped, a, va, u.deps);
