@@ -22,8 +22,9 @@ std::string collapse_log(const std::string& extra, int threads) {
   tc.write("constant/materialProperties",
            "sand { type simsand; particleDensity 2650; referenceBulkModulus 120; poissonRatio 0.2; "
            "elasticExponent 0.5; criticalFrictionAngle 19.8; referenceCriticalVoidRatio 0.977; "
-           "criticalStateLambda 0.0596; criticalStateXi 0.365; dilatancyConstant 0.7; plasticModulusConstant 0.0044; "
-           "peakStrengthExponent 2.4; phaseTransformationExponent 2.9; initialVoidRatio 0.95; integrationTolerance 1e-2; " +
+           "criticalStateLambda 0.0596; criticalStateXi 0.365; dilatancyConstant 0.7; "
+           "plasticModulusConstant 0.0044; peakStrengthExponent 2.4; phaseTransformationExponent 2.9; "
+           "initialVoidRatio 0.95; integrationTolerance 1e-2; " +
                extra + " }");
   tc.write("constant/bodies",
            "column { material sand; region { type rectangle; lower (0.15 0); upper (0.35 0.1); } particlesPerCell 2; "
@@ -39,7 +40,8 @@ std::string collapse_log(const std::string& extra, int threads) {
 }
 
 TEST(WorkBound, UpdatesThatReachTheBoundAreCountedInTheLog) {
-  const std::regex line("body 'column': (\\d+) stress updates? reached the bound on their work \\(maxSubsteps (\\d+)\\)");
+  const std::regex line(
+      "body 'column': (\\d+) stress updates? reached the bound on their work \\(maxSubsteps (\\d+)\\)");
   std::smatch m;
   const std::string dflt = collapse_log("", 1);
   ASSERT_TRUE(std::regex_search(dflt, m, line)) << dflt;

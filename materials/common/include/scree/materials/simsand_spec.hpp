@@ -84,8 +84,8 @@ inline void add_frictional_spec(ParamSpec& s) {
   s.integer("maxSubsteps",
             "the bound on one update's work: after this many substeps the error control is off and the rest "
             "takes at least 1/maxSubsteps of what remained, after 3x this many the rest is one substep (at most "
-            "3 maxSubsteps + 1 in all). Updates that reach it are counted in the run's log. The default only stops a "
-            "runaway; 8-16 bounds the cost of a flowing step (materials/simsand/README.md)")
+            "3 maxSubsteps + 1 in all). Updates that reach it are counted in the run's log. The default bounds "
+            "only rare long chains; 8-16 bounds the cost of a flowing step (materials/simsand/README.md)")
       .range(2, 1e6)
       .default_value(kDefaultMaxSubsteps);
 }
