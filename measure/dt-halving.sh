@@ -18,7 +18,7 @@
 # and height when the step is halved, for the deposit (the furthest point) and, where the
 # case has one, the massFront (a mass quantile: single grains thrown ahead do not move it).
 #
-# Example (CPU, 5 mm column, about 4 and 8 minutes on one core each):
+# Example (CPU, 5 mm column):
 #   measure/dt-halving.sh cases/columnCollapse/variants/C-2 /tmp/halving 1e-5 0.5
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -8,8 +8,8 @@
 #   measure/gpu-column.sh wait SECONDS                     status every 60 s until all done
 #   measure/gpu-column.sh collect                          pack the results into $OUT
 #
-# GPU_RUNS (one after another on the GPU, cores 0-1; two processes sharing the GPU
-# time-slice it and each ran 3x slower, so there is one queue): pt (cases/columnCollapse,
+# GPU_RUNS (one after another on the GPU, cores 0-1; processes sharing a GPU without MPS
+# are time-sliced, so there is one queue): pt (cases/columnCollapse,
 # phaseTransition, 1 mm), frictional (the same with SIMSAND alone), C-1, C-2, C-3 (Appendix
 # C meshes), bench (scree-bench: paper cases and weak scaling). Default: pt frictional bench
 # C-3 C-2 C-1. CPU_RUNS (one after another on cores 2-15, 14 threads): C-1 C-2 C-3 and

@@ -12,8 +12,7 @@ gpu_status() {
 }
 
 # mps_start: a CUDA MPS daemon of the script's own (pipes and logs under $S), so that the
-# small kernels of several runs share the GPU side by side instead of time-slicing (two runs
-# each ran 3x slower without it: gpu-column.sh). Prints whether it started; returns 1 when
+# small kernels of several runs share the GPU side by side instead of time-slicing. Prints whether it started; returns 1 when
 # MPS is not available (then run one GPU run after another). SCREE_MPS=0: no daemon.
 mps_start() {
   [ "${SCREE_MPS:-1}" = 1 ] || return 1
@@ -38,8 +37,8 @@ gpu_prepare_machine() {
 
 # gpu_launch_all RUN...: each LABEL=SPEC through the script's own `launch LABEL SPEC CORES`,
 # in the background. Every run gets two cores of its own: a GPU run's host loop launches its
-# kernels and should not wait for a core (seven runs pinned to the same two cores, and sharing
-# the GPU, ran at ~50 steps/s each). Without MPS the GPU runs go one after another. `wait`
+# kernels and should not wait for a core (runs that share cores wait for each other's
+# launches). Without MPS the GPU runs go one after another. `wait`
 # ends when $S/walltimes.txt has a line for each run.
 gpu_launch_all() {
   local r core=0 gpu=()

@@ -21,7 +21,7 @@
 #
 # The GPU runs share the GPU through MPS (a CUDA MPS daemon of this script's own, in /tmp),
 # which lets the small kernels of several processes run side by side; without MPS the GPU
-# time-slices between processes and two runs each ran 3x slower (gpu-column.sh). SCREE_MPS=0:
+# time-slices between processes, which run one at a time. SCREE_MPS=0:
 # no daemon, one GPU run after another instead.
 #
 # A lent machine goes back about 30 s after a call returns, and with it a background run: make

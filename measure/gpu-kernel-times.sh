@@ -7,8 +7,8 @@
 # The case runs <max-steps> steps without output, its kernels launched one by one
 # (--no-graphs: a USF step is four to six launches, a sort every 200 steps adds four);
 # ncu times <count> launches after skipping <skip-launches>, with the clocks left alone
-# (--clock-control none). ncu slows the run (about 0.1 ms per launch): keep max-steps just
-# past the window. Writes <out.csv> (per kernel name: launches, mean / min / max duration
+# (--clock-control none). ncu slows every launch it intercepts: keep max-steps just past
+# the window. Writes <out.csv> (per kernel name: launches, mean / min / max duration
 # in us, registers, grid) and <out.csv>.raw (ncu's own CSV), and prints the table.
 # Example (the column at rest, steps ~1,000-1,015): gpu-kernel-times.sh cases/columnCollapse 1100 5000 60 k.csv
 # SCREE_ARGS adds options to scree's command line (e.g. SCREE_ARGS="--threads 1"; kernel

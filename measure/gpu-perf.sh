@@ -5,8 +5,8 @@
 #
 # Sections (default: all, in this order): tests paper variants scaling base output cpu ncu
 # stalls. Needs .gpu-bundle (../shared/gpu/bundle.sh build-cuda) and, for `base`,
-# .gpu-base: the executables and plugins of commit de3498e (the code before this work)
-# built the same way, with that commit's cases/ (the "Before" of docs/history/performance-log.md).
+# .gpu-base: the executables and plugins of the commit to compare against, built the same
+# way, with that commit's cases/.
 # Device call: carry [".gpu-bundle", ".gpu-base"]. Output under $OUT (at most 8 files come
 # back): log.txt (everything), CSVs of the benchmark and ncu.txt. Each command has its own
 # time limit so that the call ends inside the device's 10 minutes.
@@ -47,7 +47,7 @@ want scaling && step 150 $bin/scree-bench --device cuda --cases scaling --kernel
   --materials phaseTransition,linearElastic --shapes linear --schemes USL,USF --max-particles 10000000 --steps 400 \
   --csv "$out/scaling.csv" --json /dev/null
 
-# Before: commit de3498e on its own case files (and the new code on them, for comparison).
+# The base commit on its own case files (and the new code on them, for comparison).
 if want base; then
   step 60 $base/scree --case .gpu-base/cases/columnCollapse --device cuda --no-output --max-steps 10000
   step 100 $base/scree --case .gpu-base/cases/columnCollapse --device cuda --no-output --max-steps 12000

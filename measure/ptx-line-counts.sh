@@ -5,7 +5,6 @@
 # instructions per source line, inclusive of everything inlined from it
 # (measure/ptx_line_counts.py). Static counts: a branch's both sides count, a slow path
 # as much as the fast one; divisions and square roots are weighted by their SASS length.
-# docs/history/performance-log.md, entry 19, used it.
 #
 #   measure/ptx-line-counts.sh [UNIT.cu] [KERNEL-NAME-SUBSTRING] [TOP]
 set -euo pipefail

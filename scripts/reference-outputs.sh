@@ -7,14 +7,12 @@
 #
 # Single-threaded CPU runs only: with several threads the order of the atomic additions
 # into grid nodes changes the last bits from run to run. The column collapses run with
-# `sortInterval 0`: up to commit 9a04d0f the particles were re-sorted at step counts that
-# depended on the wall time of a chunk of steps (the steps that idle on an output time
-# counted), so the same binary did not reproduce itself after the first sort. The set: the elastic column (the
+# `sortInterval 0`, so that outputs compare across commits whatever their sort schedule.
+# The set: the elastic column (the
 # default case), the column collapse meshes C-1 and C-2 with the phase-transition model and
 # C-2 with the frictional model (cases/columnCollapse/variants), the flume at 20 mm cells,
 # the infiltration column (both shortened), and every element test of
-# cases/elementTests (frictional, collisional and combined models). About 3 minutes on one
-# core.
+# cases/elementTests (frictional, collisional and combined models).
 set -euo pipefail
 bin=$(cd "$1" && pwd)
 out=$2

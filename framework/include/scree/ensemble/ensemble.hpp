@@ -4,7 +4,7 @@
 // A case with a system/ensembleDict is an ensemble. Its dictionary names entries of the
 // case's dictionaries (any file, any plugin's parameter) and how each varies:
 //
-//   seed        20261129;       // the random draws (member k's draw depends only on the
+//   seed        12345;          // the random draws (member k's draw depends only on the
 //                               // seed, the parameter's name and k: adding members keeps
 //                               // the earlier ones)
 //   samples     64;             // draws of the distributions (default 1)

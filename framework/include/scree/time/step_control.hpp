@@ -118,9 +118,8 @@ SCREE_INLINE Real cfl_step(const StepControl& c, Real max_speed) {
 /// when there is none. A step may measure none: USL's step after the start or after a
 /// flush (a write) has no stress update of its own (it ran in the flush, or runs in the
 /// next step's pass), and a clock stopped on a target resumes after its speed was cleared.
-/// A cleared speed taken as measured gave maxDeltaT: 2.4 times the CFL step in the second
-/// step of every adaptive USL run (tests/verification/restart), and a step 40 times the
-/// acoustic one after every write of a two-phase case. The host keeps last_speed with the
+/// A cleared speed taken as measured would give maxDeltaT, far above the CFL step
+/// (tests/verification/restart checks the step after a start). The host keeps last_speed with the
 /// device's (Solver::flush reads the clock back after the gather that measures it).
 SCREE_INLINE Real next_cfl_step(const StepControl& c, Real measured) {
   return cfl_step(c, measured > 0 ? measured : c.last_speed);
