@@ -90,14 +90,33 @@ struct PhaseTransition {
   }
   static std::string work_bound(const Params& p) { return simsand::work_bound(p.f); }
   /// update() with the frictional part evaluated under the policy Pol (simsand_params.hpp:
-  /// the tests compare Production with the reference evaluations).
+  /// the tests compare Production with the reference evaluations): its turns in sequence.
   template <class Pol>
   SCREE_HD static bool update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
+    Work w;
+    if (update_begin<Pol>(p, s, sigma, inc, w))
+      while (update_turn<Pol>(p, w)) {
+      }
+    return update_end(p, s, sigma, inc, w);
+  }
+  /// update() in turns (material.hpp): the frictional integration in flight (eqs. 12-18),
+  /// then the collisional part at the end.
+  using Work = simsand::Integration;
+  template <class Pol = simsand::Production>
+  SCREE_HD static bool update_begin(const Params& p, const State& s, const Sym3&, const StrainIncrement& inc,
+                                    Work& w) {
     // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
-    Sym3 sf = corotate(s.sigf, inc.spin);
-    simsand::Vars v{s.e, s.kappa, s.epsEq};
-    const bool bounded = simsand::integrate<Pol>(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
-    collisional(p, s, sf, v, sigma, inc);
+    w.sig = corotate(s.sigf, inc.spin);
+    w.v = simsand::Vars{s.e, s.kappa, s.epsEq};
+    return simsand::integrate_begin<Pol>(p.f, w, inc.deps);  // updates e
+  }
+  template <class Pol = simsand::Production>
+  SCREE_HD static bool update_turn(const Params& p, Work& w) {
+    return simsand::integrate_turn<Pol>(p.f, w);
+  }
+  SCREE_HD static bool update_end(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc, Work& w) {
+    const bool bounded = simsand::integrate_end(p.f, w);
+    collisional(p, s, w.sig, w.v, sigma, inc);
     return bounded;
   }
   /// The same when the frictional increment is elastic; false (nothing changed) otherwise

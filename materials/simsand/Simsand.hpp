@@ -77,9 +77,21 @@ struct Simsand {
 
   /// Returns whether the update reached the bound on its work (maxSubsteps).
   SCREE_HD static bool update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
-    simsand::Vars v{s.e, s.kappa, s.epsEq};
-    const bool bounded = simsand::integrate(p.m, sigma, v, inc.deps);
-    commit(s, v, inc);
+    return update_in_turns<Simsand>(p, s, sigma, inc);
+  }
+  /// update() in turns (material.hpp): the integration in flight.
+  using Work = simsand::Integration;
+  SCREE_HD static bool update_begin(const Params& p, const State& s, const Sym3& sigma, const StrainIncrement& inc,
+                                    Work& w) {
+    w.sig = sigma;
+    w.v = simsand::Vars{s.e, s.kappa, s.epsEq};
+    return simsand::integrate_begin(p.m, w, inc.deps);
+  }
+  SCREE_HD static bool update_turn(const Params& p, Work& w) { return simsand::integrate_turn(p.m, w); }
+  SCREE_HD static bool update_end(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc, Work& w) {
+    const bool bounded = simsand::integrate_end(p.m, w);
+    sigma = w.sig;
+    commit(s, w.v, inc);
     sigma = sigma * (dispersed(p, s.e) ? Real(0) : Real(1));  // a select, not a branch
     return bounded;
   }

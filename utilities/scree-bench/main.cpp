@@ -144,6 +144,7 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   if (variant == "unsplit") k.split = scree::StressSplit::off;
   if (variant.rfind("speed-every-", 0) == 0) k.speed_every = std::stoi(variant.substr(12));
   if (variant == "no-health") k.health_checks = false;
+  if (variant == "no-refill") k.refill = false;
   // The energy ledger on, as a case with `energies { budget yes; }` runs it (ParticlePass's
   // Ledger kernels): what the budget costs a step; ledger-NAME: its kernels by name
   // (KernelPolicy::set_ledger_kernels: unsplit, whole), to time the older ones against
@@ -442,7 +443,8 @@ int main(int argc, char** argv) {
       "to measure their cost: KernelPolicy::health_checks), ledger (the energy ledger kept, as a case with energies' "
       "`budget yes` runs: RunOptions::energy_ledger), ledger-whole (the ledger in its whole-pass kernel, "
       "transfer and stress passes: KernelPolicy::ledger_light_transfer and ledger_split off), ledger-unsplit (the "
-      "ledger's stress pass never split: KernelPolicy::ledger_split off)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
+      "ledger's stress pass never split: KernelPolicy::ledger_split off), no-refill (CUDA: the split's deferred points one per "
+      "lane for the whole pass: KernelPolicy::refill off)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
       "cpu-steps", po::value<long long>()->default_value(50), "timed steps on the CPU")(
       "max-particles", po::value<long long>()->default_value(10000000), "largest scaling size")(
       "materials", po::value<std::string>()->default_value("linearElastic,phaseTransition"),
@@ -494,7 +496,7 @@ int main(int argc, char** argv) {
   for (const std::string& v : variants) {  // a misspelt variant would run as `fast` under its own name
     static const std::vector<std::string> known = [] {
       std::vector<std::string> k = {"fast",      "reference", "uncapped", "split",           "unsplit",
-                                    "no-health", "ledger",    "elastic-uncapped"};
+                                    "no-health", "ledger",    "elastic-uncapped", "no-refill"};
       for (const char* w : scree::KernelPolicy::kLedgerKernels) k.push_back(std::string("ledger-") + w);
       return k;
     }();

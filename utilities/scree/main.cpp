@@ -167,6 +167,8 @@ int main(int argc, char** argv) {
       ("max-steps", po::value<long long>()->default_value(-1), "stop after this many steps (benchmarks)")
       ("no-output", "run without writers and function objects (benchmarks)")
       ("no-graphs", "CUDA: launch every kernel instead of replaying CUDA graphs")
+      ("no-refill", "CUDA: the stress updates the elastic-first split defers run one point per lane for the whole "
+                    "pass, instead of lanes taking new points as theirs finish (to time one against the other)")
       ("reference-kernels", "run the straightforward particle and grid kernels instead of the fast ones (no "
                             "warp-combined scatter, no particle sorting, dense grid updates): a cross-check")
       ("profile", "time every kernel phase (synchronising after each) and print a table at the end");
@@ -225,6 +227,7 @@ int main(int argc, char** argv) {
   opt.output = !vm.count("no-output");
   if (vm.count("reference-kernels")) opt.kernels = scree::KernelPolicy::reference_kernels();
   opt.kernels.graphs = !vm.count("no-graphs");
+  opt.kernels.refill = !vm.count("no-refill");
   opt.profile = vm.count("profile") > 0;
   opt.accept_changes = vm.count("accept-changes") > 0;
 
@@ -240,7 +243,7 @@ int main(int argc, char** argv) {
       err << "scree: --restart=TIME: an ensemble continues each member from its newest checkpoint (--restart)\n";
       return 2;
     }
-    for (const char* o : {"max-steps", "no-output", "no-graphs", "reference-kernels", "profile", "accept-changes"})
+    for (const char* o : {"max-steps", "no-output", "no-graphs", "no-refill", "reference-kernels", "profile", "accept-changes"})
       if (vm.count(o) && !vm[o].defaulted()) {
         err << "scree: --" << o << ": not for an ensemble (run a member's case, ensemble/member_NNNN, with it)\n";
         return 2;

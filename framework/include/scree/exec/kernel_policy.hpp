@@ -13,6 +13,9 @@
 //                 elastic-only kernel plus one for the points it defers (automatic: on
 //                 CUDA the solver times both ways now and then and keeps the faster,
 //                 split_tuner.hpp; off on the CPU)
+//   refill        CUDA, the split's deferred points of a material whose update runs in turns
+//                 (material.hpp): lanes take new points as theirs finish (on), or one point
+//                 per lane for the whole pass (off; scree --no-refill, scree-bench no-refill)
 //   stress cap    CUDA, 2D: the stress kernel's register cap, as blocks of 64 threads per SM
 //   elastic cap   CUDA, 2D: the split's elastic-only kernel's register cap
 //   speedEvery    fixed step: the signal speed (the stopCo health check's only use of it)
@@ -55,6 +58,9 @@ struct KernelPolicy {
   bool sparse_grid = true;
   bool graphs = true;
   StressSplit split = StressSplit::automatic;
+  /// The split's deferred points as a queue that a lane draws from when its point is done
+  /// (DeferredStress, particle_pass.hpp), for materials with an update in turns.
+  bool refill = true;
   int stress_blocks_per_sm = kStressCap;
   int elastic_blocks_per_sm = kElasticCap;
   /// A power of 2. An unstable fixed step is then found within this many steps of its first

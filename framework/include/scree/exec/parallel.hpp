@@ -80,6 +80,12 @@ __global__ void __launch_bounds__(Block, MinBlocks)
     f(list[j < n ? j : base], j < n);
   }
 }
+/// Persistent warps (parallel_for_queue): every thread of one wave calls f.drain().
+template <int Block, int MinBlocks, class F>
+__global__ void __launch_bounds__(Block, MinBlocks) drain_kernel(F f) {
+  if (blockIdx.x == 0 && threadIdx.x == 0) f.reset();
+  f.drain();
+}
 }  // namespace detail
 #endif
 
@@ -194,6 +200,50 @@ void parallel_for_listed_warps(const Exec& ex, const Index* list, const unsigned
   }
 }
 
+/// Items that a functor takes from a queue of its own (f.size() of them, a count the device
+/// holds): on CUDA persistent warps, one wave of `Block`-thread blocks (at most
+/// ceil(n_max / Block)), every thread calling f.drain(), which takes items until the queue is
+/// empty, so that a lane whose item is done can take the next while the other lanes of its
+/// warp still work; one thread calls f.reset() (the counters of the queue's next use: a
+/// kernel cannot clear its own while other blocks still read them). On the CPU f.item(j) for
+/// j in [0, f.size()) (OpenMP, dynamic, as parallel_for_listed_warps), then f.reset().
+template <int Block, int MinBlocks, class F>
+void parallel_for_queue(const Exec& ex, Index n_max, const F& f) {
+  if (n_max <= 0) return;
+  if (ex.device == Device::cuda) {
+#if defined(__CUDACC__)
+    static const int wave = detail::resident_blocks(detail::drain_kernel<Block, MinBlocks, F>, Block);
+    const Index blocks = std::min<Index>((n_max + Block - 1) / Block, wave);
+    detail::drain_kernel<Block, MinBlocks><<<static_cast<unsigned>(blocks), Block, 0, static_cast<cudaStream_t>(ex.stream)>>>(f);
+    check_cuda_launch("parallel_for_queue");
+#else
+    throw std::logic_error("parallel_for_queue: a CUDA launch from a translation unit compiled without CUDA");
+#endif
+  } else {
+    const Index n = f.size();
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 16) if (n >= kCpuParallelMinCostlyItems) \
+    num_threads(ex.threads > 0 ? ex.threads : 1)
+#endif
+    for (Index j = 0; j < n; ++j) f.item(j);
+    f.reset();
+  }
+}
+
+/// CUDA, warp-collective: the lanes in `lanes` (a ballot every lane of the warp computed
+/// alike) take consecutive values of *counter, one atomic for the warp: each lane of `lanes`
+/// gets its own; `end`, in every lane, is the value after the last one taken.
+#if defined(__CUDA_ARCH__)
+__device__ inline unsigned warp_take(unsigned* counter, unsigned lanes, unsigned& end) {
+  const unsigned lane = threadIdx.x & 31u;
+  unsigned base = 0;
+  if (lane == 0) base = atomicAdd(counter, static_cast<unsigned>(__popc(lanes)));
+  base = __shfl_sync(0xffffffffu, base, 0);
+  end = base + static_cast<unsigned>(__popc(lanes));
+  return base + static_cast<unsigned>(__popc(lanes & ((1u << lane) - 1u)));
+}
+#endif
+
 /// Append i to list (counter *count): one atomic per warp on CUDA for the lanes that push.
 /// Every lane of the warp must call it (warp-collective), with push saying whether it adds.
 SCREE_INLINE void push_index(Index* list, unsigned* count, Index i, bool push, bool serial) {
@@ -226,6 +276,20 @@ SCREE_INLINE void warp_count(unsigned long long* count, bool flag, bool serial) 
   if (!flag) return;
   if (serial) ++*count;
   else __atomic_fetch_add(count, 1ull, __ATOMIC_RELAXED);
+#endif
+}
+
+/// *count += the sum of n over the warp: one atomic per warp on CUDA, none where it is 0.
+/// Every lane of the warp must call it (warp-collective).
+SCREE_INLINE void warp_add(unsigned long long* count, unsigned n, bool serial) {
+#if defined(__CUDA_ARCH__)
+  (void)serial;
+  const unsigned sum = __reduce_add_sync(0xffffffffu, n);
+  if (sum != 0 && (threadIdx.x & 31u) == 0) atomicAdd(count, static_cast<unsigned long long>(sum));
+#else
+  if (n == 0) return;
+  if (serial) *count += n;
+  else __atomic_fetch_add(count, static_cast<unsigned long long>(n), __ATOMIC_RELAXED);
 #endif
 }
 

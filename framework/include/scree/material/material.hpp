@@ -48,6 +48,19 @@
 //       // returns true from update() when the update reached that bound, and names the
 //       // bound here (e.g. "maxSubsteps 8"); the framework counts those updates per body
 //       // and reports them in the run's log (Body::bounded_updates)
+//   struct Work { ... };                              // optional, with the three below:
+//   SCREE_HD static bool update_begin(const Params& p, const State& s, const Sym3& sigma,
+//                                     const StrainIncrement& inc, Work& w);
+//   SCREE_HD static bool update_turn(const Params& p, Work& w);
+//   SCREE_HD static bool update_end(const Params& p, State& s, Sym3& sigma,
+//                                   const StrainIncrement& inc, Work& w);
+//       // update() in turns, for a model whose work varies from point to point (substeps):
+//       // begin returns whether turns remain, turn does one and returns whether more
+//       // remain, end writes the result and returns what update() returns (s is the state
+//       // update() was given, unchanged; sigma arrives co-rotated as update()'s). update()
+//       // must be exactly these in sequence (update_in_turns below). The GPU kernel of the
+//       // points the elastic-first split defers then gives a lane whose point is done the
+//       // next one while the other lanes of its warp still turn (PassPolicy::refill)
 //
 // The concept Material<M> below states the required part; Registry::add_material<M>()
 // checks it with one message per missing piece.
@@ -121,6 +134,29 @@ inline constexpr bool material_has_elastic_path() {
   return requires(const typename M::Params& p, typename M::State& s, Sym3& sigma, const StrainIncrement& inc) {
     { M::update_elastic(p, s, sigma, inc) } -> std::same_as<bool>;
   };
+}
+
+/// Whether M has the optional update in turns (see the top of this file).
+template <class M>
+inline constexpr bool material_has_turns() {
+  return requires(const typename M::Params& p, typename M::State& s, Sym3& sigma, const StrainIncrement& inc,
+                  typename M::Work& w) {
+    { M::update_begin(p, s, sigma, inc, w) } -> std::same_as<bool>;
+    { M::update_turn(p, w) } -> std::same_as<bool>;
+    M::update_end(p, s, sigma, inc, w);
+  };
+}
+
+/// update() of a model with an update in turns: its stages in sequence. A model's update()
+/// returns this, so that the turns and the whole update are one piece of arithmetic.
+template <class M>
+SCREE_HD inline auto update_in_turns(const typename M::Params& p, typename M::State& s, Sym3& sigma,
+                                     const StrainIncrement& inc) {
+  typename M::Work w;
+  if (M::update_begin(p, s, sigma, inc, w))
+    while (M::update_turn(p, w)) {
+    }
+  return M::update_end(p, s, sigma, inc, w);
 }
 
 /// Number of Reals in a material's State (0 for an empty State).

@@ -93,7 +93,7 @@ class MaterialBody final : public Body<D> {
     store_.upload(host, exec_.device);
     if constexpr (material_has_elastic_path<M>()) {  // the elastic-first split's list (zeroed)
       deferred_.resize(static_cast<std::size_t>(n), exec_.device);
-      deferred_count_.resize(2, exec_.device);
+      deferred_count_.resize(4, exec_.device);
     }
     if constexpr (material_reports_bound<M>()) bounded_.resize(1, exec_.device);  // zeroed
     OutputFields<M> out;
@@ -104,7 +104,7 @@ class MaterialBody final : public Body<D> {
   const std::string& name() const override { return name_; }
   bool can_split_stress() const override { return material_has_elastic_path<M>(); }
   void reset_split() override {
-    if constexpr (material_has_elastic_path<M>()) parallel_for(exec_, 2, detail::ZeroCounters{deferred_count_.data()});
+    if constexpr (material_has_elastic_path<M>()) parallel_for(exec_, 4, detail::ZeroCounters{deferred_count_.data()});
   }
   const std::string& material_type() const override { return type_; }
   std::string work_bound() const override {
@@ -329,10 +329,12 @@ class MaterialBody final : public Body<D> {
   }
 
   /// The elastic-first split (PassPolicy::split_elastic): every point through the
-  /// elastic-only kernel, then the whole pass over the points it deferred, read from the
-  /// device-side list (no host round trip; CUDA-graph safe). The second kernel clears the
-  /// other parity's counter, which the next step's first kernel fills.
-  /// Ledger: both kernels keep the energy ledger (PassPolicy::energy).
+  /// elastic-only kernel, then the points it deferred, read from the device-side list (no
+  /// host round trip; CUDA-graph safe): for a material whose update runs in turns
+  /// (PassPolicy::refill), their updates drawn from the list as a queue (DeferredStress) and
+  /// then their scatter; otherwise the whole pass over them. The kernel after the elastic-only
+  /// one clears the other parity's counters, which the next step's kernels fill.
+  /// Ledger: the kernels keep the energy ledger (PassPolicy::energy).
   template <bool Ledger, class Shape>
   void launch_elastic_first(const PassParams<D>& pp, const Shape& shape) {
     PassParams<D> first = pp;
@@ -346,9 +348,27 @@ class MaterialBody final : public Body<D> {
         capped = true;
       }
     if (!capped) parallel_for_warps(exec_, store_.size(), elastic, kStressBlock);
-    ParticlePass<D, Shape, M, kAllPhases, false, Ledger> full{pp, store_.arrays(), shape, params_};
+    // counters: the list's length per parity, then the queue's head per parity
     unsigned* count = deferred_count_.data();
+    unsigned* head = count + 2;
     constexpr int kMinBlocks = D == 2 ? KernelPolicy::kStressCap : 1;  // the whole update's register cap
+    if constexpr (material_has_turns<M>())
+      if (pp.policy.refill) {
+        const DeferredStress<D, Shape, M, Ledger> update{{pp, store_.arrays(), shape, params_},
+                                                         deferred_.data(),
+                                                         count + pp.parity,
+                                                         head + pp.parity,
+                                                         count + (1 - pp.parity),
+                                                         head + (1 - pp.parity)};
+        parallel_for_queue<kStressBlock, kMinBlocks>(exec_, store_.size(), update);
+        if (pp.flags & kAnyScatter) {
+          ParticlePass<D, Shape, M, kAnyScatter, false, Ledger> scatter{pp, store_.arrays(), shape, params_};
+          parallel_for_listed_warps<kTransferBlock, 1>(exec_, deferred_.data(), count + pp.parity, nullptr,
+                                                       store_.size(), kDeferredBlocks, scatter);
+        }
+        return;
+      }
+    ParticlePass<D, Shape, M, kAllPhases, false, Ledger> full{pp, store_.arrays(), shape, params_};
     parallel_for_listed_warps<kStressBlock, kMinBlocks>(exec_, deferred_.data(), count + pp.parity,
                                                         count + (1 - pp.parity), store_.size(), kDeferredBlocks, full);
   }
@@ -369,7 +389,7 @@ class MaterialBody final : public Body<D> {
   ParticleSorter<D> sorter_;
   mutable SnapshotCopy copy_;
   Buffer<Index> deferred_;            // the elastic-first split's deferred points
-  Buffer<unsigned> deferred_count_;   // their number, one counter per step parity
+  Buffer<unsigned> deferred_count_;   // their number per step parity, then the queue's head per parity
   Buffer<unsigned long long> bounded_;  // updates that reached the bound (material_reports_bound)
   std::vector<OutputField> fields_;
 };

@@ -117,6 +117,10 @@ struct PassPolicy {
   /// counters of the two parities alternate. False (the default; the solver decides,
   /// KernelPolicy::split): one kernel with the whole update.
   bool split_elastic = false;
+  /// With split_elastic, for a material whose update runs in turns (material_has_turns): the
+  /// deferred points' updates in DeferredStress (lanes refilled as their points finish),
+  /// then their scatter; false: the whole pass over them, one point per lane.
+  bool refill = true;
   /// Keep the energy ledger (StepControl::energy): the stress work, the collisional
   /// dissipation and what the PIC blend removes, summed per warp and added once per warp.
   /// On, MaterialBody::launch runs every pass in the ledger's own kernels (ParticlePass's
@@ -314,7 +318,6 @@ struct ParticlePass {
 #endif
     StepControl* ctl = pp.control;
     const Real dt = ctl->dt[pp.gather_parity];
-    const GridGeometry<D>& g = pp.grid;
     // A zero step (the run reached its target time) changes no particle.
     const unsigned flags = (dt > 0 ? pp.flags : (pp.flags & ~kAnyGather)) & May;
     // Inactive lanes (past the end, frozen, or lost in this pass) still take part in the
@@ -323,15 +326,8 @@ struct ParticlePass {
     const Real mass = active ? pa.mass[p] : Real(0);
 
     Vec<D> x = Vec<D>::zero(), v = Vec<D>::zero();
-    if (active)
-      for (int d = 0; d < D; ++d) {
-        x[d] = pa.x[d][p];
-        v[d] = pa.v[d][p];
-      }
     Mat<D> C = Mat<D>::zero();
-    const bool apic = pp.physics.transfer == Transfer::apic;
-    if (apic && active)
-      for (int i = 0; i < D * D; ++i) C.a[i / D][i % D] = pa.C[i][p];
+    if (active) load_motion(p, x, v, C);
 
     // ---------------- gather phases (weights at the current position) ----------------
     Real speed = 0;  // signal speed c + |v| after the stress update
@@ -341,109 +337,12 @@ struct ParticlePass {
     bool defer = false;  // ElasticFirst: the update is not elastic, left to the second kernel
     bool bounded = false;  // the update reached its material's bound on the work
     if ((flags & kAnyGather) && active) {
-      const detail::Stencil<D, Shape> st(shape, g, x);
-      if (!st.inside) {
-        lost(p);  // the stencil left the grid: freeze the particle (the solver warns)
+      Mat<D> L;
+      Real v_start;
+      if (!gather(p, flags, dt, mass, x, v, C, L, v_start, pic_loss, wall_loss)) {
         active = false;
-      } else {
-        Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero();
-        Vec<D> dw = Vec<D>::zero();  // Ledger, wall_ledger: sum N (v^{k+1} - v^{k+1} without the walls)
-        Mat<D> L = Mat<D>::zero(), B = Mat<D>::zero(), Lnew = Mat<D>::zero();
-        const bool from_new = flags & kStressFromNew;
-        const bool want_L = flags & kStressPhases;
-        const bool flip_increment = (flags & kGatherVelocity) && !apic && (pp.physics.pic_fraction < 1 || pp.physics.pic_rate > 0);
-        // Unrolled: the stencil's weights stay in registers (a loop index would put the
-        // Stencil in local memory, read back at every node).
-SCREE_UNROLL
-        for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
-          Index I;
-          Real N;
-          Vec<D> gradN, dx;
-          st.node(k, g, x, I, N, gradN, dx);
-          Vec<D> vi, vn;
-          for (int d = 0; d < D; ++d) {
-            vi[d] = pp.gather.velocity[d][I];
-            vn[d] = pp.gather.velocity_new[d][I];
-          }
-          v_pic += N * vn;
-          if (flip_increment) {
-            // FLIP's increment against the velocity the particles mapped, momentum/mass,
-            // before the boundary conditions: the correction a constraint makes at a node
-            // then reaches the particles too. Against the constrained v^k, a particle next
-            // to a no-slip wall would keep a velocity the grid discarded, for ever.
-            // One reciprocal per node, not a division per component (a double division is a
-            // chain of about ten dependent instructions on a GPU).
-            const Real m = pp.gather.mass[I];
-            const Real rm = m > 0 ? 1 / m : Real(0);
-            Vec<D> v_mapped;
-            for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] * rm : vi[d];
-            dv += N * (vn - v_mapped);
-            if constexpr (Ledger)
-              if (pp.policy.wall_ledger) {
-                // The node's v^{k+1} without the walls: the mapped velocity accelerated by
-                // the force (and the local damping) the grid update applied.
-                const Real t = ctl->t[pp.gather_parity];
-                const bool damp = damping_active(pp.physics.damping, t, pp.physics.damping_start, pp.physics.damping_end);
-                for (int d = 0; d < D; ++d) {
-                  Real f = pp.gather.force[d][I];
-                  if (damp) f = damped_force(f, vi[d], pp.physics.damping);
-                  const Real free = m > pp.physics.mass_eps ? v_mapped[d] + dt * f * rm : v_mapped[d];
-                  dw[d] += N * (vn[d] - free);
-                }
-              }
-          }
-          if (want_L)  // eq. (7); the velocity chosen per component (a reference to one of
-            for (int d = 0; d < D; ++d)  // two vectors would put both in local memory)
-              for (int e = 0; e < D; ++e) L.a[d][e] += (from_new ? vn[d] : vi[d]) * gradN[e];
-          if (apic) {
-            if constexpr (detail::kApicFromInertia<Shape>) B += outer(vn, dx) * N;
-            else Lnew += outer(vn, gradN);
-          }
-        }
-        // The new velocity and position (eqs. 10-11) need the gather alone: made before the
-        // stress update, so that the gather's sums are dead while the update needs registers.
-        // The signal speed takes |v| of the velocity the step started from; -1 when this
-        // step takes no speed. (The flag itself, held through the stress update, would make
-        // the register-capped elastic kernel spill.)
-        const Real v_start = speed_wanted(pp) ? norm(v) : Real(-1);
-        if (flags & kGatherVelocity) {
-          if (apic) {
-            v = v_pic;
-            if constexpr (detail::kApicFromInertia<Shape>) C = B * (4 / (g.h * g.h));
-            else C = Lnew;
-          } else {
-            // FLIP (eq. 10) blended with PIC.
-            const Real a = pic_share(pp.physics, dt);
-            Vec<D> v_old = Vec<D>::zero();  // Ledger: the walls' work takes the step's mean velocity
-            if constexpr (Ledger) v_old = v;
-            Real flip2 = 0, new2 = 0;
-            for (int d = 0; d < D; ++d) {
-              const Real vf = v[d] + dv[d];
-              v[d] = a * v_pic[d] + (1 - a) * vf;
-              flip2 += vf * vf;
-              new2 += v[d] * v[d];
-            }
-            if constexpr (Ledger)
-              if (flip_increment) {
-                pic_loss = Real(0.5) * mass * (flip2 - new2);
-                if (pp.policy.wall_ledger) {
-                  // The walls moved both the FLIP and the PIC part by sum N dw: their work on
-                  // the point is that impulse times the step's mean velocity (v_old +
-                  // v_new)/2, so that it adds up with the forces' to the point's kinetic
-                  // energy change, and is zero at rest. (The kinetic energy against the
-                  // velocity without walls counted the unbalanced acceleration the floor's
-                  // reaction cancels, 1/2 m (dt g)^2 at every step, under a resting body.)
-                  Real w = 0;
-                  for (int d = 0; d < D; ++d) w += dw[d] * (v_old[d] + v[d]);
-                  wall_loss = -Real(0.5) * mass * w;
-                }
-              }
-          }
-        }
-        if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
-        if constexpr ((May & kStressPhases) != 0)
-          if (flags & kStressPhases)
-            defer = !stress_update<ElasticFirst>(p, L, dt, v_start, mass, speed, fresh, bounded);
+      } else if constexpr ((May & kStressPhases) != 0) {
+        if (flags & kStressPhases) defer = !stress_update<ElasticFirst>(p, L, dt, v_start, mass, speed, fresh, bounded);
       }
     }
     if constexpr (ElasticFirst) {
@@ -453,7 +352,7 @@ SCREE_UNROLL
         pic_loss = wall_loss = 0;  // counted by the second kernel, which gathers it again
       }
     }
-    if constexpr (Ledger) ledger(pic_loss, wall_loss, fresh);
+    if constexpr (Ledger && (May & kAnyGather) != 0) ledger(pic_loss, wall_loss, fresh);
     if constexpr (!ElasticFirst && (May & kStressPhases) != 0 && material_reports_bound<M>())
       if (flags & kStressPhases) {  // the count of bounded updates: one atomic per warp that has any
         if (pp.policy.reference) {
@@ -476,14 +375,8 @@ SCREE_UNROLL
     // ---------------- scatter phases (weights at the updated position) ----------------
     if (flags & kAnyScatter) scatter(p, flags, active, x, v, C, mass, fresh);
 
-    if (active) {
-      for (int d = 0; d < D; ++d) {
-        pa.x[d][p] = x[d];
-        pa.v[d][p] = v[d];
-      }
-      if (apic)
-        for (int i = 0; i < D * D; ++i) pa.C[i][p] = C.a[i / D][i % D];
-    }
+    if constexpr ((May & kAnyGather) != 0)  // a pass that only scatters moves no point
+      if (active) store_motion(p, x, v, C);
 #if defined(SCREE_REPORT_CYCLES) && defined(__CUDA_ARCH__)
     {
       const long long pass_cycles = clock64() - pass_in;
@@ -500,6 +393,139 @@ SCREE_UNROLL
                slowest, ctl->step[pp.gather_parity], ElasticFirst ? 1 : 0, blockIdx.x, busy, sum, top, p1, p2, p4);
     }
 #endif
+  }
+
+  /// The point's position, velocity and (APIC) affine matrix.
+  SCREE_INLINE void load_motion(Index p, Vec<D>& x, Vec<D>& v, Mat<D>& C) const {
+    for (int d = 0; d < D; ++d) {
+      x[d] = pa.x[d][p];
+      v[d] = pa.v[d][p];
+    }
+    if (pp.physics.transfer == Transfer::apic)
+      for (int i = 0; i < D * D; ++i) C.a[i / D][i % D] = pa.C[i][p];
+  }
+  SCREE_INLINE void store_motion(Index p, const Vec<D>& x, const Vec<D>& v, const Mat<D>& C) const {
+    for (int d = 0; d < D; ++d) {
+      pa.x[d][p] = x[d];
+      pa.v[d][p] = v[d];
+    }
+    if (pp.physics.transfer == Transfer::apic)
+      for (int i = 0; i < D * D; ++i) pa.C[i][p] = C.a[i / D][i % D];
+  }
+
+  /// The gather phases (weights at the current position x, from the set G): the velocity
+  /// gradient L (eq. 7) for the stress phases, the new velocity (FLIP/PIC, eq. 10, or APIC:
+  /// v and C) and position (eq. 11). v_start: |v| at the start of the step when the step
+  /// takes the signal speed, else -1. The energy ledger's shares of the PIC blend and the
+  /// walls (PassPolicy::energy). Returns false when the stencil left the grid (the point is
+  /// then frozen: lost()).
+  SCREE_INLINE bool gather(Index p, unsigned flags, Real dt, Real mass, Vec<D>& x, Vec<D>& v, Mat<D>& C, Mat<D>& L,
+                           Real& v_start, Real& pic_loss, Real& wall_loss) const {
+    StepControl* ctl = pp.control;
+    const GridGeometry<D>& g = pp.grid;
+    const bool apic = pp.physics.transfer == Transfer::apic;
+    const detail::Stencil<D, Shape> st(shape, g, x);
+    if (!st.inside) {
+      lost(p);  // the stencil left the grid: freeze the particle (the solver warns)
+      return false;
+    }
+    Vec<D> v_pic = Vec<D>::zero(), dv = Vec<D>::zero();
+    Vec<D> dw = Vec<D>::zero();  // Ledger, wall_ledger: sum N (v^{k+1} - v^{k+1} without the walls)
+    L = Mat<D>::zero();
+    Mat<D> B = Mat<D>::zero(), Lnew = Mat<D>::zero();
+    const bool from_new = flags & kStressFromNew;
+    const bool want_L = flags & kStressPhases;
+    const bool flip_increment = (flags & kGatherVelocity) && !apic && (pp.physics.pic_fraction < 1 || pp.physics.pic_rate > 0);
+    // Unrolled: the stencil's weights stay in registers (a loop index would put the
+    // Stencil in local memory, read back at every node).
+SCREE_UNROLL
+    for (int k = 0; k < detail::Stencil<D, Shape>::kNodes; ++k) {
+      Index I;
+      Real N;
+      Vec<D> gradN, dx;
+      st.node(k, g, x, I, N, gradN, dx);
+      Vec<D> vi, vn;
+      for (int d = 0; d < D; ++d) {
+        vi[d] = pp.gather.velocity[d][I];
+        vn[d] = pp.gather.velocity_new[d][I];
+      }
+      v_pic += N * vn;
+      if (flip_increment) {
+        // FLIP's increment against the velocity the particles mapped, momentum/mass,
+        // before the boundary conditions: the correction a constraint makes at a node
+        // then reaches the particles too. Against the constrained v^k, a particle next
+        // to a no-slip wall would keep a velocity the grid discarded, for ever.
+        // One reciprocal per node, not a division per component (a double division is a
+        // chain of about ten dependent instructions on a GPU).
+        const Real m = pp.gather.mass[I];
+        const Real rm = m > 0 ? 1 / m : Real(0);
+        Vec<D> v_mapped;
+        for (int d = 0; d < D; ++d) v_mapped[d] = m > 0 ? pp.gather.momentum[d][I] * rm : vi[d];
+        dv += N * (vn - v_mapped);
+        if constexpr (Ledger)
+          if (pp.policy.wall_ledger) {
+            // The node's v^{k+1} without the walls: the mapped velocity accelerated by
+            // the force (and the local damping) the grid update applied.
+            const Real t = ctl->t[pp.gather_parity];
+            const bool damp = damping_active(pp.physics.damping, t, pp.physics.damping_start, pp.physics.damping_end);
+            for (int d = 0; d < D; ++d) {
+              Real f = pp.gather.force[d][I];
+              if (damp) f = damped_force(f, vi[d], pp.physics.damping);
+              const Real free = m > pp.physics.mass_eps ? v_mapped[d] + dt * f * rm : v_mapped[d];
+              dw[d] += N * (vn[d] - free);
+            }
+          }
+      }
+      if (want_L)  // eq. (7); the velocity chosen per component (a reference to one of
+        for (int d = 0; d < D; ++d)  // two vectors would put both in local memory)
+          for (int e = 0; e < D; ++e) L.a[d][e] += (from_new ? vn[d] : vi[d]) * gradN[e];
+      if (apic) {
+        if constexpr (detail::kApicFromInertia<Shape>) B += outer(vn, dx) * N;
+        else Lnew += outer(vn, gradN);
+      }
+    }
+    // The new velocity and position (eqs. 10-11) need the gather alone: made before the
+    // stress update, so that the gather's sums are dead while the update needs registers.
+    // The signal speed takes |v| of the velocity the step started from; -1 when this
+    // step takes no speed. (The flag itself, held through the stress update, would make
+    // the register-capped elastic kernel spill.)
+    v_start = speed_wanted(pp) ? norm(v) : Real(-1);
+    if (flags & kGatherVelocity) {
+      if (apic) {
+        v = v_pic;
+        if constexpr (detail::kApicFromInertia<Shape>) C = B * (4 / (g.h * g.h));
+        else C = Lnew;
+      } else {
+        // FLIP (eq. 10) blended with PIC.
+        const Real a = pic_share(pp.physics, dt);
+        Vec<D> v_old = Vec<D>::zero();  // Ledger: the walls' work takes the step's mean velocity
+        if constexpr (Ledger) v_old = v;
+        Real flip2 = 0, new2 = 0;
+        for (int d = 0; d < D; ++d) {
+          const Real vf = v[d] + dv[d];
+          v[d] = a * v_pic[d] + (1 - a) * vf;
+          flip2 += vf * vf;
+          new2 += v[d] * v[d];
+        }
+        if constexpr (Ledger)
+          if (flip_increment) {
+            pic_loss = Real(0.5) * mass * (flip2 - new2);
+            if (pp.policy.wall_ledger) {
+              // The walls moved both the FLIP and the PIC part by sum N dw: their work on
+              // the point is that impulse times the step's mean velocity (v_old +
+              // v_new)/2, so that it adds up with the forces' to the point's kinetic
+              // energy change, and is zero at rest. (The kinetic energy against the
+              // velocity without walls counted the unbalanced acceleration the floor's
+              // reaction cancels, 1/2 m (dt g)^2 at every step, under a resting body.)
+              Real w = 0;
+              for (int d = 0; d < D; ++d) w += dw[d] * (v_old[d] + v[d]);
+              wall_loss = -Real(0.5) * mass * w;
+            }
+          }
+      }
+    }
+    if (flags & kGatherPosition) x += dt * v_pic;  // eq. (11)
+    return true;
   }
 
   /// The energy ledger (PassPolicy::energy): the warp's sums, added by its first lane.
@@ -587,6 +613,24 @@ SCREE_UNROLL
   template <bool ElasticOnly>
   SCREE_INLINE bool stress_update(Index p, const Mat<D>& L, Real dt, Real v_start, Real mass, Real& speed,
                                   FreshStress& fresh, bool& bounded) const {
+    const StrainIncrement inc = increment(p, L, dt);
+    Sym3 sigma_start;
+    Sym3 sigma = start_stress(p, inc, sigma_start);
+    typename M::State s = material_state(p);
+    if constexpr (ElasticOnly) {
+      if (!M::update_elastic(mp, s, sigma, inc)) return false;
+    } else if constexpr (material_reports_bound<M>()) {
+      bounded = M::update(mp, s, sigma, inc);
+    } else {
+      M::update(mp, s, sigma, inc);
+    }
+    commit(p, s, sigma, inc, sigma_start, v_start, mass, speed, fresh);
+    return true;
+  }
+
+  /// The step's strain increment from the velocity gradient L: eq. (8) as the volume ratio
+  /// J = det F (inc.J), the increment sym(L) dt and the spin skew(L) dt.
+  SCREE_INLINE StrainIncrement increment(Index p, const Mat<D>& L, Real dt) const {
     // eq. (8), F <- (I + L dt) F, kept as its determinant alone: the point's volume ratio
     // J = det F, the one part of F that anything uses (the volume V0 J; the materials get
     // the increment, its spin and J). F is stored as diag(J, 1[, 1]), so the update is
@@ -623,25 +667,38 @@ SCREE_UNROLL
     }
     inc.dt = dt;
     inc.J = J;
+    return inc;
+  }
+
+  /// The stress the material's update receives: the stored one co-rotated with the step's
+  /// spin (zero for a model that does not read it, material_reads_stress). sigma_start: the
+  /// energy ledger's stress at the step's start (co-rotated).
+  SCREE_INLINE Sym3 start_stress(Index p, const StrainIncrement& inc, Sym3& sigma_start) const {
     Sym3 sigma = Sym3::zero();
     if constexpr (material_reads_stress<M>()) sigma = corotate(detail::load_stress<D>(pa.sigma, p), inc.spin);
-    // Ledger: the stress at the step's start (co-rotated), for the work of the step below.
-    [[maybe_unused]] Sym3 sigma_start = Sym3::zero();
+    // Ledger: the stress at the step's start (co-rotated), for the work of the step (commit).
+    sigma_start = Sym3::zero();
     if constexpr (Ledger) {
       if constexpr (material_reads_stress<M>()) sigma_start = sigma;
       else sigma_start = corotate(detail::load_stress<D>(pa.sigma, p), inc.spin);
     }
+    return sigma;
+  }
+
+  /// The point's material state (the 2D kernels skip the Reals that are zero in plane strain).
+  SCREE_INLINE typename M::State material_state(Index p) const {
     typename M::State s;
-    constexpr unsigned plane = D == 2 ? plane_zero_slots<M>() : 0u;  // zero in plane strain
+    constexpr unsigned plane = D == 2 ? plane_zero_slots<M>() : 0u;
     load_state<typename M::State, plane>(s, pa.state, pa.n, p);
-    if constexpr (ElasticOnly) {
-      if (!M::update_elastic(mp, s, sigma, inc)) return false;
-    } else if constexpr (material_reports_bound<M>()) {
-      bounded = M::update(mp, s, sigma, inc);
-    } else {
-      M::update(mp, s, sigma, inc);
-    }
-    const Real vol = pa.volume0[p] * J;
+    return s;
+  }
+
+  /// After the material's update (s, sigma): the signal speed, the stores, and what the
+  /// scatter's force takes (fresh; with the energy ledger, the work of the step).
+  SCREE_INLINE void commit(Index p, const typename M::State& s, const Sym3& sigma, const StrainIncrement& inc,
+                           [[maybe_unused]] const Sym3& sigma_start, Real v_start, Real mass, Real& speed,
+                           FreshStress& fresh) const {
+    const Real vol = pa.volume0[p] * inc.J;
     // The speed before the stores: with no memory access between them, the compiler shares
     // what the update and wave_speed() both compute (phaseTransition: the collisional
     // coefficients at the new void ratio).
@@ -652,7 +709,8 @@ SCREE_UNROLL
       // step and then maxDeltaT, and the health check read an infinite Courant number.)
       speed = vol > 0 ? M::wave_speed(mp, s, sigma, mass / vol, pp.grid.h) + v_start : v_start;
     }
-    pa.F[0][p] = J;  // F = diag(J, 1[, 1]): its other entries stay those of the identity
+    pa.F[0][p] = inc.J;  // F = diag(J, 1[, 1]): its other entries stay those of the identity
+    constexpr unsigned plane = D == 2 ? plane_zero_slots<M>() : 0u;  // zero in plane strain
     store_state<typename M::State, plane>(s, pa.state, pa.n, p);
     detail::store_stress<D>(pa.sigma, p, sigma);
     fresh = FreshStress{sigma, vol, true};
@@ -665,7 +723,6 @@ SCREE_UNROLL
       fresh.work = vol * ddot((sigma_start + sigma) * Real(0.5), inc.deps);
       if constexpr (material_has_collisional_dissipation<M>()) fresh.dissipated = vol * M::collisional_dissipation(mp, s, inc);
     }
-    return true;
   }
 
   /// Freeze a particle whose stencil left the grid (negative volume0 marks it) and
@@ -681,6 +738,158 @@ SCREE_UNROLL
       pp.control->first_lost.step = pp.control->step[pp.parity];
     }
   }
+};
+
+/// The stress updates of the points the elastic-first split deferred (PassPolicy::
+/// split_elastic, PassPolicy::refill), for a material whose update runs in turns
+/// (material_has_turns): each point's gather phases, strain increment and update, its motion,
+/// state and stress stored. Their scatter is a pass of its own afterwards (ParticlePass with
+/// the scatter phases alone, over the same list), so that the update can run apart from it:
+/// on CUDA the warps take points from the list as a queue, and a lane whose point is done
+/// holds until kRefillLanes of its warp are, then those lanes store their results and take
+/// the next points together. A warp then runs its lanes' substep chains side by side instead
+/// of all as long as its longest. Each point's arithmetic is the whole pass's (ParticlePass's
+/// gather, increment and commit, the material's update_in_turns): only the order of the
+/// sums into the grid and the step's totals changes, as between any two CUDA launches.
+template <int D, class Shape, class M, bool Ledger>
+struct DeferredStress {
+  /// Lanes of a warp that hold a finished point (or none) before they take new ones: half
+  /// the warp. Fewer refill more often (each refill runs the gather and the start of an
+  /// update while the other lanes wait); more leave lanes idle longer.
+  static constexpr int kRefillLanes = 16;
+
+  ParticlePass<D, Shape, M, kAnyGather, false, Ledger> pass;
+  const Index* list;       ///< the deferred points (MaterialBody's)
+  const unsigned* count;   ///< their number
+  unsigned* head;          ///< the queue's next entry (CUDA)
+  unsigned* reset_count;   ///< the other parity's counters, zeroed for the next step's kernels
+  unsigned* reset_head;
+
+  /// A point in flight: what its update's end and the commit need.
+  struct Point {
+    Index p = 0;
+    StrainIncrement inc;
+    Real v_start = -1, mass = 0;
+    Sym3 sigma_start;  ///< the energy ledger's start stress (Ledger)
+  };
+  /// A lane's totals over its points: the largest signal speed, the updates that reached the
+  /// material's bound, the energy ledger's shares.
+  struct Sums {
+    Real speed = 0, pic = 0, wall = 0, work = 0, dissipated = 0;
+    unsigned bounded = 0;
+  };
+
+  Index size() const { return *count; }
+  SCREE_HD void reset() const {
+    *reset_count = 0;
+    *reset_head = 0;
+  }
+
+  /// The gather phases of point p, its strain increment and the start of its update.
+  /// Returns whether turns remain; `started` says whether the update started at all (not
+  /// when the point left the grid in the gather, or for a zero step).
+  SCREE_INLINE bool begin(Index p, Point& pt, typename M::Work& w, Sums& sums, bool& started) const {
+    const PassParams<D>& pp = pass.pp;
+    const Real dt = pp.control->dt[pp.gather_parity];
+    started = false;
+    if (!(dt > 0) || !(pass.pa.volume0[p] >= 0)) return false;
+    pt.p = p;
+    pt.mass = pass.pa.mass[p];
+    Vec<D> x, v;
+    Mat<D> C = Mat<D>::zero();
+    pass.load_motion(p, x, v, C);
+    Mat<D> L;
+    Real pic = 0, wall = 0;
+    if (!pass.gather(p, pp.flags & kAnyGather, dt, pt.mass, x, v, C, L, pt.v_start, pic, wall)) return false;
+    pass.store_motion(p, x, v, C);
+    sums.pic += pic;
+    sums.wall += wall;
+    pt.inc = pass.increment(p, L, dt);
+    const Sym3 sigma = pass.start_stress(p, pt.inc, pt.sigma_start);
+    const typename M::State s = pass.material_state(p);
+    started = true;
+    return M::update_begin(pass.mp, s, sigma, pt.inc, w);
+  }
+
+  /// The end of the point's update and its commit (the speed, the stores).
+  SCREE_INLINE void end(const Point& pt, typename M::Work& w, Sums& sums) const {
+    typename M::State s = pass.material_state(pt.p);
+    Sym3 sigma = Sym3::zero();
+    if constexpr (material_reports_bound<M>()) sums.bounded += M::update_end(pass.mp, s, sigma, pt.inc, w) ? 1u : 0u;
+    else M::update_end(pass.mp, s, sigma, pt.inc, w);
+    Real speed = 0;
+    FreshStress fresh;
+    pass.commit(pt.p, s, sigma, pt.inc, pt.sigma_start, pt.v_start, pt.mass, speed, fresh);
+    sums.speed = fmax(sums.speed, speed);
+    sums.work += fresh.work;
+    sums.dissipated += fresh.dissipated;
+  }
+
+  /// Add a lane's totals to the step's (warp-collective on CUDA: every lane calls it).
+  SCREE_INLINE void book(const Sums& s) const {
+    const PassParams<D>& pp = pass.pp;
+    const bool serial = pp.policy.serial;
+    if (speed_wanted(pp)) {
+      const Real speed = warp_max(s.speed);
+      if (first_lane_of_warp() && speed > 0) atomic_max_nonneg(&pp.control->max_speed[pp.parity], speed, serial);
+    }
+    if constexpr (material_reports_bound<M>()) warp_add(pp.bounded, s.bounded, serial);
+    if constexpr (Ledger) {
+      FreshStress f;
+      f.work = s.work;
+      f.dissipated = s.dissipated;
+      pass.ledger(s.pic, s.wall, f);
+    }
+  }
+
+  /// CPU: the list's entry j, whole.
+  void item(Index j) const {
+    Point pt;
+    typename M::Work w;
+    Sums sums;
+    bool started;
+    if (begin(list[j], pt, w, sums, started))
+      while (M::update_turn(pass.mp, w)) {
+      }
+    if (started) end(pt, w, sums);
+    book(sums);
+  }
+
+#if defined(__CUDACC__)
+  /// CUDA: the warp's lanes take points from the queue until it is empty (see the top).
+  __device__ void drain() const {
+    const unsigned n = *count;
+    Point pt;
+    typename M::Work w;
+    Sums sums;
+    bool busy = false;  // turns to run
+    bool done = false;  // a finished update to end and commit
+    bool more = true;   // the queue may hold points (alike in every lane)
+    for (;;) {
+      const unsigned idle = __ballot_sync(0xffffffffu, !busy);
+      if (__popc(idle) >= kRefillLanes || idle == 0xffffffffu) {
+        if (done) end(pt, w, sums);
+        done = false;
+        if (more) {
+          unsigned taken;
+          const unsigned j = warp_take(head, idle, taken);
+          more = taken < n;
+          if (!busy && j < n) {
+            bool started;
+            busy = begin(list[j], pt, w, sums, started);
+            done = started && !busy;
+          }
+        }
+        if (!more && !__any_sync(0xffffffffu, busy || done)) break;
+      }
+      if (busy) {
+        busy = M::update_turn(pass.mp, w);
+        done = !busy;
+      }
+    }
+    book(sums);
+  }
+#endif
 };
 
 }  // namespace scree

@@ -408,49 +408,100 @@ SCREE_INLINE void finish(Sym3& sig, Vars& v, const Substepping& s, Real e1) {
   if (!finite_sym(sig) || !(mean_pressure(sig) >= 0)) sig = Sym3::zero();
 }
 
-/// One stress update of the frictional model: sig (tension positive) and the internal
-/// variables v over the strain increment deps. Always leaves a defined state: p >= 0,
-/// no tension, finite values. Returns whether the update reached the bound on its work
-/// (bound_substep: more than `maxSubsteps` substeps, the rest without error control).
+/// An update of the frictional model in flight, in turns: integrate_begin() (stages 1-3),
+/// integrate_turn() while it asks for more (stage 4, one substep() each), integrate_end()
+/// (stage 5). integrate() runs them in sequence; a GPU kernel interleaves the turns of many
+/// points so that a lane whose point is done takes the next one (particle_pass.hpp,
+/// DeferredStress) while the others still substep: each point's arithmetic the same.
+struct Integration {
+  Sym3 sig;       ///< the stress (tension positive) [Pa]: the start, then the result
+  Vars v;         ///< the internal variables: the start, then the result
+  Substepping s;  ///< the plastic part (stage 4), when there is one
+  Real e1 = 0;    ///< e at the end of the increment
+  bool plastic = false;  ///< stage 4 was set up: turns to run and stage 5 to finish
+#if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
+  Sym3 sig_in, deps_in;
+  Vars v_in;
+#endif
+};
+
+/// Stages 1-3 of an update from u.sig, u.v over deps. Returns whether the plastic part
+/// remains (integrate_turn until it returns false, then integrate_end); otherwise the result
+/// is in u already (integrate_end leaves it).
 template <class Pol = Production>
-SCREE_HD inline bool integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
-  if (!finite_sym(sig)) sig = Sym3::zero();
+SCREE_HD inline bool integrate_begin(const Params& P, Integration& u, const Sym3& deps) {
+  u.plastic = false;
+  if (!finite_sym(u.sig)) u.sig = Sym3::zero();
   if (!finite_sym(deps)) {  // nothing sensible to integrate
-    v.e = fmax(v.e, Real(1e-6));
+    u.v.e = fmax(u.v.e, Real(1e-6));
     return false;
   }
 #if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
-  const Sym3 sig_in = sig;
-  const Vars v_in = v;
+  u.sig_in = u.sig;
+  u.v_in = u.v;
+  u.deps_in = deps;
 #endif
-  if (!(mean_pressure(sig) > P.papex)) {  // 1. a stress-free point
-    integrate_at_apex<Pol>(P, sig, v, deps);
+  if (!(mean_pressure(u.sig) > P.papex)) {  // 1. a stress-free point
+    integrate_at_apex<Pol>(P, u.sig, u.v, deps);
     return false;
   }
-  const ElasticTrial t = elastic_trial<Pol>(P, sig, v, deps);  // 2. the elastic trial
-  sig = t.sig0;
+  const ElasticTrial t = elastic_trial<Pol>(P, u.sig, u.v, deps);  // 2. the elastic trial
+  u.sig = t.sig0;
   if (t.separates) {
-    separate(sig, v, deps, 1);
-    v.e = t.e1;
+    separate(u.sig, u.v, deps, 1);
+    u.v.e = t.e1;
     return false;
   }
   if (t.elastic) {  // elastic: the common cheap path
-    sig = t.sig_tr;
-    v.e = t.e1;
+    u.sig = t.sig_tr;
+    u.v.e = t.e1;
     return false;
   }
-  Substepping s = start_plastic<Pol>(P, sig, v, deps, t);  // 3. the elastic fraction
-  while (s.T < 1)                                          // 4. the plastic part
-    if (!substep<Pol>(P, sig, v, s)) break;
+  u.s = start_plastic<Pol>(P, u.sig, u.v, deps, t);  // 3. the elastic fraction
+  u.e1 = t.e1;
+  u.plastic = true;
+  return true;
+}
+
+/// Stage 4, one turn: one substep() of the plastic part. Returns whether more remain.
+template <class Pol = Production>
+SCREE_HD inline bool integrate_turn(const Params& P, Integration& u) {
+  return substep<Pol>(P, u.sig, u.v, u.s) && u.s.T < 1;
+}
+
+/// Stage 5 when there was a plastic part (finish); returns whether the update reached the
+/// bound on its work (bound_substep: more than `maxSubsteps` substeps, the rest without
+/// error control).
+SCREE_HD inline bool integrate_end(const Params& P, Integration& u) {
+  if (!u.plastic) return false;
 #if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
-  if (s.n > SCREE_SIMSAND_REPORT_SUBSTEPS)
+  if (u.s.n > SCREE_SIMSAND_REPORT_SUBSTEPS)
     printf("simsand-substeps %d apex %d sig %.17g %.17g %.17g %.17g %.17g %.17g e %.17g kappa %.17g "
            "deps %.17g %.17g %.17g %.17g %.17g %.17g\n",
-           s.n, s.at_apex ? 1 : 0, sig_in[0], sig_in[1], sig_in[2], sig_in[3], sig_in[4], sig_in[5], v_in.e,
-           v_in.kappa, deps[0], deps[1], deps[2], deps[3], deps[4], deps[5]);
+           u.s.n, u.s.at_apex ? 1 : 0, u.sig_in[0], u.sig_in[1], u.sig_in[2], u.sig_in[3], u.sig_in[4], u.sig_in[5],
+           u.v_in.e, u.v_in.kappa, u.deps_in[0], u.deps_in[1], u.deps_in[2], u.deps_in[3], u.deps_in[4],
+           u.deps_in[5]);
 #endif
-  finish(sig, v, s, t.e1);  // 5. the remainder at the apex, a defined state
-  return s.n > P.nmax;
+  finish(u.sig, u.v, u.s, u.e1);  // 5. the remainder at the apex, a defined state
+  return u.s.n > P.nmax;
+}
+
+/// One stress update of the frictional model: sig (tension positive) and the internal
+/// variables v over the strain increment deps, the stages above in sequence. Always leaves a
+/// defined state: p >= 0, no tension, finite values. Returns whether the update reached the
+/// bound on its work.
+template <class Pol = Production>
+SCREE_HD inline bool integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
+  Integration u;
+  u.sig = sig;
+  u.v = v;
+  if (integrate_begin<Pol>(P, u, deps))
+    while (integrate_turn<Pol>(P, u)) {
+    }
+  const bool bounded = integrate_end(P, u);
+  sig = u.sig;
+  v = u.v;
+  return bounded;
 }
 
 }  // namespace scree::materials::simsand
