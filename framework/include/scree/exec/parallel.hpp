@@ -233,7 +233,7 @@ void parallel_for_queue(const Exec& ex, Index n_max, const F& f) {
 /// CUDA, warp-collective: the lanes in `lanes` (a ballot every lane of the warp computed
 /// alike) take consecutive values of *counter, one atomic for the warp: each lane of `lanes`
 /// gets its own; `end`, in every lane, is the value after the last one taken.
-#if defined(__CUDA_ARCH__)
+#if defined(__CUDACC__)
 __device__ inline unsigned warp_take(unsigned* counter, unsigned lanes, unsigned& end) {
   const unsigned lane = threadIdx.x & 31u;
   unsigned base = 0;
