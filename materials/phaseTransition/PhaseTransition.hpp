@@ -90,20 +90,21 @@ struct PhaseTransition {
   }
   static std::string work_bound(const Params& p) { return simsand::work_bound(p.f); }
   /// update() with the frictional part evaluated under the policy Pol (simsand_params.hpp:
-  /// the tests compare Production with the reference evaluations): its turns in sequence.
+  /// the tests compare Production with the reference evaluations).
   template <class Pol>
   SCREE_HD static bool update_with(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
-    Work w;
-    if (update_begin<Pol>(p, s, sigma, inc, w))
-      while (update_turn<Pol>(p, w)) {
-      }
-    return update_end(p, s, sigma, inc, w);
+    // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
+    Sym3 sf = corotate(s.sigf, inc.spin);
+    simsand::Vars v{s.e, s.kappa, s.epsEq};
+    const bool bounded = simsand::integrate<Pol>(p.f, sf, v, inc.deps);  // eqs. (12)-(18); updates e
+    collisional(p, s, sf, v, sigma, inc);
+    return bounded;
   }
   /// update() in turns (material.hpp): the frictional integration in flight (eqs. 12-18),
-  /// then the collisional part at the end.
+  /// then the collisional part at the end; the same result as update().
   using Work = simsand::Integration;
   template <class Pol = simsand::Production>
-  SCREE_HD static bool update_begin(const Params& p, const State& s, const Sym3&, const StrainIncrement& inc,
+  SCREE_INLINE static bool update_begin(const Params& p, const State& s, const Sym3&, const StrainIncrement& inc,
                                     Work& w) {
     // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
     w.sig = corotate(s.sigf, inc.spin);
@@ -111,10 +112,10 @@ struct PhaseTransition {
     return simsand::integrate_begin<Pol>(p.f, w, inc.deps);  // updates e
   }
   template <class Pol = simsand::Production>
-  SCREE_HD static bool update_turn(const Params& p, Work& w) {
+  SCREE_INLINE static bool update_turn(const Params& p, Work& w) {
     return simsand::integrate_turn<Pol>(p.f, w);
   }
-  SCREE_HD static bool update_end(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc, Work& w) {
+  SCREE_INLINE static bool update_end(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc, Work& w) {
     const bool bounded = simsand::integrate_end(p.f, w);
     collisional(p, s, w.sig, w.v, sigma, inc);
     return bounded;

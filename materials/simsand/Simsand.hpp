@@ -77,22 +77,24 @@ struct Simsand {
 
   /// Returns whether the update reached the bound on its work (maxSubsteps).
   SCREE_HD static bool update(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
-    return update_in_turns<Simsand>(p, s, sigma, inc);
+    simsand::Vars v{s.e, s.kappa, s.epsEq};
+    const bool bounded = simsand::integrate(p.m, sigma, v, inc.deps);
+    result(p, s, sigma, v, inc);
+    return bounded;
   }
-  /// update() in turns (material.hpp): the integration in flight.
+  /// update() in turns (material.hpp): the integration in flight; the same result as update().
   using Work = simsand::Integration;
-  SCREE_HD static bool update_begin(const Params& p, const State& s, const Sym3& sigma, const StrainIncrement& inc,
+  SCREE_INLINE static bool update_begin(const Params& p, const State& s, const Sym3& sigma, const StrainIncrement& inc,
                                     Work& w) {
     w.sig = sigma;
     w.v = simsand::Vars{s.e, s.kappa, s.epsEq};
     return simsand::integrate_begin(p.m, w, inc.deps);
   }
-  SCREE_HD static bool update_turn(const Params& p, Work& w) { return simsand::integrate_turn(p.m, w); }
-  SCREE_HD static bool update_end(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc, Work& w) {
+  SCREE_INLINE static bool update_turn(const Params& p, Work& w) { return simsand::integrate_turn(p.m, w); }
+  SCREE_INLINE static bool update_end(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc, Work& w) {
     const bool bounded = simsand::integrate_end(p.m, w);
     sigma = w.sig;
-    commit(s, w.v, inc);
-    sigma = sigma * (dispersed(p, s.e) ? Real(0) : Real(1));  // a select, not a branch
+    result(p, s, sigma, w.v, inc);
     return bounded;
   }
   static std::string work_bound(const Params& p) { return simsand::work_bound(p.m); }
@@ -100,9 +102,14 @@ struct Simsand {
   SCREE_HD static bool update_elastic(const Params& p, State& s, Sym3& sigma, const StrainIncrement& inc) {
     simsand::Vars v{s.e, s.kappa, s.epsEq};
     if (!simsand::integrate_elastic(p.m, sigma, v, inc.deps)) return false;
-    commit(s, v, inc);
-    sigma = sigma * (dispersed(p, s.e) ? Real(0) : Real(1));
+    result(p, s, sigma, v, inc);
     return true;
+  }
+  /// The state after an update (sigma, v) over inc, and no stress for a dispersed point.
+  SCREE_HD static void result(const Params& p, State& s, Sym3& sigma, const simsand::Vars& v,
+                              const StrainIncrement& inc) {
+    commit(s, v, inc);
+    sigma = sigma * (dispersed(p, s.e) ? Real(0) : Real(1));  // a select, not a branch
   }
   SCREE_HD static void commit(State& s, const simsand::Vars& v, const StrainIncrement& inc) {
     s.e = v.e;

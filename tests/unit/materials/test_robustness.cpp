@@ -268,6 +268,59 @@ TEST(Robustness, BoundedUpdatesSayTheyReachedTheBoundAndStayNearTheConvergedPath
   EXPECT_LT(worst_capped, shipped.serr) << "Pa";
 }
 
+// The update in turns (material.hpp: update_begin, update_turn, update_end), which the GPU's
+// kernel of the deferred points runs a turn at a time, against update(), which the other
+// kernels run whole: the same result to the bit, and the same report of the bound. Over the
+// column's recorded slow updates (substep chains of 25-92 turns, rejections, apex crossings,
+// stiff remainders), for both models, at the shipped bound and at a bound of 8 (every one
+// reaches it), with a spin so that the co-rotation is in the path.
+TEST(Robustness, UpdatesInTurnsGiveUpdateToTheBit) {
+  std::ifstream in(std::string(SCREE_SOURCE_DIR) + "/utilities/scree-bench/simsand-slow-updates-5mm-column.txt");
+  ASSERT_TRUE(in) << "the recorded updates";
+  const std::vector<simsand::RecordedUpdate> ups = simsand::read_recorded_updates(in);
+  ASSERT_GT(ups.size(), 2000u);
+  auto same = [](const auto& a, const auto& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; };
+  for (int nmax : {1000, 8}) {
+    simsand::Params f = table3_collapse_f();
+    f.stol = 1e-2;
+    f.nmax = nmax;
+    const Simsand::Params ps{f, 2650, 0.85};
+    const PhaseTransition::Params pt{f, table3_collapse_c(), 0.95, 1e-12};
+    int differ = 0, bounded = 0, turns = 0;
+    for (const simsand::RecordedUpdate& u : ups) {
+      StrainIncrement inc;
+      inc.deps = u.deps;
+      inc.spin = Spin3{};
+      inc.spin.xy = 1e-4;
+      inc.dt = 1e-5;
+      inc.J = 1;
+      {
+        Simsand::State s0{u.v.e, u.v.kappa, u.v.epsEq, 0};
+        Simsand::State a = s0, b = s0;
+        Sym3 sa = u.sig, sb = u.sig;
+        const bool ra = Simsand::update(ps, a, sa, inc);
+        const bool rb = update_in_turns<Simsand>(ps, b, sb, inc);
+        differ += !(same(a, b) && same(sa, sb) && ra == rb);
+        bounded += ra;
+      }
+      {
+        PhaseTransition::State s0{u.sig, u.v.e, 1e-3, u.v.epsEq, u.v.kappa, 0, 0};
+        PhaseTransition::State a = s0, b = s0;
+        Sym3 sa = Sym3::zero(), sb = Sym3::zero();
+        const bool ra = PhaseTransition::update(pt, a, sa, inc);
+        const bool rb = update_in_turns<PhaseTransition>(pt, b, sb, inc);
+        differ += !(same(a, b) && same(sa, sb) && ra == rb);
+        PhaseTransition::Work w;
+        if (PhaseTransition::update_begin(pt, s0, Sym3::zero(), inc, w))
+          while (PhaseTransition::update_turn(pt, w)) ++turns;
+      }
+    }
+    EXPECT_EQ(differ, 0) << "updates whose turns differ from update(), bound " << nmax;
+    if (nmax == 8) EXPECT_EQ(bounded, static_cast<int>(ups.size()));
+    EXPECT_GT(turns, 20 * static_cast<int>(ups.size()) / (nmax == 8 ? 2 : 1)) << "the updates must take many turns";
+  }
+}
+
 // Free surface: a lightly stressed point under extension separates (stress-free, no
 // tension, no NaN); shearing at the apex keeps it stress-free; compression rebuilds a
 // stress inside the yield cone; the wave speed stays positive (p_min regularisation).

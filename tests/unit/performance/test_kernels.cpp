@@ -153,9 +153,9 @@ TEST(FastKernels, AgreeWithReferenceFrictionalCollapse) { expect_collapse_agrees
 // updates drawn from the list as a queue, apart from their scatter (DeferredStress), against
 // the whole pass over them, one point per lane (KernelPolicy::refill off). Each point's
 // arithmetic is the same, and on one CPU thread the order of every sum too: the runs agree to
-// the bit, every scheme (in USL the deferred gather also moves the points, with the PIC
-// blend's share of the ledger; in USF and MUSL it takes the velocity gradient alone), with the
-// energy ledger and without. On a GPU the atomics add in
+// the bit, every scheme (in USL the deferred gather also moves the points and books the PIC
+// blend's share of the ledger, in MUSL it moves them, in USF it takes the velocity gradient
+// alone), with the energy ledger and without. On a GPU the atomics add in
 // the order the warps arrive: round-off, amplified by the flow as between the fast kernels
 // and the reference ones above (1e-6).
 TEST(FastKernels, DeferredUpdatesInTurnsAgreeWithTheWholePass) {

@@ -57,10 +57,11 @@
 //       // update() in turns, for a model whose work varies from point to point (substeps):
 //       // begin returns whether turns remain, turn does one and returns whether more
 //       // remain, end writes the result and returns what update() returns (s is the state
-//       // update() was given, unchanged; sigma arrives co-rotated as update()'s). update()
-//       // must be exactly these in sequence (update_in_turns below). The GPU kernel of the
-//       // points the elastic-first split defers then gives a lane whose point is done the
-//       // next one while the other lanes of its warp still turn (PassPolicy::refill)
+//       // update() was given, unchanged; sigma arrives co-rotated as update()'s). In
+//       // sequence they must give update()'s result to the bit (update_in_turns below is
+//       // that sequence; test it against update()). The GPU kernel of the points the
+//       // elastic-first split defers then gives a lane whose point is done the next one
+//       // while the other lanes of its warp still turn (PassPolicy::refill)
 //
 // The concept Material<M> below states the required part; Registry::add_material<M>()
 // checks it with one message per missing piece.
@@ -147,8 +148,7 @@ inline constexpr bool material_has_turns() {
   };
 }
 
-/// update() of a model with an update in turns: its stages in sequence. A model's update()
-/// returns this, so that the turns and the whole update are one piece of arithmetic.
+/// A model's update in turns, in sequence: what its update() must equal, bit for bit.
 template <class M>
 SCREE_HD inline auto update_in_turns(const typename M::Params& p, typename M::State& s, Sym3& sigma,
                                      const StrainIncrement& inc) {

@@ -165,7 +165,10 @@ SCREE_INLINE Real elastic_fraction(const Params& P, const Sym3& sig, const Vars&
 }
 
 /// The plastic part of an update (stage 4): where the substepping is in the increment and
-/// what it carries from one substep to the next.
+/// what it carries from one substep to the next. Set up by start_plastic() alone (the starting
+/// values there, none here): a default held from the declaration of an Integration would stay
+/// live through the elastic trial on every path, and the kernels that run integrate() whole
+/// would spill.
 struct Substepping {
   Real ope0;    ///< 1 + e at the start of the increment
   Real tr;      ///< tr deps (tension positive)
@@ -173,17 +176,17 @@ struct Substepping {
   Sym3 drem;    ///< the plastic part of the increment, (1 - alpha) deps
   Real snear;   ///< the local error the control accepts near zero stress, where the floor s_e
                 ///< makes it absolute: STOL x s_e (0.1 Pa with STOL = 1e-3) [Pa]
-  Real T = 0;            ///< fraction of drem done
-  Real dT = 1;           ///< size of the next substep, a fraction of drem
-  Real dT_relaxed = -1;  ///< smallest substep once the error control is relaxed (-1: not yet)
+  Real T;                ///< fraction of drem done
+  Real dT;               ///< size of the next substep, a fraction of drem
+  Real dT_relaxed;       ///< smallest substep once the error control is relaxed (-1: not yet)
   Real ea;               ///< e at the start of the substep (the last accepted substep's end)
   Rate r1u;              ///< rate at the start of the current substep for the whole remaining
-  bool have_r1u = false;  ///< increment (linear in it: reused, scaled, after a rejection)
+  bool have_r1u;         ///< increment (linear in it: reused, scaled, after a rejection)
   PointRatios at;        ///< g(theta) and M_p's parts at (sig, ea) from the last drift correction
-  int n = 0;             ///< substep attempts and rate evaluations (the bound on the work)
-  bool at_apex = false;  ///< the path has reached the stress-free apex: the remainder is done there
-  bool stiff_tried = false;    ///< implicit returns tried for the remainder (README step 5), once
-  bool apex_searched = false;  ///< the crossing of the apex searched (diagnostics only)
+  int n;                 ///< substep attempts and rate evaluations (the bound on the work)
+  bool at_apex;          ///< the path has reached the stress-free apex: the remainder is done there
+  bool stiff_tried;      ///< implicit returns tried for the remainder (README step 5), once
+  bool apex_searched;    ///< the crossing of the apex searched (diagnostics only)
 
   /// e at the fraction x of the plastic part drem.
   SCREE_HD Real void_ratio(Real x) const { return void_ratio_at(ope0, tr, alpha + (1 - alpha) * x); }
@@ -197,6 +200,14 @@ SCREE_INLINE Substepping start_plastic(const Params& P, Sym3& sig, const Vars& v
   Substepping s;
   s.ope0 = t.ope0;
   s.tr = t.tr;
+  s.T = 0;
+  s.dT = 1;
+  s.dT_relaxed = -1;
+  s.have_r1u = false;
+  s.n = 0;
+  s.at_apex = false;
+  s.stiff_tried = false;
+  s.apex_searched = false;
   s.alpha = elastic_fraction<Pol>(P, sig, v, deps, t, s.r1u, s.have_r1u);
   if (s.alpha > 0) {
     Sym3 sa;
@@ -408,6 +419,17 @@ SCREE_INLINE void finish(Sym3& sig, Vars& v, const Substepping& s, Real e1) {
   if (!finite_sym(sig) || !(mean_pressure(sig) >= 0)) sig = Sym3::zero();
 }
 
+#if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
+/// The diagnostic line of an update of more than SCREE_SIMSAND_REPORT_SUBSTEPS substeps (top).
+SCREE_HD inline void report_substeps(const Substepping& s, const Sym3& sig_in, const Vars& v_in, const Sym3& deps) {
+  if (s.n > SCREE_SIMSAND_REPORT_SUBSTEPS)
+    printf("simsand-substeps %d apex %d sig %.17g %.17g %.17g %.17g %.17g %.17g e %.17g kappa %.17g "
+           "deps %.17g %.17g %.17g %.17g %.17g %.17g\n",
+           s.n, s.at_apex ? 1 : 0, sig_in[0], sig_in[1], sig_in[2], sig_in[3], sig_in[4], sig_in[5], v_in.e,
+           v_in.kappa, deps[0], deps[1], deps[2], deps[3], deps[4], deps[5]);
+}
+#endif
+
 /// An update of the frictional model in flight, in turns: integrate_begin() (stages 1-3),
 /// integrate_turn() while it asks for more (stage 4, one substep() each), integrate_end()
 /// (stage 5). integrate() runs them in sequence; a GPU kernel interleaves the turns of many
@@ -417,8 +439,8 @@ struct Integration {
   Sym3 sig;       ///< the stress (tension positive) [Pa]: the start, then the result
   Vars v;         ///< the internal variables: the start, then the result
   Substepping s;  ///< the plastic part (stage 4), when there is one
-  Real e1 = 0;    ///< e at the end of the increment
-  bool plastic = false;  ///< stage 4 was set up: turns to run and stage 5 to finish
+  Real e1;       ///< e at the end of the increment (with a plastic part)
+  bool plastic;  ///< stage 4 was set up: turns to run and stage 5 to finish
 #if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
   Sym3 sig_in, deps_in;
   Vars v_in;
@@ -429,7 +451,7 @@ struct Integration {
 /// remains (integrate_turn until it returns false, then integrate_end); otherwise the result
 /// is in u already (integrate_end leaves it).
 template <class Pol = Production>
-SCREE_HD inline bool integrate_begin(const Params& P, Integration& u, const Sym3& deps) {
+SCREE_INLINE bool integrate_begin(const Params& P, Integration& u, const Sym3& deps) {
   u.plastic = false;
   if (!finite_sym(u.sig)) u.sig = Sym3::zero();
   if (!finite_sym(deps)) {  // nothing sensible to integrate
@@ -465,43 +487,65 @@ SCREE_HD inline bool integrate_begin(const Params& P, Integration& u, const Sym3
 
 /// Stage 4, one turn: one substep() of the plastic part. Returns whether more remain.
 template <class Pol = Production>
-SCREE_HD inline bool integrate_turn(const Params& P, Integration& u) {
+SCREE_INLINE bool integrate_turn(const Params& P, Integration& u) {
   return substep<Pol>(P, u.sig, u.v, u.s) && u.s.T < 1;
 }
 
 /// Stage 5 when there was a plastic part (finish); returns whether the update reached the
 /// bound on its work (bound_substep: more than `maxSubsteps` substeps, the rest without
 /// error control).
-SCREE_HD inline bool integrate_end(const Params& P, Integration& u) {
+SCREE_INLINE bool integrate_end(const Params& P, Integration& u) {
   if (!u.plastic) return false;
 #if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
-  if (u.s.n > SCREE_SIMSAND_REPORT_SUBSTEPS)
-    printf("simsand-substeps %d apex %d sig %.17g %.17g %.17g %.17g %.17g %.17g e %.17g kappa %.17g "
-           "deps %.17g %.17g %.17g %.17g %.17g %.17g\n",
-           u.s.n, u.s.at_apex ? 1 : 0, u.sig_in[0], u.sig_in[1], u.sig_in[2], u.sig_in[3], u.sig_in[4], u.sig_in[5],
-           u.v_in.e, u.v_in.kappa, u.deps_in[0], u.deps_in[1], u.deps_in[2], u.deps_in[3], u.deps_in[4],
-           u.deps_in[5]);
+  report_substeps(u.s, u.sig_in, u.v_in, u.deps_in);
 #endif
   finish(u.sig, u.v, u.s, u.e1);  // 5. the remainder at the apex, a defined state
   return u.s.n > P.nmax;
 }
 
 /// One stress update of the frictional model: sig (tension positive) and the internal
-/// variables v over the strain increment deps, the stages above in sequence. Always leaves a
-/// defined state: p >= 0, no tension, finite values. Returns whether the update reached the
-/// bound on its work.
+/// variables v over the strain increment deps. Always leaves a defined state: p >= 0,
+/// no tension, finite values. Returns whether the update reached the bound on its work
+/// (bound_substep: more than `maxSubsteps` substeps, the rest without error control).
+/// The same stages as integrate_begin, integrate_turn and integrate_end in sequence, and the
+/// same result to the bit (tests/unit/performance/test_kernels.cpp, DeferredUpdatesInTurns);
+/// written whole because the kernels that run it whole compile it with half the spills that
+/// the sequence through an Integration takes (measure/ptx-line-counts.sh).
 template <class Pol = Production>
 SCREE_HD inline bool integrate(const Params& P, Sym3& sig, Vars& v, const Sym3& deps) {
-  Integration u;
-  u.sig = sig;
-  u.v = v;
-  if (integrate_begin<Pol>(P, u, deps))
-    while (integrate_turn<Pol>(P, u)) {
-    }
-  const bool bounded = integrate_end(P, u);
-  sig = u.sig;
-  v = u.v;
-  return bounded;
+  if (!finite_sym(sig)) sig = Sym3::zero();
+  if (!finite_sym(deps)) {  // nothing sensible to integrate
+    v.e = fmax(v.e, Real(1e-6));
+    return false;
+  }
+#if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
+  const Sym3 sig_in = sig;
+  const Vars v_in = v;
+#endif
+  if (!(mean_pressure(sig) > P.papex)) {  // 1. a stress-free point
+    integrate_at_apex<Pol>(P, sig, v, deps);
+    return false;
+  }
+  const ElasticTrial t = elastic_trial<Pol>(P, sig, v, deps);  // 2. the elastic trial
+  sig = t.sig0;
+  if (t.separates) {
+    separate(sig, v, deps, 1);
+    v.e = t.e1;
+    return false;
+  }
+  if (t.elastic) {  // elastic: the common cheap path
+    sig = t.sig_tr;
+    v.e = t.e1;
+    return false;
+  }
+  Substepping s = start_plastic<Pol>(P, sig, v, deps, t);  // 3. the elastic fraction
+  while (s.T < 1)                                          // 4. the plastic part
+    if (!substep<Pol>(P, sig, v, s)) break;
+#if defined(SCREE_SIMSAND_REPORT_SUBSTEPS)
+  report_substeps(s, sig_in, v_in, deps);
+#endif
+  finish(sig, v, s, t.e1);  // 5. the remainder at the apex, a defined state
+  return s.n > P.nmax;
 }
 
 }  // namespace scree::materials::simsand
