@@ -22,7 +22,8 @@
 # windows (the resting step: a run's first progress interval already holds flow) and the 1e7
 # blocks (OUT/bench.csv; --bench-kernels: scree-bench's variants, fast first; the table reads
 # fast). --scree-args: more arguments for every run's scree (e.g. --no-output).
-# Kernel variants of KernelPolicy are scree-bench's (--kernels), not scree's. Each run's profile (ms per step and mean dt per interval) is
+# Kernel variants of KernelPolicy are scree-bench's (--kernels); scree's own few (--no-graphs,
+# --no-refill) go through --scree-args. Each run's profile (ms per step and mean dt per interval) is
 # OUT/runs/<label>/profile.csv (measure/whole-run-profile.py).
 #
 # On a lent GPU machine: carry the bundle (../shared/gpu/bundle.sh build-cuda) and run
