@@ -112,9 +112,9 @@ struct PassPolicy {
   /// Elastic first (fast kernels; materials with update_elastic, material.hpp): the stress
   /// pass updates the points whose increment is elastic, in a kernel compiled without the
   /// plastic integration (a fraction of its registers: more warps per SM), and appends the
-  /// others to PassParams::deferred, counted in deferred_count[parity]; a second launch runs
-  /// the whole pass over those (MaterialBody::launch). One stress pass per step, so the
-  /// counters of the two parities alternate. False (the default; the solver decides,
+  /// others to PassParams::deferred, counted in deferred_count[parity]; further launches run
+  /// those (MaterialBody::launch_elastic_first: `refill` below). One stress pass per step, so
+  /// the counters of the two parities alternate. False (the default; the solver decides,
   /// KernelPolicy::split): one kernel with the whole update.
   bool split_elastic = false;
   /// With split_elastic, for a material whose update runs in turns (material_has_turns): the
