@@ -105,7 +105,7 @@ struct PhaseTransition {
   using Work = simsand::Integration;
   template <class Pol = simsand::Production>
   SCREE_INLINE static bool update_begin(const Params& p, const State& s, const Sym3&, const StrainIncrement& inc,
-                                    Work& w) {
+                                        Work& w) {
     // frictional part: co-rotate the stored sigma_f (the framework rotated only sigma)
     w.sig = corotate(s.sigf, inc.spin);
     w.v = simsand::Vars{s.e, s.kappa, s.epsEq};

@@ -85,7 +85,7 @@ struct Simsand {
   /// update() in turns (material.hpp): the integration in flight; the same result as update().
   using Work = simsand::Integration;
   SCREE_INLINE static bool update_begin(const Params& p, const State& s, const Sym3& sigma, const StrainIncrement& inc,
-                                    Work& w) {
+                                        Work& w) {
     w.sig = sigma;
     w.v = simsand::Vars{s.e, s.kappa, s.epsEq};
     return simsand::integrate_begin(p.m, w, inc.deps);

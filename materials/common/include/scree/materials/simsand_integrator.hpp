@@ -508,7 +508,7 @@ SCREE_INLINE bool integrate_end(const Params& P, Integration& u) {
 /// no tension, finite values. Returns whether the update reached the bound on its work
 /// (bound_substep: more than `maxSubsteps` substeps, the rest without error control).
 /// The same stages as integrate_begin, integrate_turn and integrate_end in sequence, and the
-/// same result to the bit (tests/unit/performance/test_kernels.cpp, DeferredUpdatesInTurns);
+/// same result to the bit (tests/unit/materials/test_robustness.cpp, UpdatesInTurns...);
 /// written whole because the kernels that run it whole compile it with half the spills that
 /// the sequence through an Integration takes (measure/ptx-line-counts.sh).
 template <class Pol = Production>
