@@ -514,9 +514,9 @@ SCREE_UNROLL
               // The walls moved both the FLIP and the PIC part by sum N dw: their work on
               // the point is that impulse times the step's mean velocity (v_old +
               // v_new)/2, so that it adds up with the forces' to the point's kinetic
-              // energy change, and is zero at rest. (The kinetic energy against the
-              // velocity without walls counted the unbalanced acceleration the floor's
-              // reaction cancels, 1/2 m (dt g)^2 at every step, under a resting body.)
+              // energy change, and is zero at rest (the kinetic energy against the velocity
+              // without walls would count the unbalanced acceleration the floor's reaction
+              // cancels, 1/2 m (dt g)^2 at every step, under a resting body).
               Real w = 0;
               for (int d = 0; d < D; ++d) w += dw[d] * (v_old[d] + v[d]);
               wall_loss = -Real(0.5) * mass * w;
@@ -634,12 +634,10 @@ SCREE_UNROLL
     // eq. (8), F <- (I + L dt) F, kept as its determinant alone: the point's volume ratio
     // J = det F, the one part of F that anything uses (the volume V0 J; the materials get
     // the increment, its spin and J). F is stored as diag(J, 1[, 1]), so the update is
-    // J <- det(I + L dt) J. (The accumulated F of a long granular flow holds stretches of up
-    // to 1e9, whose determinant, a difference of products near 1e17, its entries lose to
-    // cancellation: in the 10 mm flume a point reached det F = -288 while its void ratio,
-    // integrated from tr deps, said J = 1.66; with a negative volume its stress pushed the
-    // wrong way, and once compressed it blew the run up: cases/flume/README.md, "Why the runs
-    // blew up". A product of numbers near 1 keeps its precision.)
+    // J <- det(I + L dt) J: a product of numbers near 1 keeps its precision, where the
+    // determinant of an accumulated F (stretches of up to 1e9 in a long granular flow, its
+    // determinant a difference of products near 1e17) is lost to cancellation, down to a
+    // negative volume (cases/flume/README.md, "Why the runs blew up").
     Real J = det(Mat<D>::identity() + L * dt) * pa.F[0][p];
     StrainIncrement inc;
     inc.deps = sym3_from(L) * dt;
@@ -648,8 +646,7 @@ SCREE_UNROLL
       // signal speeds of the time step, stay bounded. The strain increment loses the same
       // volume, ln r spread over the D normal components, r = max_volume_ratio/J: the
       // material's void ratio (1 + e follows exp(tr deps)) then stays that of the capped
-      // volume. (Without this, e grew without bound at the cap: 3e12 where the cap allows
-      // 998, flume at 1.13 s.)
+      // volume, instead of growing without bound at the cap.
       const Real r = pp.physics.max_volume_ratio / J;
       J = pp.physics.max_volume_ratio;
       const Real lr = log(r) / D;
@@ -704,9 +701,9 @@ SCREE_UNROLL
     // coefficients at the new void ratio).
     speed = 0;
     if (v_start >= 0) {
-      // An inverted point (V <= 0) has no density and so no wave speed: its |v| alone. (Its
-      // density was taken as 0, c = inf for most models: the adaptive step became 0 for a
-      // step and then maxDeltaT, and the health check read an infinite Courant number.)
+      // An inverted point (V <= 0) has no density and so no wave speed: its |v| alone (a
+      // density of 0 would give most models c = inf, a zero adaptive step and an infinite
+      // Courant number in the health check).
       speed = vol > 0 ? M::wave_speed(mp, s, sigma, mass / vol, pp.grid.h) + v_start : v_start;
     }
     pa.F[0][p] = inc.J;  // F = diag(J, 1[, 1]): its other entries stay those of the identity
@@ -716,10 +713,9 @@ SCREE_UNROLL
     fresh = FreshStress{sigma, vol, true};
     if constexpr (Ledger) {
       // The work of the step, V (sigma^n + sigma^{n+1})/2 : deps: the trapezoidal rule, exact
-      // for a linear elastic increment. (V sigma^{n+1} : deps counted 1/2 deps : C : deps
-      // too much at every step, always > 0: an elastic bar vibrating for 20 periods booked
-      // half its energy as plastic dissipation, halving with dt; the flume's resting deposit
-      // grew a residual of 2% of its potential energy: cases/flume/README.md.)
+      // for a linear elastic increment, where V sigma^{n+1} : deps counts 1/2 deps : C : deps
+      // too much at every step, always > 0, and books a vibration's elastic energy as
+      // dissipation (cases/flume/README.md).
       fresh.work = vol * ddot((sigma_start + sigma) * Real(0.5), inc.deps);
       if constexpr (material_has_collisional_dissipation<M>()) fresh.dissipated = vol * M::collisional_dissipation(mp, s, inc);
     }
