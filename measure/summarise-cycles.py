@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Summarise the log of a diagnostic build with SCREE_REPORT_CYCLES (scree/core/report_cycles.hpp):
 per window of steps, the slow warps of the particle pass and whether their cycles follow the
-largest or the summed substeps of their lanes (docs/history/performance-log.md, entry 16).
+largest or the summed substeps of their lanes: whether a warp waits for its longest chain.
 
     measure/summarise-cycles.py LOG [WINDOW_STEPS]
 """

@@ -472,7 +472,7 @@ std::size_t key_hash(std::string_view key) noexcept { return std::hash<std::stri
 
 Entry* EntryList::slot(std::size_t i) const noexcept {
   if (i < kSmall) return small_ + i;
-  // Block b starts at entry 2^(b + kSmallBits): the bit length of i gives it.
+  // Block b holds the items from index 2^(b + kSmallBits) on: the bit length of i names it.
   const int b = static_cast<int>(std::bit_width(i)) - 1;
   return blocks_[static_cast<std::size_t>(b - kSmallBits)] + (i - (std::size_t(1) << b));
 }
