@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -26,13 +27,16 @@ struct RunSetup {
   std::string control, grid, schemes, materials, bodies, boundaries, gravity = "value (0 -9.81);";
 };
 
-Snapshot run(const RunSetup& s, bool reference, long steps, StressSplit split = StressSplit::automatic) {
+/// `adjust`, if given, changes the run's options last (kernel switches, the energy ledger).
+Snapshot run(const RunSetup& s, bool reference, long steps, StressSplit split = StressSplit::automatic,
+             const std::function<void(RunOptions&)>& adjust = {}) {
   TempCase tc(reference ? "reference" : "fast");
   write_case_files(tc, CaseFiles{s.control, s.schemes, s.grid, s.gravity, s.materials, s.bodies, s.boundaries});
   Case cs = Case::read(tc.dir(), runtime());
   RunOptions o = options(1);  // one CPU thread: these runs are small
   if (reference) o.kernels = KernelPolicy::reference_kernels();
   o.kernels.split = split;
+  if (adjust) adjust(o);
   Simulation sim(cs, runtime(), o);
   sim.run_steps(steps);
   return sim.snapshot(/*with_grid=*/true);
@@ -122,20 +126,27 @@ TEST(FastKernels, AgreeWithReference3D) {
 // apart (test_material_fast_path.cpp), so over 150 steps the fields agree to 1e-6. The fast
 // kernels, with the stress pass split (elastic points first, the others in a second kernel:
 // KernelPolicy::split on) and as the solver chooses, against the reference kernel.
-void expect_collapse_agrees(const std::string& material) {
-  const std::string src = SCREE_SOURCE_DIR;
-  std::ifstream f(src + "/cases/columnCollapse/constant/materialProperties");
+/// The coarse column: the paper case's materials (and `more_materials` after them), 1 cm
+/// cells, the body of `material`, the schemes given.
+RunSetup coarse_collapse(const std::string& material, const std::string& schemes,
+                         const std::string& more_materials = "") {
+  std::ifstream f(std::string(SCREE_SOURCE_DIR) + "/cases/columnCollapse/constant/materialProperties");
   std::stringstream mats;
-  mats << f.rdbuf();
+  mats << f.rdbuf() << more_materials;
+  return RunSetup{"endTime 1; deltaT 1e-5; writeInterval 1;", "dimension 2; lower (0 0); upper (0.4 0.12); cellSize 0.01;",
+                  schemes, mats.str(),
+                  "column { material " + material + "; region { type rectangle; lower (0 0); upper (0.2 0.1); } "
+                  "particlesPerCell 2; initialStress { type geostatic; K0 0.5; } }",
+                  "floor { type fixed; face yMin; } leftWall { type slip; face xMin; }"};
+}
+
+void expect_collapse_agrees(const std::string& material) {
   // The substepping tolerance the 1e-6 bound holds for. The case's own is 1e-2, at which a
   // round-off difference between the kernels flips more of the error control's decisions,
   // each worth up to STOL x 100 Pa (test_three_d.cpp measures it).
-  mats << "\n#inputMode overwrite\nsand { $sand; integrationTolerance 1e-3; }\nsandFrictional { $sandFrictional; integrationTolerance 1e-3; }\n";
-  const RunSetup s{"endTime 1; deltaT 1e-5; writeInterval 1;", "dimension 2; lower (0 0); upper (0.4 0.12); cellSize 0.01;",
-                "updateScheme USF;", mats.str(),
-                "column { material " + material + "; region { type rectangle; lower (0 0); upper (0.2 0.1); } "
-                "particlesPerCell 2; initialStress { type geostatic; K0 0.5; } }",
-                "floor { type fixed; face yMin; } leftWall { type slip; face xMin; }"};
+  const RunSetup s = coarse_collapse(material, "updateScheme USF;",
+                                     "\n#inputMode overwrite\nsand { $sand; integrationTolerance 1e-3; }\n"
+                                     "sandFrictional { $sandFrictional; integrationTolerance 1e-3; }\n");
   const Snapshot ref = run(s, true, 150);
   expect_same(ref, run(s, false, 150, StressSplit::on), 1e-6);
   expect_same(ref, run(s, false, 150), 1e-6);
@@ -159,33 +170,18 @@ TEST(FastKernels, AgreeWithReferenceFrictionalCollapse) { expect_collapse_agrees
 // the order the warps arrive: round-off, amplified by the flow as between the fast kernels
 // and the reference ones above (1e-6).
 TEST(FastKernels, DeferredUpdatesInTurnsAgreeWithTheWholePass) {
-  const std::string src = SCREE_SOURCE_DIR;
-  std::ifstream f(src + "/cases/columnCollapse/constant/materialProperties");
-  std::stringstream mats;
-  mats << f.rdbuf();
   const bool gpu = test_device() == Device::cuda;
   for (const char* material : {"sand", "sandFrictional"})
     for (const char* scheme : {"updateScheme USF;", "updateScheme USL; shapeFunction bspline2; picRate 10;",
                                "updateScheme MUSL; shapeFunction gimp; transfer APIC;"})
       for (bool ledger : {false, true}) {
         SCOPED_TRACE(std::string(material) + ", " + scheme + (ledger ? ", energy ledger" : ""));
-        const RunSetup s{"endTime 1; deltaT 1e-5; writeInterval 1;",
-                         "dimension 2; lower (0 0); upper (0.4 0.12); cellSize 0.01;", scheme, mats.str(),
-                         std::string("column { material ") + material +
-                             "; region { type rectangle; lower (0 0); upper (0.2 0.1); } particlesPerCell 2; "
-                             "initialStress { type geostatic; K0 0.5; } }",
-                         "floor { type fixed; face yMin; } leftWall { type slip; face xMin; }"};
+        const RunSetup s = coarse_collapse(material, scheme);
         auto run_split = [&](bool refill) {
-          TempCase tc(refill ? "refill" : "whole");
-          write_case_files(tc, CaseFiles{s.control, s.schemes, s.grid, s.gravity, s.materials, s.bodies, s.boundaries});
-          Case cs = Case::read(tc.dir(), runtime());
-          RunOptions o = options(1);
-          o.kernels.split = StressSplit::on;
-          o.kernels.refill = refill;
-          o.energy_ledger = ledger;
-          Simulation sim(cs, runtime(), o);
-          sim.run_steps(150);
-          return sim.snapshot(/*with_grid=*/true);
+          return run(s, false, 150, StressSplit::on, [&](RunOptions& o) {
+            o.kernels.refill = refill;
+            o.energy_ledger = ledger;
+          });
         };
         const Snapshot a = run_split(true), b = run_split(false);
         // the deferred kernel has work: points that yielded (their updates are not elastic)
