@@ -11,6 +11,7 @@
 #include "scree/case/particle_generation.hpp"
 #include "scree/material/material.hpp"
 #include "scree/mpm/grid.hpp"
+#include "scree/mpm/particle_pass.hpp"
 #include "scree/mpm/wall_law.hpp"
 #include "scree/porous/two_phase.hpp"
 
@@ -42,6 +43,7 @@ struct Model {
     SourceLocation where;  ///< its particlesPerCell (its dictionary where defaulted)
     int ppc = 2;
     int state_reals = 0;   ///< the material's State (K columns)
+    bool turns = false;    ///< the material's update runs in turns (the split's Handoff)
     int output_reals = 0;  ///< the material's output fields' components
     bool two_phase = false;
   };
@@ -85,6 +87,7 @@ Model read_model(const Case& c, const Registry& reg, Device device, bool with_ou
       b.ppc = bs.particles_per_cell;
       const auto point = reg.make_point_material(c.materials().sub(bs.material));
       b.state_reals = static_cast<int>(point->state().size());
+      b.turns = point->updates_in_turns();
       for (const OutputField& f : point->output_fields()) b.output_reals += f.components;
     } catch (const std::exception&) {
       // Case::read reported it; the estimate takes the columns every material has.
@@ -160,6 +163,7 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     // scratch block of every column (a block up to 64 MiB) or 4 of them.
     const double chunk = p.count * block <= double(64 << 20) ? columns : std::min(columns, 4.0);
     p.backend_each = block + sizeof(Index) /* the elastic-first split's list */ +
+                     (b.turns ? (D == 2 ? Handoff<2>::kColumns : Handoff<3>::kColumns) * kReal : 0) /* its Handoff (particle_pass.hpp) */ +
                      (m.sorts ? 4 * sizeof(std::uint32_t) + chunk * kReal : 0) +
                      (gpu && R == 1 ? block : 0) /* the snapshot's device copy (snapshot_copy.hpp): one
                                                     process's asynchronous output; a rank of a decomposed

@@ -393,6 +393,8 @@ class SCREE_API PointMaterial {
   virtual void evaluate(const OutputField& f, const Sym3& sigma, Real* out) const = 0;
   /// Raw state (state_size Reals), for tests and checkpointing.
   virtual std::vector<Real> state() const = 0;
+  /// Whether the model's update runs in turns (material_has_turns).
+  virtual bool updates_in_turns() const = 0;
 };
 
 /// The adapter behind PointMaterial for a material struct M.
@@ -424,6 +426,7 @@ class PointMaterialOf final : public PointMaterial {
     if constexpr (state_size<typename M::State>() > 0) memcpy(raw.data(), &s_, sizeof(s_));
     return raw;
   }
+  bool updates_in_turns() const override { return material_has_turns<M>(); }
   const typename M::State& raw_state() const { return s_; }
   const typename M::Params& params() const { return p_; }
 

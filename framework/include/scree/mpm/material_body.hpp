@@ -94,6 +94,7 @@ class MaterialBody final : public Body<D> {
     if constexpr (material_has_elastic_path<M>()) {  // the elastic-first split's list (zeroed)
       deferred_.resize(static_cast<std::size_t>(n), exec_.device);
       deferred_count_.resize(4, exec_.device);
+      resize_handoff(n);
     }
     if constexpr (material_reports_bound<M>()) bounded_.resize(1, exec_.device);  // zeroed
     OutputFields<M> out;
@@ -280,6 +281,7 @@ class MaterialBody final : public Body<D> {
     store_.replace(block, n, exec_.device);
     if constexpr (material_has_elastic_path<M>()) {
       deferred_.resize(static_cast<std::size_t>(n), exec_.device);
+      resize_handoff(n);
       reset_split();
     }
   }
@@ -291,6 +293,12 @@ class MaterialBody final : public Body<D> {
     int c = 0;
     for (const auto& x : e) c += x.components;
     return c;
+  }
+
+  /// The deferred points' Handoff, for a material whose update runs in turns.
+  void resize_handoff(Index n) {
+    if constexpr (material_has_turns<M>())
+      handoff_.resize(static_cast<std::size_t>(n) * Handoff<D>::kColumns, exec_.device);
   }
 
   static constexpr int kTransferBlock = 256;
@@ -340,6 +348,8 @@ class MaterialBody final : public Body<D> {
     PassParams<D> first = pp;
     first.deferred = deferred_.data();
     first.deferred_count = deferred_count_.data();
+    if constexpr (material_has_turns<M>())
+      if (pp.policy.refill) first.handoff = handoff_.data();
     ParticlePass<D, Shape, M, kAllPhases, true, Ledger> elastic{first, store_.arrays(), shape, params_};
     bool capped = false;
     if constexpr (D == 2)  // the capped kernel exists only in 2D (no unused 3D instance to compile)
@@ -354,7 +364,7 @@ class MaterialBody final : public Body<D> {
     constexpr int kMinBlocks = D == 2 ? KernelPolicy::kStressCap : 1;  // the whole update's register cap
     if constexpr (material_has_turns<M>())
       if (pp.policy.refill) {
-        const DeferredStress<D, Shape, M, Ledger> update{{pp, store_.arrays(), shape, params_},
+        const DeferredStress<D, Shape, M, Ledger> update{{first, store_.arrays(), shape, params_},
                                                          deferred_.data(),
                                                          count + pp.parity,
                                                          head + pp.parity,
@@ -390,6 +400,7 @@ class MaterialBody final : public Body<D> {
   mutable SnapshotCopy copy_;
   Buffer<Index> deferred_;            // the elastic-first split's deferred points
   Buffer<unsigned> deferred_count_;   // their number per step parity, then the queue's head per parity
+  Buffer<Real> handoff_;              // what the elastic-only kernel hands their updates over with
   Buffer<unsigned long long> bounded_;  // updates that reached the bound (material_reports_bound)
   std::vector<OutputField> fields_;
 };

@@ -158,6 +158,9 @@ struct PassParams {
   std::uint32_t* tile_stamps = nullptr;  ///< tiles of S (Tiles<D>) to stamp; null: none
   Index* deferred = nullptr;             ///< PassPolicy::split_elastic's list (MaterialBody's)
   unsigned* deferred_count = nullptr;
+  /// With the deferred updates in turns (PassPolicy::refill): what the elastic-only kernel
+  /// hands a deferred point's update over with (Handoff); null: the update gathers again.
+  Real* handoff = nullptr;
   /// The body's count of stress updates that reached their material's bound on the work
   /// (material_reports_bound; MaterialBody's); null for other materials.
   unsigned long long* bounded = nullptr;
@@ -291,10 +294,63 @@ struct FreshStress {
   Real work = 0, dissipated = 0;
 };
 
+/// What the elastic-only kernel of the split hands a deferred point's update over with, when
+/// the update runs in turns (PassPolicy::refill): the point's gather and strain increment are
+/// made once, in that kernel, which stores the point's new motion and these, and
+/// DeferredStress starts the update from them. Per point p (n points), column k at
+/// h[k n + p]: the increment's strain (the components plane strain does not hold at zero) and
+/// spin, J, |v| at the step's start (or -1), and the energy ledger's PIC and wall shares.
+template <int D>
+struct Handoff {
+  static constexpr int kDeps = D == 2 ? 3 : 6;   // 2D: xx, yy, xy
+  static constexpr int kSpin = D == 2 ? 1 : 3;   // 2D: xy
+  static constexpr int kJ = kDeps + kSpin, kSpeed = kJ + 1, kPic = kSpeed + 1, kWall = kPic + 1;
+  static constexpr int kColumns = kWall + 1;
+
+  SCREE_INLINE static constexpr int deps_slot(int k) { return D == 2 && k == 2 ? 3 : k; }
+
+  SCREE_INLINE static void store(Real* h, Index n, Index p, const StrainIncrement& inc, Real v_start) {
+    for (int k = 0; k < kDeps; ++k) h[k * n + p] = inc.deps[deps_slot(k)];
+    h[kDeps * n + p] = inc.spin.xy;
+    if constexpr (D == 3) {
+      h[(kDeps + 1) * n + p] = inc.spin.yz;
+      h[(kDeps + 2) * n + p] = inc.spin.zx;
+    }
+    h[kJ * n + p] = inc.J;
+    h[kSpeed * n + p] = v_start;
+  }
+  /// The energy ledger's shares (a pass without the ledger has none to hand over).
+  SCREE_INLINE static void store_ledger(Real* h, Index n, Index p, Real pic, Real wall) {
+    h[kPic * n + p] = pic;
+    h[kWall * n + p] = wall;
+  }
+  SCREE_INLINE static StrainIncrement load(const Real* h, Index n, Index p, Real dt, Real& v_start) {
+    StrainIncrement inc;
+    inc.deps = Sym3::zero();
+    for (int k = 0; k < kDeps; ++k) inc.deps[deps_slot(k)] = h[k * n + p];
+    inc.spin = Spin3::zero();
+    inc.spin.xy = h[kDeps * n + p];
+    if constexpr (D == 3) {
+      inc.spin.yz = h[(kDeps + 1) * n + p];
+      inc.spin.zx = h[(kDeps + 2) * n + p];
+    }
+    inc.J = h[kJ * n + p];
+    inc.dt = dt;
+    v_start = h[kSpeed * n + p];
+    return inc;
+  }
+  SCREE_INLINE static void load_ledger(const Real* h, Index n, Index p, Real& pic, Real& wall) {
+    pic = h[kPic * n + p];
+    wall = h[kWall * n + p];
+  }
+};
+
 /// The particle pass. ElasticFirst: the first kernel of the elastic-first split
 /// (PassPolicy::split_elastic): a point whose stress update is not elastic is appended to
 /// pp.deferred and left untouched (no state, position or velocity written, nothing
-/// scattered); the ordinary pass then runs over the deferred points alone. Ledger: the
+/// scattered); the ordinary pass then runs over the deferred points alone. With
+/// pp.handoff (the updates in turns), its motion is stored and its gather handed over
+/// instead (Handoff), for DeferredStress. Ledger: the
 /// kernel that keeps the energy ledger (PassPolicy::energy), compiled apart so that the
 /// others carry none of its code: held through the stress update, its values make the
 /// register-capped elastic kernel spill.
@@ -348,8 +404,12 @@ struct ParticlePass {
     if constexpr (ElasticFirst) {
       push_index(pp.deferred, pp.deferred_count + pp.parity, p, defer, pp.policy.serial);
       if (defer) {
-        active = false;  // nothing of it is written or scattered here
-        pic_loss = wall_loss = 0;  // counted by the second kernel, which gathers it again
+        if (pp.handoff) {  // the update in turns starts from this gather (Handoff)
+          store_motion(p, x, v, C);
+          if constexpr (Ledger) Handoff<D>::store_ledger(pp.handoff, pa.n, p, pic_loss, wall_loss);
+        }
+        active = false;  // nothing more of it is written, nor scattered here
+        pic_loss = wall_loss = 0;  // counted by the second kernel
       }
     }
     if constexpr (Ledger && (May & kAnyGather) != 0) ledger(pic_loss, wall_loss, fresh);
@@ -618,7 +678,10 @@ SCREE_UNROLL
     Sym3 sigma = start_stress(p, inc, sigma_start);
     typename M::State s = material_state(p);
     if constexpr (ElasticOnly) {
-      if (!M::update_elastic(mp, s, sigma, inc)) return false;
+      if (!M::update_elastic(mp, s, sigma, inc)) {
+        if (pp.handoff) Handoff<D>::store(pp.handoff, pa.n, p, inc, v_start);
+        return false;
+      }
     } else if constexpr (material_reports_bound<M>()) {
       bounded = M::update(mp, s, sigma, inc);
     } else {
@@ -738,8 +801,9 @@ SCREE_UNROLL
 
 /// The stress updates of the points the elastic-first split deferred (PassPolicy::
 /// split_elastic, PassPolicy::refill), for a material whose update runs in turns
-/// (material_has_turns): each point's gather phases, strain increment and update, its motion,
-/// state and stress stored. Their scatter is a pass of its own afterwards (ParticlePass with
+/// (material_has_turns): each point's strain increment and update, from the gather the
+/// elastic-only kernel made and handed over (Handoff), its state and stress stored. Their
+/// scatter is a pass of its own afterwards (ParticlePass with
 /// the scatter phases alone, over the same list), so that the update can run apart from it:
 /// on CUDA the warps take points from the list as a queue, and a lane whose point is done
 /// holds until kRefillLanes of its warp are, then those lanes store their results and take
@@ -750,7 +814,7 @@ SCREE_UNROLL
 template <int D, class Shape, class M, bool Ledger>
 struct DeferredStress {
   /// Lanes of a warp that hold a finished point (or none) before they take new ones: half
-  /// the warp. Fewer refill more often (each refill runs the gather and the start of an
+  /// the warp. Fewer refill more often (each refill runs the start and the end of an
   /// update while the other lanes wait); more leave lanes idle longer.
   static constexpr int kRefillLanes = 16;
 
@@ -781,29 +845,23 @@ struct DeferredStress {
     *reset_head = 0;
   }
 
-  /// The gather phases of point p, its strain increment and the start of its update.
-  /// Returns whether turns remain; `started` says whether the update started at all (not
-  /// when the point left the grid in the gather, or for a zero step).
-  SCREE_INLINE bool begin(Index p, Point& pt, typename M::Work& w, Sums& sums, bool& started) const {
+  /// The start of point p's update, from what the elastic-only kernel handed over
+  /// (Handoff: the gather's increment; the point's motion is stored already): the start
+  /// stress and the material's update_begin. Returns whether turns remain.
+  SCREE_INLINE bool begin(Index p, Point& pt, typename M::Work& w, Sums& sums) const {
     const PassParams<D>& pp = pass.pp;
     const Real dt = pp.control->dt[pp.gather_parity];
-    started = false;
-    if (!(dt > 0) || !(pass.pa.volume0[p] >= 0)) return false;
     pt.p = p;
     pt.mass = pass.pa.mass[p];
-    Vec<D> x, v;
-    Mat<D> C = Mat<D>::zero();
-    pass.load_motion(p, x, v, C);
-    Mat<D> L;
-    Real pic = 0, wall = 0;
-    if (!pass.gather(p, pp.flags & kAnyGather, dt, pt.mass, x, v, C, L, pt.v_start, pic, wall)) return false;
-    pass.store_motion(p, x, v, C);
-    sums.pic += pic;
-    sums.wall += wall;
-    pt.inc = pass.increment(p, L, dt);
+    pt.inc = Handoff<D>::load(pp.handoff, pass.pa.n, p, dt, pt.v_start);
+    if constexpr (Ledger) {
+      Real pic, wall;
+      Handoff<D>::load_ledger(pp.handoff, pass.pa.n, p, pic, wall);
+      sums.pic += pic;
+      sums.wall += wall;
+    }
     const Sym3 sigma = pass.start_stress(p, pt.inc, pt.sigma_start);
     const typename M::State s = pass.material_state(p);
-    started = true;
     return M::update_begin(pass.mp, s, sigma, pt.inc, w);
   }
 
@@ -843,11 +901,10 @@ struct DeferredStress {
     Point pt;
     typename M::Work w;
     Sums sums;
-    bool started;
-    if (begin(list[j], pt, w, sums, started))
+    if (begin(list[j], pt, w, sums))
       while (M::update_turn(pass.mp, w)) {
       }
-    if (started) end(pt, w, sums);
+    end(pt, w, sums);
     book(sums);
   }
 
@@ -871,9 +928,8 @@ struct DeferredStress {
           const unsigned j = warp_take(head, idle, taken);
           more = taken < n;
           if (!busy && j < n) {
-            bool started;
-            busy = begin(list[j], pt, w, sums, started);
-            done = started && !busy;
+            busy = begin(list[j], pt, w, sums);
+            done = !busy;
           }
         }
         if (!more && !__any_sync(0xffffffffu, busy || done)) break;
