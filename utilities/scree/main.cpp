@@ -459,7 +459,7 @@ int main(int argc, char** argv) {
               << st.output_seconds << " s; " << st.particles << " particles)\n";
     if (st.split_steps > 0)  // KernelPolicy::split: what the tuner chose, for the record
       std::cout << "scree: stress pass split (elastic points first) in " << st.split_steps << " of " << st.steps
-                << " steps\n";
+                << " steps, with the deferred updates in turns in " << st.refill_steps << "\n";
     if (st.lost_particles)
       std::cout << "scree: warning: " << st.lost_particles << " particle(s) left the grid during the run\n";
   } catch (const scree::RunInterrupted& e) {

@@ -32,7 +32,6 @@ void Solver<D>::setup_passes() {
   po.speed_mask = time_.adaptive() || policy_.reference ? 0u : static_cast<unsigned>(policy_.speed_every - 1);
   po.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
   po.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
-  po.refill = policy_.refill;
   po.energy = energy_ledger_;
   po.ledger_light_transfer = policy_.ledger_light_transfer;
   // The walls' share on the points where the gather still sees the step's force (USF, USL;
@@ -83,6 +82,7 @@ PassParams<D> Solver<D>::pass_params(unsigned flags, int gather_set, int scatter
   pp.control = ctl_.data();
   pp.tile_stamps = policy_.sparse() ? tile_stamps_[scatter_set].data() : nullptr;
   pp.policy.split_elastic = split_;
+  pp.policy.refill = refill_;
   return pp;
 }
 
@@ -101,18 +101,21 @@ GridUpdateParams<D> Solver<D>::grid_params(unsigned modes, int set) const {
 }
 
 template <int D>
-void Solver<D>::set_split(bool on) {
-  if (on == split_) return;
-  split_ = on;
-  // The split's kernels clear the counter of the step after theirs: when they stop, the
-  // last step's count stays behind, and a later split step of that parity would re-run
-  // the points it lists (their stress updated twice in one step).
+void Solver<D>::set_stress_way(int way) {
+  const bool split = way > 0 && can_split_, refill = way == 2 && can_refill_;
+  if (split == split_ && refill == refill_) return;
+  split_ = split;
+  refill_ = refill;
+  // The split's kernels clear the counters of the step after theirs (the list's length, and
+  // with the updates in turns the queue's head): when they stop or change, the last step's
+  // stay behind, and a later split step of that parity would re-run the points it lists
+  // (their stress updated twice in one step) or start its queue past them.
   for (auto& b : bodies_) b->reset_split();
   if (graphs_) graphs_->clear();  // captured with the other way's kernels
 }
 
-template void Solver<2>::set_split(bool);
-template void Solver<3>::set_split(bool);
+template void Solver<2>::set_stress_way(int);
+template void Solver<3>::set_stress_way(int);
 template void Solver<2>::setup_passes();
 template void Solver<3>::setup_passes();
 template PassParams<2> Solver<2>::fused_pass(unsigned) const;

@@ -181,8 +181,9 @@ void Solver<D>::run_chunk(std::int64_t n) {
   if (sec > 0) chunk_rate_ = 0.7 * chunk_rate_ + 0.3 * (n / sec);
   wall_ += sec;
   if (split_) split_steps_ += n;
-  if (tuner_) set_split(tuner_->next(split_, n, sec, wall_));
-  if (policy_.split == StressSplit::alternate && can_split_) set_split(!split_);
+  if (refill_) refill_steps_ += n;
+  if (tuner_) set_stress_way(tuner_->next(stress_way(), n, sec, wall_));
+  if (policy_.split == StressSplit::alternate && can_split_) set_stress_way(split_ ? 0 : 2);
 }
 
 template <int D>

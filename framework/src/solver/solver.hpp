@@ -157,7 +157,10 @@ class Solver {
   /// output thread.
   void finish_output(CheckpointWhen checkpoint);
   Snapshot snapshot_header() const;  ///< time, step and the bodies' material names
-  void set_split(bool on);
+  /// The stress pass's way (SplitTuner): 0 whole, 1 split, 2 split with the deferred
+  /// updates in turns.
+  int stress_way() const { return split_ ? (refill_ ? 2 : 1) : 0; }
+  void set_stress_way(int way);
   Real max_signal_speed() const;
 
   // a decomposed run (decomposed.cpp): what the ranks exchange and agree on
@@ -306,8 +309,10 @@ class Solver {
   // Kernels
   bool energy_ledger_ = false;       // a function object asked for the energy ledger (StepControl::energy)
   bool split_ = false, can_split_ = false;
+  bool refill_ = false, can_refill_ = false;  // the split's deferred updates in turns (KernelPolicy::refill)
   std::optional<SplitTuner> tuner_;  // KernelPolicy::split automatic, on CUDA
   std::int64_t split_steps_ = 0;     // steps run split
+  std::int64_t refill_steps_ = 0;    // ... of which with the deferred updates in turns
   std::unique_ptr<StepGraphs> graphs_;
   PassPhysics<D> pass_physics_{};    // every pass's physics (setup_passes)
   PassPolicy pass_policy_{};          // every pass's kernel policy (setup_passes, set_split)

@@ -291,6 +291,7 @@ RunStats Solver<D>::stats() const {
   r.peak_device_bytes = mem::peak_bytes(exec_.device);
   r.lost_particles = host_ctl_.lost;
   r.split_steps = split_steps_;
+  r.refill_steps = refill_steps_;
   r.rebalances = rebalances_;
   return r;
 }

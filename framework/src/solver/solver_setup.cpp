@@ -75,7 +75,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
   if (opt_.output) setup_output();  // a decomposed run: the root's, and every rank's writers of pieces
   if (decomposed()) energy_ledger_ = comm_->max(static_cast<std::uint64_t>(energy_ledger_)) != 0;
   if (energy_ledger_ && split_ && !policy_.ledger_split) {  // the ledger's whole-pass kernel: no split to tune
-    split_ = false;
+    split_ = refill_ = false;
     tuner_.reset();
   }
   setup_passes();
@@ -400,7 +400,10 @@ void Solver<D>::setup_split() {
   const StressSplit s = policy_.split;
   split_ = can_split_ && (s == StressSplit::on || s == StressSplit::alternate ||
                           (s == StressSplit::automatic && exec_.device == Device::cuda));
-  if (split_ && s == StressSplit::automatic) tuner_.emplace();
+  for (auto& b : bodies_) can_refill_ = can_refill_ || b->updates_in_turns();
+  can_refill_ = can_refill_ && can_split_ && policy_.refill;
+  refill_ = split_ && can_refill_;
+  if (split_ && s == StressSplit::automatic) tuner_.emplace(can_refill_ ? 3 : 2);
 }
 
 template <int D>

@@ -14,8 +14,10 @@
 //                 CUDA the solver times both ways now and then and keeps the faster,
 //                 split_tuner.hpp; off on the CPU)
 //   refill        CUDA, the split's deferred points of a material whose update runs in turns
-//                 (material.hpp): lanes take new points as theirs finish (on), or one point
-//                 per lane for the whole pass (off; scree --no-refill, scree-bench no-refill)
+//                 (material.hpp): lanes take new points as theirs finish (on; with the
+//                 automatic split the tuner times the split with and without them and keeps
+//                 the faster), or one point per lane for the whole pass (off; scree
+//                 --no-refill, scree-bench no-refill)
 //   stress cap    CUDA, 2D: the stress kernel's register cap, as blocks of 64 threads per SM
 //   elastic cap   CUDA, 2D: the split's elastic-only kernel's register cap
 //   speedEvery    fixed step: the signal speed (the stopCo health check's only use of it)

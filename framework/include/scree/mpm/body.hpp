@@ -105,6 +105,9 @@ class Body {
   virtual void sort_by_cell(const GridGeometry<D>& g) = 0;
   /// Whether the body's stress pass can run split (its material has update_elastic).
   virtual bool can_split_stress() const { return false; }
+  /// Whether the split's deferred points can run their updates in turns (the material's
+  /// update runs in turns: material_has_turns).
+  virtual bool updates_in_turns() const { return false; }
   /// Empty the split's list counters (before the stress pass starts or stops splitting:
   /// while it does not split, no kernel clears them). Queued on the body's stream.
   virtual void reset_split() {}

@@ -104,6 +104,7 @@ class MaterialBody final : public Body<D> {
 
   const std::string& name() const override { return name_; }
   bool can_split_stress() const override { return material_has_elastic_path<M>(); }
+  bool updates_in_turns() const override { return material_has_elastic_path<M>() && material_has_turns<M>(); }
   void reset_split() override {
     if constexpr (material_has_elastic_path<M>()) parallel_for(exec_, 4, detail::ZeroCounters{deferred_count_.data()});
   }

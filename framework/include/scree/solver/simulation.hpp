@@ -83,6 +83,7 @@ struct RunOptions {
 
 struct RunStats {
   std::int64_t split_steps = 0;  ///< steps whose stress pass ran split (KernelPolicy::split)
+  std::int64_t refill_steps = 0;  ///< ... of which with the deferred updates in turns (KernelPolicy::refill)
   std::int64_t steps = 0;      ///< the steps this process took (a restart: since the checkpoint)
   std::int64_t last_step = 0;  ///< the step number reached, counted from the run's start
   double simulated_time = 0;   ///< [s] simulated by this process
