@@ -143,6 +143,7 @@ scree::RunOptions options_for(scree::Device dev, int threads, const std::string&
   if (variant == "split") k.split = scree::StressSplit::on;
   if (variant == "unsplit") k.split = scree::StressSplit::off;
   if (variant.rfind("speed-every-", 0) == 0) k.speed_every = std::stoi(variant.substr(12));
+  if (variant.rfind("refill-lanes-", 0) == 0) k.refill_lanes = std::stoi(variant.substr(13));
   if (variant == "no-health") k.health_checks = false;
   if (variant == "no-refill") k.refill = false;
   // The energy ledger on, as a case with `energies { budget yes; }` runs it (ParticlePass's
@@ -444,7 +445,8 @@ int main(int argc, char** argv) {
       "`budget yes` runs: RunOptions::energy_ledger), ledger-whole (the ledger in its whole-pass kernel, "
       "transfer and stress passes: KernelPolicy::ledger_light_transfer and ledger_split off), ledger-unsplit (the "
       "ledger's stress pass never split: KernelPolicy::ledger_split off), no-refill (CUDA: the split's deferred points one per "
-      "lane for the whole pass: KernelPolicy::refill off)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
+      "lane for the whole pass: KernelPolicy::refill off), refill-lanes-N (CUDA: the lanes of a warp done before they take "
+      "new deferred points together: KernelPolicy::refill_lanes)")("steps", po::value<long long>()->default_value(2000), "timed steps on the GPU")(
       "cpu-steps", po::value<long long>()->default_value(50), "timed steps on the CPU")(
       "max-particles", po::value<long long>()->default_value(10000000), "largest scaling size")(
       "materials", po::value<std::string>()->default_value("linearElastic,phaseTransition"),
@@ -500,12 +502,14 @@ int main(int argc, char** argv) {
       for (const char* w : scree::KernelPolicy::kLedgerKernels) k.push_back(std::string("ledger-") + w);
       return k;
     }();
-    const bool every = v.rfind("speed-every-", 0) == 0 && v.size() > 12 &&
-                       v.find_first_not_of("0123456789", 12) == std::string::npos;
-    if (!every && std::find(known.begin(), known.end(), v) == known.end()) {
+    auto numbered = [&](const std::string& prefix) {
+      return v.rfind(prefix, 0) == 0 && v.size() > prefix.size() &&
+             v.find_first_not_of("0123456789", prefix.size()) == std::string::npos;
+    };
+    if (!numbered("speed-every-") && !numbered("refill-lanes-") && std::find(known.begin(), known.end(), v) == known.end()) {
       std::cerr << "scree-bench: --kernels: unknown variant '" << v << "'; valid:";
       for (const std::string& k : known) std::cerr << " " << k << ",";
-      std::cerr << " speed-every-N\n";
+      std::cerr << " speed-every-N, refill-lanes-N\n";
       return 2;
     }
   }

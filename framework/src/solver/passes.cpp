@@ -32,6 +32,7 @@ void Solver<D>::setup_passes() {
   po.speed_mask = time_.adaptive() || policy_.reference ? 0u : static_cast<unsigned>(policy_.speed_every - 1);
   po.stress_blocks_per_sm = policy_.stress_blocks_per_sm;
   po.elastic_blocks_per_sm = policy_.elastic_blocks_per_sm;
+  po.refill_lanes = policy_.refill_lanes;
   po.energy = energy_ledger_;
   po.ledger_light_transfer = policy_.ledger_light_transfer;
   // The walls' share on the points where the gather still sees the step's force (USF, USL;

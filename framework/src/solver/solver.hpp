@@ -315,7 +315,7 @@ class Solver {
   std::int64_t refill_steps_ = 0;    // ... of which with the deferred updates in turns
   std::unique_ptr<StepGraphs> graphs_;
   PassPhysics<D> pass_physics_{};    // every pass's physics (setup_passes)
-  PassPolicy pass_policy_{};          // every pass's kernel policy (setup_passes, set_split)
+  PassPolicy pass_policy_{};          // every pass's kernel policy (setup_passes; pass_params adds the way)
   GridUpdateParams<D> grid_base_{};   // every grid update's (setup_passes)
 
   // Output, progress and statistics

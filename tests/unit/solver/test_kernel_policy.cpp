@@ -23,6 +23,19 @@ TEST(KernelPolicy, TheDefaultsAndEveryCompiledCapAreAccepted) {
   }
 }
 
+TEST(KernelPolicy, RefillLanesAreTheLanesOfAWarp) {
+  for (int lanes : {1, 8, 16, 32}) {
+    KernelPolicy p;
+    p.refill_lanes = lanes;
+    EXPECT_EQ(p.check(), "") << lanes;
+  }
+  for (int lanes : {0, 33}) {
+    KernelPolicy p;
+    p.refill_lanes = lanes;
+    EXPECT_NE(p.check().find("expected 1 to 32"), std::string::npos) << p.check();
+  }
+}
+
 TEST(KernelPolicy, AnUncompiledCapIsAnErrorNamingTheValidOnes) {
   KernelPolicy p;
   p.stress_blocks_per_sm = 8;

@@ -18,6 +18,8 @@
 //                 automatic split the tuner times the split with and without them and keeps
 //                 the faster), or one point per lane for the whole pass (off; scree
 //                 --no-refill, scree-bench no-refill)
+//   refillLanes   with refill: how many lanes of a warp are done before they take new points
+//                 together (scree-bench refill-lanes-N)
 //   stress cap    CUDA, 2D: the stress kernel's register cap, as blocks of 64 threads per SM
 //   elastic cap   CUDA, 2D: the split's elastic-only kernel's register cap
 //   speedEvery    fixed step: the signal speed (the stopCo health check's only use of it)
@@ -63,6 +65,10 @@ struct KernelPolicy {
   /// The split's deferred points as a queue that a lane draws from when its point is done
   /// (DeferredStress, particle_pass.hpp), for materials with an update in turns.
   bool refill = true;
+  /// With refill: the lanes of a warp that hold a finished point (or none) before those lanes
+  /// take new ones together. Fewer refill more often (each refill runs the start and the end
+  /// of updates while the other lanes wait); more leave lanes idle longer. 1 to 32.
+  int refill_lanes = 16;
   int stress_blocks_per_sm = kStressCap;
   int elastic_blocks_per_sm = kElasticCap;
   /// A power of 2. An unstable fixed step is then found within this many steps of its first
@@ -124,6 +130,8 @@ struct KernelPolicy {
     if (!in(elastic_blocks_per_sm, kElasticCaps))
       return "elastic kernel register cap " + std::to_string(elastic_blocks_per_sm) +
              " blocks per SM is not compiled; valid: " + list(kElasticCaps) + " (0: no cap)";
+    if (refill_lanes < 1 || refill_lanes > 32)
+      return "refill lanes " + std::to_string(refill_lanes) + ": expected 1 to 32 (the lanes of a warp)";
     if (speed_every < 1 || (speed_every & (speed_every - 1)) != 0)
       return "signal speed interval " + std::to_string(speed_every) + " steps: expected a power of 2 (1, 2, 4, ...)";
     return {};

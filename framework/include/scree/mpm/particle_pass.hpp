@@ -121,6 +121,7 @@ struct PassPolicy {
   /// deferred points' updates in DeferredStress (lanes refilled as their points finish),
   /// then their scatter; false: the whole pass over them, one point per lane.
   bool refill = true;
+  int refill_lanes = 16;  ///< KernelPolicy::refill_lanes
   /// Keep the energy ledger (StepControl::energy): the stress work, the collisional
   /// dissipation and what the PIC blend removes, summed per warp and added once per warp.
   /// On, MaterialBody::launch runs every pass in the ledger's own kernels (ParticlePass's
@@ -803,21 +804,16 @@ SCREE_UNROLL
 /// split_elastic, PassPolicy::refill), for a material whose update runs in turns
 /// (material_has_turns): each point's strain increment and update, from the gather the
 /// elastic-only kernel made and handed over (Handoff), its state and stress stored. Their
-/// scatter is a pass of its own afterwards (ParticlePass with
-/// the scatter phases alone, over the same list), so that the update can run apart from it:
-/// on CUDA the warps take points from the list as a queue, and a lane whose point is done
-/// holds until kRefillLanes of its warp are, then those lanes store their results and take
-/// the next points together. A warp then runs its lanes' substep chains side by side instead
+/// scatter is a pass of its own afterwards (ParticlePass with the scatter phases alone, over
+/// the same list), so that the update can run apart from it: on CUDA the warps take points
+/// from the list as a queue, and a lane whose point is done holds until refill_lanes of its
+/// warp are (PassPolicy), then those lanes store their results and take the next points
+/// together. A warp then runs its lanes' substep chains side by side instead
 /// of all as long as its longest. Each point's arithmetic is the whole pass's (ParticlePass's
 /// gather, increment and commit, the material's update_in_turns): only the order of the
 /// sums into the grid and the step's totals changes, as between any two CUDA launches.
 template <int D, class Shape, class M, bool Ledger>
 struct DeferredStress {
-  /// Lanes of a warp that hold a finished point (or none) before they take new ones: half
-  /// the warp. Fewer refill more often (each refill runs the start and the end of an
-  /// update while the other lanes wait); more leave lanes idle longer.
-  static constexpr int kRefillLanes = 16;
-
   ParticlePass<D, Shape, M, kAnyGather, false, Ledger> pass;
   const Index* list;       ///< the deferred points (MaterialBody's)
   const unsigned* count;   ///< their number
@@ -912,6 +908,7 @@ struct DeferredStress {
   /// CUDA: the warp's lanes take points from the queue until it is empty (see the top).
   __device__ void drain() const {
     const unsigned n = *count;
+    const int lanes = pass.pp.policy.refill_lanes;
     Point pt;
     typename M::Work w;
     Sums sums;
@@ -920,7 +917,7 @@ struct DeferredStress {
     bool more = true;   // the queue may hold points (alike in every lane)
     for (;;) {
       const unsigned idle = __ballot_sync(0xffffffffu, !busy);
-      if (__popc(idle) >= kRefillLanes || idle == 0xffffffffu) {
+      if (__popc(idle) >= lanes || idle == 0xffffffffu) {
         if (done) end(pt, w, sums);
         done = false;
         if (more) {
