@@ -148,6 +148,13 @@ inline constexpr bool material_has_turns() {
   };
 }
 
+/// Whether the elastic-first split's deferred points of M run their updates in turns (M has
+/// update_elastic and the update in turns): the points the split's Handoff is for.
+template <class M>
+inline constexpr bool material_defers_in_turns() {
+  return material_has_elastic_path<M>() && material_has_turns<M>();
+}
+
 /// A model's update in turns, in sequence: what its update() must equal, bit for bit.
 template <class M>
 SCREE_HD inline auto update_in_turns(const typename M::Params& p, typename M::State& s, Sym3& sigma,
@@ -393,7 +400,8 @@ class SCREE_API PointMaterial {
   virtual void evaluate(const OutputField& f, const Sym3& sigma, Real* out) const = 0;
   /// Raw state (state_size Reals), for tests and checkpointing.
   virtual std::vector<Real> state() const = 0;
-  /// Whether the model's update runs in turns (material_has_turns).
+  /// Whether the split's deferred points of this model run their updates in turns
+  /// (material_defers_in_turns).
   virtual bool updates_in_turns() const = 0;
 };
 
@@ -426,7 +434,7 @@ class PointMaterialOf final : public PointMaterial {
     if constexpr (state_size<typename M::State>() > 0) memcpy(raw.data(), &s_, sizeof(s_));
     return raw;
   }
-  bool updates_in_turns() const override { return material_has_turns<M>(); }
+  bool updates_in_turns() const override { return material_defers_in_turns<M>(); }
   const typename M::State& raw_state() const { return s_; }
   const typename M::Params& params() const { return p_; }
 

@@ -104,7 +104,7 @@ class MaterialBody final : public Body<D> {
 
   const std::string& name() const override { return name_; }
   bool can_split_stress() const override { return material_has_elastic_path<M>(); }
-  bool updates_in_turns() const override { return material_has_elastic_path<M>() && material_has_turns<M>(); }
+  bool updates_in_turns() const override { return material_defers_in_turns<M>(); }
   void reset_split() override {
     if constexpr (material_has_elastic_path<M>()) parallel_for(exec_, 4, detail::ZeroCounters{deferred_count_.data()});
   }
@@ -298,7 +298,7 @@ class MaterialBody final : public Body<D> {
 
   /// The deferred points' Handoff, for a material whose update runs in turns.
   void resize_handoff(Index n) {
-    if constexpr (material_has_turns<M>())
+    if constexpr (material_defers_in_turns<M>())
       handoff_.resize(static_cast<std::size_t>(n) * Handoff<D>::kColumns, exec_.device);
   }
 
