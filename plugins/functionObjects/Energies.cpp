@@ -41,7 +41,8 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
     : who_("energies '" + ctx.name + "'"),
       bodies_(read_bodies(r, ctx)),
       origin_(read_point(r, "origin", ctx)),
-      budget_(r.boolean("budget")) {
+      budget_(r.boolean("budget")),
+      ranks_(ctx) {
   lost_ = LostPoints(ctx, who_);
   if (budget_ && !bodies_.empty())
     throw InputError(where_of(r, "bodies"),
@@ -79,7 +80,7 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
       }
     }
   }
-  csv_.open_at_first_row(file, std::move(header), ctx.start_time, who_);
+  if (ranks_.root()) csv_.open_at_first_row(file, std::move(header), ctx.start_time, who_);
 }
 
 Energies::Result Energies::evaluate(const Snapshot& s) const {
@@ -104,7 +105,9 @@ Energies::Result Energies::evaluate(const Snapshot& s) const {
       if (T) res.granular += 1.5 * mp * T->values[p];  // 3/2 T per unit mass (eq. 27)
     }
   }
-  return res;
+  std::vector<double> sums = {res.kinetic, res.potential, res.elastic, res.granular};
+  ranks_.sum(sums);  // over the ranks
+  return {sums[0], sums[1], sums[2], sums[3]};
 }
 
 std::vector<double> Energies::budget(const Result& r, const EnergyLedger& e, const Result& first,
@@ -138,7 +141,7 @@ void Energies::execute(const Snapshot& s) {
     const std::vector<double> b = budget(r, s.energy, *first_, first_balance_);
     row.insert(row.end(), b.begin(), b.end());
   }
-  csv_.row(row);
+  if (ranks_.root()) csv_.row(row);
 }
 
 }  // namespace scree::fo

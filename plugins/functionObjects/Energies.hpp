@@ -59,6 +59,7 @@ namespace scree::fo {
 class Energies final : public FunctionObject {
  public:
   static constexpr const char* type_name = "energies";
+  static constexpr bool reduces_over_ranks = true;
   static ParamSpec spec();
   Energies(const ParamReader& r, const SolverContext& ctx);
   void execute(const Snapshot& s) override;
@@ -69,6 +70,7 @@ class Energies final : public FunctionObject {
     double elastic = 0, granular = 0;  ///< stored in the material (budget only)
     double total() const { return kinetic + potential; }
   };
+  /// Over every rank's points (collective).
   Result evaluate(const Snapshot& s) const;
 
   /// The budget's columns of a snapshot's row (budget yes), in the header's order after
@@ -81,6 +83,7 @@ class Energies final : public FunctionObject {
   std::vector<std::string> bodies_;
   Vec3 origin_, gravity_{0, 0, 0};
   bool budget_ = false;
+  Ranks ranks_;
   CsvFile csv_;
   std::int64_t last_step_ = -1;
   LostPoints lost_;  ///< points that left the grid: left out, counted in lostPoints.csv

@@ -22,19 +22,21 @@ std::string join(const std::vector<std::string>& v) {
 // ------------------------------------------------------------------ LostPoints
 
 LostPoints::LostPoints(const SolverContext& ctx, std::string who)
-    : path_(ctx.post_processing_dir() / "lostPoints.csv"), start_time_(ctx.start_time), who_(std::move(who)) {}
+    : ranks_(ctx), path_(ctx.post_processing_dir() / "lostPoints.csv"), start_time_(ctx.start_time), who_(std::move(who)) {}
 
 std::int64_t LostPoints::record(const Snapshot& s, const std::vector<std::string>& bodies) {
+  const bool writes = ranks_.root() && !path_.empty();
   if (!started_) {
     started_ = true;
     std::error_code ec;
-    if (start_time_ <= 0 && !path_.empty()) fs::remove(path_, ec);  // an earlier run's
+    if (start_time_ <= 0 && writes) fs::remove(path_, ec);  // an earlier run's
   }
   std::int64_t lost = 0;
   for (const auto& b : s.bodies)
     if (selected(bodies, b))
       for (Index p = 0; p < b.n; ++p) lost += b.is_lost(p);
-  if (lost > 0 && !path_.empty()) {
+  lost = ranks_.sum(lost);
+  if (lost > 0 && writes) {
     if (!csv_.is_open()) {
       ensure_writable_dir(path_.parent_path(), who_);
       csv_.open(path_, {"time [s]", "lost points [-]"}, start_time_);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "scree/output/csv_file.hpp"
+#include "scree/output/ranks.hpp"
 #include "scree/output/snapshot.hpp"
 #include "scree/params/spec.hpp"
 #include "scree/plugin/context.hpp"
@@ -35,10 +36,12 @@ class LostPoints {
  public:
   LostPoints() = default;
   LostPoints(const SolverContext& ctx, std::string who);
-  /// The selected bodies' lost points at s; writes the row once there are any.
+  /// The selected bodies' lost points at s, over every rank's points (collective); the
+  /// root writes the row once there are any.
   std::int64_t record(const Snapshot& s, const std::vector<std::string>& bodies);
 
  private:
+  Ranks ranks_;
   std::filesystem::path path_;
   double start_time_ = 0;
   std::string who_;

@@ -54,6 +54,7 @@ LineProfile::LineProfile(const ParamReader& r, const SolverContext& ctx)
       dimension_(ctx.dimension == 3 ? 3 : 2),
       start_time_(ctx.start_time),
       bodies_(read_bodies(r, ctx)),
+      ranks_(ctx),
       start_(read_point(r, "start", ctx)),
       end_(read_point(r, "end", ctx)),
       long_format_(r.boolean("longFormat")) {
@@ -189,6 +190,21 @@ LineProfile::Profile LineProfile::evaluate(const Snapshot& s) {
       }
     }
   }
+  {  // over the ranks
+    std::vector<double> sums;
+    std::vector<std::int64_t> counts = out.points;
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+      sums.insert(sums.end(), sum[c].begin(), sum[c].end());
+      counts.insert(counts.end(), count[c].begin(), count[c].end());
+    }
+    ranks_.sum(sums);
+    ranks_.sum(counts);
+    std::copy_n(counts.begin(), nb, out.points.begin());
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+      std::copy_n(sums.begin() + static_cast<std::ptrdiff_t>(c * nb), nb, sum[c].begin());
+      std::copy_n(counts.begin() + static_cast<std::ptrdiff_t>((c + 1) * nb), nb, count[c].begin());
+    }
+  }
   const double nan = std::numeric_limits<double>::quiet_NaN();
   out.mean.assign(columns_.size(), std::vector<double>(nb, nan));
   for (std::size_t c = 0; c < columns_.size(); ++c)
@@ -208,6 +224,7 @@ void LineProfile::execute(const Snapshot& s) {
   const Profile prof = evaluate(s);
   last_step_ = s.step;
   lost_.record(s, bodies_);
+  if (!ranks_.root()) return;
   if (!prepared_) {
     prepare_time_files(dir_, who_, start_time_, "lineProfile.csv");
     prepared_ = true;

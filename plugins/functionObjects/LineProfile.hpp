@@ -37,6 +37,7 @@ namespace scree::fo {
 class LineProfile final : public FunctionObject {
  public:
   static constexpr const char* type_name = "lineProfile";
+  static constexpr bool reduces_over_ranks = true;
   static ParamSpec spec();
   LineProfile(const ParamReader& r, const SolverContext& ctx);
   void execute(const Snapshot& s) override;
@@ -53,7 +54,8 @@ class LineProfile final : public FunctionObject {
     std::vector<std::vector<double>> mean;     ///< [column][bin]
   };
   /// The columns (decided at the first execution from the snapshot's bodies) and the
-  /// profile of `s`. Throws std::runtime_error for an unknown field.
+  /// profile of `s` over every rank's points (collective). Throws std::runtime_error for
+  /// an unknown field.
   Profile evaluate(const Snapshot& s);
   const std::vector<Column>& columns() const { return columns_; }
   std::size_t bin_count() const { return edges_.size() - 1; }
@@ -67,6 +69,7 @@ class LineProfile final : public FunctionObject {
   int dimension_;
   double start_time_;
   std::vector<std::string> bodies_;
+  Ranks ranks_;
   Vec3 start_, end_, direction_{1, 0, 0};
   double length_ = 0, half_width_ = 0;
   std::vector<double> edges_;  ///< bin edges along the line, edges_[0] = 0, back() = length

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -40,7 +41,8 @@ ParticleProbes::ParticleProbes(const ParamReader& r, const SolverContext& ctx)
       dir_(ctx.post_processing_dir()),
       dimension_(ctx.dimension),
       start_time_(ctx.start_time),
-      bodies_(read_bodies(r, ctx)) {
+      bodies_(read_bodies(r, ctx)),
+      ranks_(ctx) {
   lost_ = LostPoints(ctx, who_);
   // points ((x y) (x y) ...)
   const Entry& pe = r.entry("points");
@@ -84,7 +86,7 @@ ParticleProbes::ParticleProbes(const ParamReader& r, const SolverContext& ctx)
   }
   const auto fw = r.words("fields");
   all_fields_ = fw.empty() || std::find(fw.begin(), fw.end(), "all") != fw.end();
-  check_writable_dir(dir_, who_);  // made at the first execution
+  if (ranks_.root()) check_writable_dir(dir_, who_);  // made at the first execution
 }
 
 std::vector<std::int64_t> ParticleProbes::tracked_ids() const {
@@ -96,8 +98,13 @@ std::vector<std::int64_t> ParticleProbes::tracked_ids() const {
 // ------------------------------------------------------------------ picking
 
 void ParticleProbes::pick(const Snapshot& s) {
-  for (auto& pr : probes_) {
-    double best = std::numeric_limits<double>::infinity();
+  // Each probe's nearest point over every rank; on a tie the smallest id, so that the
+  // choice does not depend on the order of the points in memory or on the ranks.
+  const std::size_t np = probes_.size();
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> best(np, inf), best_id(np, inf);
+  for (std::size_t i = 0; i < np; ++i) {
+    const Probe& pr = probes_[i];
     for (const auto& b : s.bodies) {
       if (!selected(bodies_, b)) continue;
       for (Index p = 0; p < b.n; ++p) {
@@ -107,15 +114,73 @@ void ParticleProbes::pick(const Snapshot& s) {
           const double dx = b.position[3 * p + d] - pr.point[d];
           d2 += dx * dx;
         }
-        if (d2 < best) {
-          best = d2;
-          pr.id = b.id[p];
+        const auto id = static_cast<double>(b.id[p]);  // exact: ids are below 2^53
+        if (d2 < best[i] || (d2 == best[i] && id < best_id[i])) {
+          best[i] = d2;
+          best_id[i] = id;
         }
       }
     }
-    if (pr.id < 0)
-      throw std::runtime_error(who_ + ": no particle to follow (the selected bodies have no particles)");
   }
+  std::vector<double> nearest = best;
+  ranks_.min(nearest);
+  for (std::size_t i = 0; i < np; ++i)
+    if (best[i] != nearest[i]) best_id[i] = inf;
+  ranks_.min(best_id);
+  for (std::size_t i = 0; i < np; ++i) {
+    if (best_id[i] == inf)
+      throw std::runtime_error(who_ + ": no particle to follow (the selected bodies have no particles)");
+    probes_[i].id = static_cast<std::int64_t>(best_id[i]);
+  }
+}
+
+Snapshot ParticleProbes::followed(const Snapshot& s) const {
+  // Each rank sends the probes' points it holds: probe, body, lost, x y z, then every
+  // field's values in the body's order of fields.
+  std::vector<double> mine;
+  for (std::size_t bi = 0; bi < s.bodies.size(); ++bi) {
+    const BodySnapshot& b = s.bodies[bi];
+    for (Index p = 0; p < b.n; ++p)
+      for (std::size_t i = 0; i < probes_.size(); ++i) {
+        if (probes_[i].id != b.id[p]) continue;
+        mine.insert(mine.end(), {static_cast<double>(i), static_cast<double>(bi), b.is_lost(p) ? 1.0 : 0.0});
+        mine.insert(mine.end(), &b.position[3 * p], &b.position[3 * p] + 3);
+        for (const FieldData& f : b.fields)
+          mine.insert(mine.end(), f.values.begin() + static_cast<std::ptrdiff_t>(p) * f.components,
+                      f.values.begin() + static_cast<std::ptrdiff_t>(p + 1) * f.components);
+      }
+  }
+  const std::vector<double> all = ranks_.gather(mine);
+  Snapshot out;  // the root's: the case's bodies, each with the probes' points it holds
+  out.time = s.time;
+  out.step = s.step;
+  out.dimension = s.dimension;
+  for (const BodySnapshot& b : s.bodies) {
+    BodySnapshot e;
+    e.name = b.name;
+    e.body_id = b.body_id;
+    e.material = b.material;
+    e.material_type = b.material_type;
+    e.scalars = b.scalars;
+    for (const FieldData& f : b.fields) e.fields.push_back({f.name, f.components, f.unit, f.doc, {}});
+    out.bodies.push_back(std::move(e));
+  }
+  for (std::size_t at = 0; at < all.size();) {
+    const auto i = static_cast<std::size_t>(all[at]);
+    BodySnapshot& b = out.bodies[static_cast<std::size_t>(all[at + 1])];
+    b.lost.push_back(all[at + 2] != 0 ? 1 : 0);
+    b.position.insert(b.position.end(), all.begin() + static_cast<std::ptrdiff_t>(at + 3),
+                      all.begin() + static_cast<std::ptrdiff_t>(at + 6));
+    b.id.push_back(probes_[i].id);
+    ++b.n;
+    at += 6;
+    for (FieldData& f : b.fields) {
+      f.values.insert(f.values.end(), all.begin() + static_cast<std::ptrdiff_t>(at),
+                      all.begin() + static_cast<std::ptrdiff_t>(at + static_cast<std::size_t>(f.components)));
+      at += static_cast<std::size_t>(f.components);
+    }
+  }
+  return out;
 }
 
 bool ParticleProbes::load_selection() {
@@ -215,14 +280,30 @@ void ParticleProbes::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
   lost_.record(s, bodies_);
+  bool fresh = false;
   if (!picked_) {
-    ensure_writable_dir(dir_, who_);
-    if (!(start_time_ > 0 && load_selection())) {
+    if (ranks_.root()) ensure_writable_dir(dir_, who_);
+    // A restart takes the root's saved selection (every rank learns it); else pick anew.
+    std::vector<double> saved(probes_.size(), -1);
+    if (ranks_.root() && start_time_ > 0 && load_selection())
+      for (std::size_t i = 0; i < probes_.size(); ++i) saved[i] = static_cast<double>(probes_[i].id);
+    ranks_.max(saved);
+    fresh = saved.empty() || saved[0] < 0;
+    if (fresh)
       pick(s);
-      save_selection(s);
-    }
+    else
+      for (std::size_t i = 0; i < probes_.size(); ++i) probes_[i].id = static_cast<std::int64_t>(saved[i]);
     picked_ = true;
   }
+  std::optional<Snapshot> gathered;  // several ranks: the followed points, on the root
+  if (ranks_.size() > 1) gathered = followed(s);
+  if (!ranks_.root()) return;
+  const Snapshot& view = gathered ? *gathered : s;
+  if (fresh) save_selection(view);
+  write_rows(view);
+}
+
+void ParticleProbes::write_rows(const Snapshot& s) {
   // Find each probe's particle by id (one pass over the particles).
   std::vector<std::pair<std::int64_t, std::size_t>> wanted;  // (id, probe), sorted by id
   for (std::size_t i = 0; i < probes_.size(); ++i) wanted.emplace_back(probes_[i].id, i);

@@ -6,7 +6,7 @@
 //   }
 //
 // At the first execution (normally t = 0) each probe picks the particle of the selected
-// bodies whose position *at that time* is nearest its point (ties: the first found),
+// bodies whose position *at that time* is nearest its point (ties: the smallest particle id),
 // and from then on follows that particle by its id (ids are stable; the particle's
 // index in the arrays may change when the solver reorders particles). The choice is
 // written to postProcessing/<name>/selection.csv (probe, point, particle id, body,
@@ -33,6 +33,7 @@ namespace scree::fo {
 class ParticleProbes final : public FunctionObject {
  public:
   static constexpr const char* type_name = "particleProbes";
+  static constexpr bool reduces_over_ranks = true;
   static ParamSpec spec();
   ParticleProbes(const ParamReader& r, const SolverContext& ctx);
   void execute(const Snapshot& s) override;
@@ -53,7 +54,11 @@ class ParticleProbes final : public FunctionObject {
     CsvFile csv;
     bool missing_reported = false;
   };
+  /// Each probe's particle: the nearest over every rank's points (collective).
   void pick(const Snapshot& s);
+  /// The probes' particles gathered from every rank, as a snapshot on the root (collective).
+  Snapshot followed(const Snapshot& s) const;
+  void write_rows(const Snapshot& s);
   bool load_selection();
   void save_selection(const Snapshot& s) const;
   void open_probe(Probe& p, const BodySnapshot& b);
@@ -63,6 +68,7 @@ class ParticleProbes final : public FunctionObject {
   int dimension_;
   double start_time_;
   std::vector<std::string> bodies_;
+  Ranks ranks_;
   bool all_fields_ = true;
   std::vector<std::string> fields_;
   std::vector<Probe> probes_;

@@ -11,17 +11,6 @@ namespace scree::fo {
 
 namespace {
 
-/// The q-quantile of `v` (0 < q <= 1): the k-th smallest value with k = ceil(q n), so
-/// q = 1 is the maximum. NaN for an empty set. Reorders `v`.
-double quantile(std::vector<double>& v, double q) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto n = static_cast<double>(v.size());
-  auto k = static_cast<std::size_t>(std::ceil(q * n - 1e-9));
-  k = std::clamp<std::size_t>(k, 1, v.size()) - 1;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
 /// "+x", "-z" for a unit vector along an axis, "" otherwise.
 std::string axis_label(const Vec3& d) {
   static const char* names[] = {"x", "y", "z"};
@@ -195,7 +184,8 @@ RunOut::RunOut(const ParamReader& r, const SolverContext& ctx)
       direction_(read_direction(r, "direction", ctx, {1, 0, 0})),
       up_(read_direction(r, "up", ctx, default_up(ctx))),
       front_quantile_(r.scalar("frontQuantile")),
-      height_quantile_(r.scalar("heightQuantile")) {
+      height_quantile_(r.scalar("heightQuantile")),
+      ranks_(ctx) {
   lost_ = LostPoints(ctx, who_);
   if (r.has("radial")) {
     for (const char* k : {"direction", "origin", "up"})
@@ -234,7 +224,8 @@ RunOut::RunOut(const ParamReader& r, const SolverContext& ctx)
     const std::string label = axis_label(sector_dirs_[i]);
     header.push_back("runout_" + (label.empty() ? "dir" + std::to_string(i) : label) + " [m]");
   }
-  csv_.open_at_first_row(ctx.post_processing_dir() / "runOut.csv", std::move(header), ctx.start_time, who_);
+  if (ranks_.root())
+    csv_.open_at_first_row(ctx.post_processing_dir() / "runOut.csv", std::move(header), ctx.start_time, who_);
 }
 
 RunOut::Result RunOut::evaluate(const Snapshot& s) const {
@@ -300,11 +291,28 @@ RunOut::Result RunOut::evaluate(const Snapshot& s) const {
       ++res.particles;
     }
   }
-  res.runout = !any_front ? nan : (front_max ? front_top : quantile(front, front_quantile_));
-  res.height = !any_height ? nan : (height_max ? height_top : quantile(height, height_quantile_));
+  // Over the ranks (one rank: each value as it is).
+  std::vector<double> sums = {res.kinetic_energy, res.mass, momentum[0], momentum[1], momentum[2]};
+  ranks_.sum(sums);
+  res.kinetic_energy = sums[0];
+  res.mass = sums[1];
+  for (int d = 0; d < 3; ++d) momentum[d] = sums[2 + d];
+  std::vector<std::int64_t> counts = {res.particles, any_height ? 1 : 0};
+  for (std::size_t i = 0; i < ns; ++i) counts.push_back(sector_any[i] ? 1 : 0);
+  ranks_.sum(counts);
+  res.particles = counts[0];
+  any_front = res.particles > 0;
+  any_height = counts[1] > 0;
+  std::vector<double> tops = {res.max_speed, front_top, height_top};
+  tops.insert(tops.end(), sector_top.begin(), sector_top.end());
+  ranks_.max(tops);
+  res.max_speed = tops[0];
+  res.runout = !any_front ? nan : (front_max ? tops[1] : ranks_.quantile(front, front_quantile_));
+  res.height = !any_height ? nan : (height_max ? tops[2] : ranks_.quantile(height, height_quantile_));
   for (int d = 0; d < 3; ++d) res.mean_velocity[d] = res.mass > 0 ? momentum[d] / res.mass : nan;
   for (std::size_t i = 0; i < ns; ++i)
-    res.sector_runout.push_back(!sector_any[i] ? nan : (front_max ? sector_top[i] : quantile(sector[i], front_quantile_)));
+    res.sector_runout.push_back(counts[2 + i] == 0 ? nan
+                                                   : (front_max ? tops[3 + i] : ranks_.quantile(sector[i], front_quantile_)));
   return res;
 }
 
@@ -319,7 +327,7 @@ void RunOut::execute(const Snapshot& s) {
   row.push_back(r.mass);
   row.push_back(static_cast<double>(r.particles));
   row.insert(row.end(), r.sector_runout.begin(), r.sector_runout.end());
-  csv_.row(row);
+  if (ranks_.root()) csv_.row(row);
 }
 
 }  // namespace scree::fo

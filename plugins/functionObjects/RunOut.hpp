@@ -46,11 +46,12 @@ namespace scree::fo {
 class RunOut final : public FunctionObject {
  public:
   static constexpr const char* type_name = "runOut";
+  static constexpr bool reduces_over_ranks = true;
   static ParamSpec spec();
   RunOut(const ParamReader& r, const SolverContext& ctx);
   void execute(const Snapshot& s) override;
 
-  /// The values of one row (exposed for tests).
+  /// The values of one row (exposed for tests), over every rank's points (collective).
   struct Result {
     double runout = 0, height = 0, kinetic_energy = 0, max_speed = 0, mass = 0;
     Vec3 mean_velocity{0, 0, 0};
@@ -65,6 +66,7 @@ class RunOut final : public FunctionObject {
   std::vector<std::string> bodies_;
   Vec3 origin_, direction_, up_;
   double front_quantile_, height_quantile_;
+  Ranks ranks_;
   bool window_ = false;
   // Radial mode: distances from the axis through centre_ along axis_ (a unit vector);
   // sector fronts along sector_dirs_ (unit vectors normal to the axis), cos of the

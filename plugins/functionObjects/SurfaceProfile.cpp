@@ -101,6 +101,7 @@ SurfaceProfile::SurfaceProfile(const ParamReader& r, const SolverContext& ctx)
     : who_("surfaceProfile '" + ctx.name + "'"),
       dir_(ctx.post_processing_dir()),
       bodies_(read_bodies(r, ctx)),
+      ranks_(ctx),
       origin_(read_point(r, "origin", ctx)),
       direction_(read_direction(r, "direction", ctx, {1, 0, 0})),
       up_(read_direction(r, "up", ctx, default_up(ctx))),
@@ -153,7 +154,7 @@ SurfaceProfile::SurfaceProfile(const ParamReader& r, const SolverContext& ctx)
   }
   // The directory is made, and a fresh run's old profiles (<number>.csv) removed, at the
   // first execution.
-  check_writable_dir(dir_, who_);
+  if (ranks_.root()) check_writable_dir(dir_, who_);
   start_time_ = ctx.start_time;
 }
 
@@ -180,9 +181,15 @@ std::vector<SurfaceProfile::Bin> SurfaceProfile::evaluate(const Snapshot& s) con
   std::int64_t first = 0, last = -1;
   if (fixed_range_) {
     last = static_cast<std::int64_t>(std::ceil((hi_ - lo_) / width_)) - 1;
-  } else if (!bins.empty()) {
-    first = bins.begin()->first;
-    last = bins.rbegin()->first;
+  } else {  // the occupied bins of every rank
+    const double inf = std::numeric_limits<double>::infinity();
+    std::vector<double> ends = {bins.empty() ? -inf : -static_cast<double>(bins.begin()->first),
+                                bins.empty() ? -inf : static_cast<double>(bins.rbegin()->first)};
+    ranks_.max(ends);
+    if (ends[1] >= -ends[0]) {
+      first = static_cast<std::int64_t>(-ends[0]);
+      last = static_cast<std::int64_t>(ends[1]);
+    }
   }
   std::vector<Bin> out;
   for (std::int64_t k = first; k <= last; ++k) {
@@ -192,7 +199,27 @@ std::vector<SurfaceProfile::Bin> SurfaceProfile::evaluate(const Snapshot& s) con
     bin.centre = anchor + (static_cast<double>(k) + 0.5) * width_;
     out.push_back(bin);
   }
+  combine(out);
   return out;
+}
+
+template <class B>
+void SurfaceProfile::combine(std::vector<B>& bins) const {
+  if (ranks_.size() == 1) return;
+  // Over the ranks: the highest point of each bin and the count; empty everywhere: NaN.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> top(bins.size());
+  std::vector<std::int64_t> count(bins.size());
+  for (std::size_t i = 0; i < bins.size(); ++i) {
+    top[i] = bins[i].particles > 0 ? bins[i].height : -std::numeric_limits<double>::infinity();
+    count[i] = bins[i].particles;
+  }
+  ranks_.max(top);
+  ranks_.sum(count);
+  for (std::size_t i = 0; i < bins.size(); ++i) {
+    bins[i].particles = count[i];
+    bins[i].height = count[i] > 0 ? top[i] : nan;
+  }
 }
 
 std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot& s) const {
@@ -237,6 +264,18 @@ std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot&
     min_a = min_b = 0;
     max_a = last_a;
     max_b = last_b;
+  } else if (ranks_.size() > 1) {  // the occupied bins of every rank
+    const double inf = std::numeric_limits<double>::infinity();
+    const bool any = max_a >= min_a;
+    std::vector<double> ends = {any ? -static_cast<double>(min_a) : -inf, any ? static_cast<double>(max_a) : -inf,
+                                any ? -static_cast<double>(min_b) : -inf, any ? static_cast<double>(max_b) : -inf};
+    ranks_.max(ends);
+    if (ends[1] >= -ends[0]) {
+      min_a = static_cast<std::int64_t>(-ends[0]);
+      max_a = static_cast<std::int64_t>(ends[1]);
+      min_b = static_cast<std::int64_t>(-ends[2]);
+      max_b = static_cast<std::int64_t>(ends[3]);
+    }
   }
   const double oa = dot(axis_a_, origin_.data()), ob = dot(axis_b_, origin_.data());
   std::vector<Cell> out;
@@ -249,6 +288,7 @@ std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot&
       c.b = ob + anchor_b + (static_cast<double>(kb) + 0.5) * width_;
       out.push_back(c);
     }
+  combine(out);
   return out;
 }
 
@@ -256,12 +296,13 @@ void SurfaceProfile::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
   lost_.record(s, bodies_);
-  if (!prepared_) {
+  if (ranks_.root() && !prepared_) {
     prepare_time_files(dir_, who_, start_time_);
     prepared_ = true;
   }
   if (field_) {
     const auto cells = evaluate_field(s);
+    if (!ranks_.root()) return;
     write_file_atomically(dir_ / (time_name(s.time) + ".csv"), [&](const fs::path& tmp) {
       std::ofstream out(tmp, std::ios::trunc);
       if (!out) throw std::runtime_error(who_ + ": cannot write " + tmp.string());
@@ -274,6 +315,7 @@ void SurfaceProfile::execute(const Snapshot& s) {
     return;
   }
   const auto bins = evaluate(s);
+  if (!ranks_.root()) return;
   write_file_atomically(dir_ / (time_name(s.time) + ".csv"), [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::trunc);
     if (!out) throw std::runtime_error(who_ + ": cannot write " + tmp.string());

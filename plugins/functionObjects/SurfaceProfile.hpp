@@ -42,6 +42,7 @@ namespace scree::fo {
 class SurfaceProfile final : public FunctionObject {
  public:
   static constexpr const char* type_name = "surfaceProfile";
+  static constexpr bool reduces_over_ranks = true;
   static ParamSpec spec();
   SurfaceProfile(const ParamReader& r, const SolverContext& ctx);
   void execute(const Snapshot& s) override;
@@ -50,7 +51,7 @@ class SurfaceProfile final : public FunctionObject {
     double centre = 0, height = 0;
     std::int64_t particles = 0;
   };
-  /// The profile (2D, or a 3D section).
+  /// The profile (2D, or a 3D section), over every rank's points (collective).
   std::vector<Bin> evaluate(const Snapshot& s) const;
 
   /// One bin of the height field (3D without direction): centre coordinates along the two
@@ -59,13 +60,18 @@ class SurfaceProfile final : public FunctionObject {
     double a = 0, b = 0, height = 0;
     std::int64_t particles = 0;
   };
-  std::vector<Cell> evaluate_field(const Snapshot& s) const;
+  std::vector<Cell> evaluate_field(const Snapshot& s) const;  ///< over every rank's points (collective)
   bool height_field() const { return field_; }
 
  private:
+  /// Each bin's height and count over the ranks (one rank: as they are).
+  template <class B>
+  void combine(std::vector<B>& bins) const;
+
   std::string who_;
   std::filesystem::path dir_;
   std::vector<std::string> bodies_;
+  Ranks ranks_;
   Vec3 origin_, direction_, up_;
   double width_;
   bool fixed_range_ = false;

@@ -32,7 +32,7 @@ ParamSpec WaterBalance::spec() {
 }
 
 WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
-    : who_("waterBalance '" + ctx.name + "'"), bodies_(read_bodies(r, ctx)) {
+    : who_("waterBalance '" + ctx.name + "'"), bodies_(read_bodies(r, ctx)), ranks_(ctx) {
   lost_ = LostPoints(ctx, who_);
   const std::string unit = ctx.dimension == 3 ? " [kg]" : " [kg/m]";
   const std::vector<std::string> header = {"time [s]",
@@ -63,7 +63,7 @@ WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
       }
     }
   }
-  csv_.open_at_first_row(file, header, ctx.start_time, who_);
+  if (ranks_.root()) csv_.open_at_first_row(file, header, ctx.start_time, who_);
 }
 
 WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
@@ -142,6 +142,7 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
   if (!missing.empty())
     throw std::runtime_error(who_ + ": bodies: the liquid's inflows are counted over all two-phase bodies of the case, "
                              "so the balance needs them all; not selected: " + join(missing));
+  t.stored = ranks_.sum(t.stored);  // the points' over the ranks; the inflows are the case's already
   return t;
 }
 
@@ -160,7 +161,7 @@ void WaterBalance::execute(const Snapshot& s) {
   const double error = dw - inflow;
   const double tiny = std::max(1e-12 * std::abs(t.stored), std::numeric_limits<double>::min());
   const double relative = error / std::max({std::abs(dw), std::abs(inflow), tiny});
-  csv_.row({s.time, t.stored, dw, t.inflow_surface, t.inflow_prescribed, error, relative, t.rain, t.rain_not_taken});
+  if (ranks_.root()) csv_.row({s.time, t.stored, dw, t.inflow_surface, t.inflow_prescribed, error, relative, t.rain, t.rain_not_taken});
 }
 
 }  // namespace scree::fo

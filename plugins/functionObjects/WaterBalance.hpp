@@ -36,6 +36,7 @@ namespace scree::fo {
 class WaterBalance final : public FunctionObject {
  public:
   static constexpr const char* type_name = "waterBalance";
+  static constexpr bool reduces_over_ranks = true;
   static ParamSpec spec();
   WaterBalance(const ParamReader& r, const SolverContext& ctx);
   void execute(const Snapshot& s) override;
@@ -47,12 +48,13 @@ class WaterBalance final : public FunctionObject {
     double rain = 0, rain_not_taken = 0;  ///< [kg/m]
   };
   /// W and the inflows of `s` (std::runtime_error naming the entry for a body that is
-  /// not two-phase).
+  /// not two-phase); W over every rank's points (collective).
   Totals evaluate(const Snapshot& s) const;
 
  private:
   std::string who_;
   std::vector<std::string> bodies_;
+  Ranks ranks_;
   CsvFile csv_;
   bool have_reference_ = false;
   Totals reference_;

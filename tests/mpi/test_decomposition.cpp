@@ -668,6 +668,90 @@ TEST(DecomposedRestart, EndsInTheUninterruptedRunsStateBitForBit) {
   EXPECT_TRUE(fs::exists(checkpoint_piece(checkpoint_file(c.dir(), 0.2), 0)));
 }
 
+// The function objects reduce over the ranks (output/ranks.hpp): every rank executes them
+// on the points it holds and the root writes. A decomposed run writes the files one
+// process writes, their numbers within the bounds the decomposed state itself keeps to the
+// one-process state (the block's velocities within 1e-9 of their largest: here, of the
+// largest number of the row), the counts exactly. tests/mpi/test_function_objects_ranks.cpp
+// checks the reductions on one state exactly.
+TEST(DecomposedOutput, FunctionObjectsWriteWhatOneProcessWrites) {
+  Variant s = setups()[1];
+  s.control =
+      "endTime 0.2; deltaT 2e-4; writeInterval 0.05; "
+      "functions { front { type runOut; frontQuantile 0.99; } "
+      "probes { type particleProbes; points ((0.2 0.03) (0.35 0.05)); fields (velocity stress); } "
+      "energy { type energies; budget yes; executeControl timeStep; executeInterval 100; } "
+      "profile { type surfaceProfile; binWidth 0.02; } "
+      "line { type lineProfile; start (0 0.02); end (1.2 0.02); bins 30; fields (velocity); } "
+      "whole { type testWholeCase; } }";
+  register_whole_case();  // one that does not reduce: run on the root with the case gathered
+  SharedCase dec("foDecomposed"), one("foOne");
+  write_case(dec, s);
+  write_case(one, s);
+  std::ostringstream log;
+  {
+    Case c = Case::read(dec.dir(), runtime());
+    RunOptions o = opts(world(), true);
+    o.log = &log;
+    Simulation sim(c, runtime(), o);
+    sim.run();
+  }
+  if (!is_root()) return;
+  EXPECT_NE(log.str().find("Function objects reduced over the ranks: front probes energy profile line\n"), std::string::npos)
+      << log.str();
+  EXPECT_NE(log.str().find("Function objects on rank 0, the whole case gathered there when they are due: whole\n"),
+            std::string::npos)
+      << log.str();
+  {
+    Case c = Case::read(one.dir(), runtime());
+    Simulation sim(c, runtime(), opts(self(), true));
+    sim.run();
+  }
+  std::vector<fs::path> files;
+  for (const auto& e : fs::recursive_directory_iterator(one.dir() / "postProcessing"))
+    if (e.is_regular_file()) files.push_back(fs::relative(e.path(), one.dir()));
+  EXPECT_GE(files.size(), 13u) << "runOut, 2 probes and their selection, energies, 5 + 5 profiles, wholeCase";
+  // The one that does not reduce saw the whole case on the root, once per execution.
+  EXPECT_EQ(slurp(dec.dir() / "postProcessing/whole/wholeCase.csv"), slurp(one.dir() / "postProcessing/whole/wholeCase.csv"));
+  for (const fs::path& f : files) {
+    const std::string a = slurp(dec.dir() / f), b = slurp(one.dir() / f);
+    ASSERT_FALSE(a.empty()) << f << " was not written by the decomposed run";
+    std::istringstream ia(a), ib(b);
+    std::string la, lb, header;
+    std::getline(ia, header);
+    std::getline(ib, lb);
+    EXPECT_EQ(header, lb) << f;
+    std::vector<std::string> names;
+    {
+      std::istringstream h(header);
+      for (std::string cell; std::getline(h, cell, ',');) names.push_back(cell);
+    }
+    int rows = 0;
+    while (std::getline(ib, lb)) {
+      ASSERT_TRUE(std::getline(ia, la)) << f << ": fewer rows";
+      ++rows;
+      std::vector<double> x, y;
+      for (auto [line, out] : {std::pair{&la, &x}, std::pair{&lb, &y}}) {
+        std::istringstream r(*line);
+        for (std::string cell; std::getline(r, cell, ',');) out->push_back(std::atof(cell.c_str()));
+      }
+      ASSERT_EQ(x.size(), y.size()) << f;
+      double scale = 0;
+      for (double v : y)
+        if (std::isfinite(v)) scale = std::max(scale, std::fabs(v));
+      for (std::size_t c = 0; c < x.size(); ++c) {
+        const std::string& name = c < names.size() ? names[c] : "";
+        if (name.find("particle") != std::string::npos || name.find("points") != std::string::npos || c == 0)
+          EXPECT_EQ(x[c], y[c]) << f << " " << name;  // time, counts, the probes' ids
+        else if (!std::isnan(y[c]))
+          EXPECT_NEAR(x[c], y[c], 1e-9 * scale) << f << " row " << rows << " " << name;
+      }
+    }
+    EXPECT_FALSE(std::getline(ia, la)) << f << ": more rows";
+    EXPECT_GT(rows, 0) << f;
+  }
+}
+
 TEST(DecomposedRestart, ContinuesOnOneRankWithinRoundOff) {
   // The checkpoint of a decomposed run (a manifest and a piece per rank) is the whole case:
   // one process reads every piece, continues it, and ends where the decomposed run ends,

@@ -18,6 +18,7 @@
 
 #include "scree/exec/memory.hpp"
 #include "scree/plugin/loader.hpp"
+#include "scree/plugin/plugin_api.hpp"
 #include "scree/case/case.hpp"
 #include "scree/solver/simulation.hpp"
 
@@ -50,6 +51,35 @@ inline PluginRuntime& runtime() {
     return r;
   }();
   return *rt;
+}
+
+/// A function object that does not reduce over ranks, as a third party's may not: in a
+/// decomposed run it runs on the root with the whole case gathered there. It writes the
+/// time and the number of points of every body at each execution to
+/// postProcessing/<name>/wholeCase.csv. `testWholeCase` once register_whole_case() has
+/// added it to runtime().
+class WholeCase final : public FunctionObject {
+ public:
+  static constexpr const char* type_name = "testWholeCase";
+  static ParamSpec spec() { return ParamSpec(type_name, "the whole case's point count (tests)"); }
+  WholeCase(const ParamReader&, const SolverContext& ctx) : file_(ctx.post_processing_dir() / "wholeCase.csv") {}
+  void execute(const Snapshot& s) override {
+    std::filesystem::create_directories(file_.parent_path());
+    std::ofstream out(file_, std::ios::app);
+    std::int64_t n = 0;
+    for (const BodySnapshot& b : s.bodies) n += b.n;
+    out << s.time << "," << n << "\n";
+  }
+
+ private:
+  std::filesystem::path file_;
+};
+inline void register_whole_case() {
+  static const bool done = [] {
+    runtime().registry().add_function_object<WholeCase>();
+    return true;
+  }();
+  (void)done;
 }
 
 /// Copies the case directory `src` (a shipped case, cases/<name>, or one of its variants)

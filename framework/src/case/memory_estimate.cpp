@@ -51,7 +51,7 @@ struct Model {
   Device device = Device::cpu;
   RankLayout layout;
   bool output = false;  ///< snapshots are taken (writers or function objects)
-  bool gathers = false;  ///< function objects: a decomposed run's first rank gathers the case for them
+  bool gathers = false;  ///< a function object that does not reduce over ranks: a decomposed run's first rank gathers the case for it
   GridSettings grid;
   std::filesystem::path case_dir;  ///< an stl region's file is relative to it
   SourceLocation cell_size_where;
@@ -67,7 +67,8 @@ Model read_model(const Case& c, const Registry& reg, Device device, bool with_ou
   m.case_dir = c.dir();
   m.device = device;
   m.output = with_output && (c.control().has("writers") || c.control().has("functions"));
-  m.gathers = with_output && c.control().has("functions");
+  for (const Entry* e : with_output ? c.function_entries() : std::vector<const Entry*>{})
+    m.gathers = m.gathers || !plugin_of(reg, PluginKind::functionObject, e->dict()).reduces_over_ranks;
   m.grid = s.grid;
   m.cell_size_where = c.grid().has("cellSize") ? c.grid().at("cellSize").where() : c.grid().where();
   m.walls = !c.boundary_entries().empty();
@@ -182,7 +183,7 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     const double fields = (3 + 1 + 3 + 3 + 6 + 6 + b.output_reals + (b.two_phase ? 10 : 0)) * kReal;
     // A decomposed run: each rank writes its own points as a piece, on its main thread (one
     // snapshot at a time, and the writer's copy of it); the first also gathers the whole
-    // case when function objects are due.
+    // case when a function object that does not reduce over ranks is due.
     const double output =
         m.output ? block + (R > 1 ? 2 : 3) * fields : block /* the time step's check reads a host copy */;
     p.host_each = std::max(setup, output);
@@ -271,7 +272,8 @@ std::vector<InputError> check_memory(const Case& c, const Registry& reg, Device 
             ? " per rank (one GPU each, " + std::to_string(R) + " ranks)"
             : " on each machine (its " + std::to_string(std::max(1, layout.per_node)) + " rank(s) of " +
                   std::to_string(R) + ", each making its own points" +
-                  (m.gathers ? ", the first gathering the case for the function objects)" : ")");
+                  (m.gathers ? ", the first gathering the case for a function object that does not reduce over ranks)"
+                             : ")");
     std::string msg = driver.key + ": the run needs about " + mem::format_bytes(need) + " of " + space_name +
                       " memory" + whose + ", more than the " + mem::format_bytes(free) + " free (" + a.source + "): ";
     for (std::size_t i = 0; i < e.parts.size(); ++i) {

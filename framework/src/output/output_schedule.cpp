@@ -20,6 +20,7 @@ OutputSchedule::OutputSchedule(std::vector<std::unique_ptr<Writer>> writers, std
   for (auto& w : writers_) wants_grid_ |= w->wants_grid();
   for (Function& f : functions) {
     functions_.push_back(std::move(f.object));
+    reduces_.push_back(f.reduces);
     Scheduled s;
     s.control = f.control == Function::Control::timeStep  ? Scheduled::Control::timeStep
                 : f.control == Function::Control::runTime ? Scheduled::Control::runTime
@@ -82,7 +83,8 @@ std::vector<Writer*> OutputSchedule::piece_writers() const {
 }
 
 bool OutputSchedule::gathers(const Due& d) const {
-  if (!d.functions.empty()) return true;
+  for (auto i : d.functions)
+    if (!reducing(i)) return true;
   if (!d.write) return false;
   return std::any_of(writers_.begin(), writers_.end(), [&](auto& w) { return !decomposed_ || !w->writes_pieces(); });
 }
@@ -94,7 +96,8 @@ void OutputSchedule::submit(const Due& d, std::shared_ptr<Snapshot> snap,
     for (auto& w : writers_)
       if (!decomposed_ || !w->writes_pieces()) ws.push_back(w.get());
   std::vector<FunctionObject*> fs;
-  for (auto i : d.functions) fs.push_back(functions_[i].get());
+  for (auto i : d.functions)
+    if (!reducing(i)) fs.push_back(functions_[i].get());
   thread_->submit([snap, finish = std::move(finish), ws, fs] {
     for (std::size_t i = 0; i < finish.size(); ++i) {
       const std::string material = snap->bodies[i].material;

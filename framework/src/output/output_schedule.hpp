@@ -28,6 +28,7 @@ class OutputSchedule {
     std::unique_ptr<FunctionObject> object;
     Control control = Control::writeTime;
     double interval = 1;  ///< steps or seconds
+    bool reduces = false;  ///< it reduces over ranks (function_object.hpp)
   };
   /// The writers write every `write_interval` steps (by_steps) or seconds, from
   /// start_time on; each function object on its own control.
@@ -57,9 +58,15 @@ class OutputSchedule {
   void set_decomposed() { decomposed_ = true; }
   /// The writers of pieces (in the case's order), for the solver to drive.
   std::vector<Writer*> piece_writers() const;
-  /// Whether what is due needs the whole case on the root: a function object, or a writer
-  /// that does not write pieces (every writer in a run of one rank).
+  /// Whether what is due needs the whole case on the root: a function object that does not
+  /// reduce over ranks, or a writer that does not write pieces (every writer and function
+  /// object in a run of one rank).
   bool gathers(const Due& d) const;
+  /// Function object i when the run is decomposed and it reduces over ranks (the solver
+  /// executes it on every rank, and submit() leaves it out), else null.
+  FunctionObject* reducing(std::size_t i) const {
+    return decomposed_ && reduces_[i] ? functions_[i].get() : nullptr;
+  }
 
   /// Run what is due on the output thread. `finish[i]`, if given, completes body i of the
   /// snapshot there first (an asynchronous copy off the device).
@@ -93,6 +100,7 @@ class OutputSchedule {
 
   std::vector<std::unique_ptr<Writer>> writers_;
   std::vector<std::unique_ptr<FunctionObject>> functions_;
+  std::vector<bool> reduces_;
   std::vector<Scheduled> function_schedule_;
   Scheduled write_schedule_;
   bool wants_grid_ = false;

@@ -541,7 +541,6 @@ void Solver<D>::migrate(bool scheduled) {
 
 template <int D>
 void Solver<D>::gather_snapshot(Snapshot& s) {
-  comm_->sum(s.energy.term, kEnergyTerms);
   for (BodySnapshot& b : s.bodies) {
     std::vector<std::int64_t> ids = comm_->gather_vector(b.id, 0);
     std::vector<Real> pos = comm_->gather_vector(b.position, 0);

@@ -324,6 +324,11 @@ class Solver {
   // the other ranks own theirs.
   std::vector<Writer*> piece_writers_;
   std::vector<std::unique_ptr<Writer>> own_piece_writers_;
+  // A decomposed run's function objects that reduce over ranks, executed on every rank
+  // (output/function_object.hpp): by the case's order of function objects, null for one
+  // that runs on the root alone. The root's are in output_, the other ranks own theirs.
+  std::vector<FunctionObject*> rank_functions_;
+  std::vector<std::unique_ptr<FunctionObject>> own_functions_;
   std::int64_t writes_ = 0;          // write times since startTime (the first not counted)
   bool first_output_ = true;         // the run's first output (the initial or restart state)
   double checkpoint_time_ = -1;      // the time of the last checkpoint this run wrote

@@ -73,13 +73,22 @@ void Solver<D>::output_due(bool force_all, CheckpointWhen when) {
 
 template <int D>
 void Solver<D>::output_ranks(const OutputSchedule::Due& due, bool checkpoint, const std::vector<double>& schedule) {
-  // What the root's schedule found due: the writers of pieces write on every rank; the
-  // function objects and any other writer get the whole case gathered on the root.
+  // What the root's schedule found due: the writers of pieces write on every rank, and so
+  // do the function objects that reduce over ranks; the other function objects and any
+  // other writer get the whole case gathered on the root.
   struct {
     bool write, pieces, gather, grid, checkpoint;
   } agreed{due.any(), due.write && !piece_writers_.empty(), output_ && output_->gathers(due), due.with_grid,
            checkpoint};
   comm_->broadcast(&agreed, sizeof agreed, 0);
+  std::vector<std::uint64_t> reducing;  // the due function objects that run on every rank
+  if (root())
+    for (std::size_t i : due.functions)
+      if (rank_functions_[i]) reducing.push_back(i);
+  std::uint64_t count = reducing.size();
+  comm_->broadcast(&count, sizeof count, 0);
+  reducing.resize(count);
+  comm_->broadcast(reducing.data(), count * sizeof(std::uint64_t), 0);
   if (agreed.write || agreed.checkpoint) {  // the state written, every point in its owner's box
     flush();
     migrate(false);
@@ -90,6 +99,15 @@ void Solver<D>::output_ranks(const OutputSchedule::Due& due, bool checkpoint, co
     auto snap = std::make_shared<Snapshot>(local_snapshot(agreed.grid));
     std::vector<std::string> frames;
     if (agreed.pieces) frames = write_pieces(*snap);
+    for (std::uint64_t i : reducing) {
+      std::string error;
+      try {
+        rank_functions_[i]->execute(*snap);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      agree_error(error);
+    }
     if (agreed.gather)
       gather_snapshot(*snap);
     else if (agreed.grid)
@@ -213,6 +231,7 @@ void Solver<D>::finish_output(CheckpointWhen checkpoint) {
   output_due(true, checkpoint);
   if (output_) output_->finish();
   for (auto& w : own_piece_writers_) w->finish();
+  for (auto& f : own_functions_) f->finish();
 }
 
 template <int D>
@@ -243,6 +262,7 @@ Snapshot Solver<D>::local_snapshot(bool with_grid, bool alone) {
   flush();
   mem::synchronize(exec_.device);
   Snapshot s = snapshot_header();
+  if (energy_ledger_ && decomposed() && !alone) comm_->sum(s.energy.term, kEnergyTerms);  // the case's
   const std::vector<Real> liquid =
       !porous_ ? std::vector<Real>{} : (alone ? porous_->totals() : liquid_totals());  // over the ranks
   for (std::size_t i = 0; i < bodies_.size(); ++i) {

@@ -186,6 +186,8 @@ template <int D>
 Solver<D>::~Solver() {
   output_.reset();  // joins the output thread: writers finish before they are destroyed
   own_piece_writers_.clear();
+  rank_functions_.clear();
+  own_functions_.clear();
   graphs_.reset();
 #if defined(SCREE_HAVE_CUDA)
   if (stream_) cudaStreamDestroy(static_cast<cudaStream_t>(stream_));
@@ -412,9 +414,25 @@ void Solver<D>::setup_output() {
   std::vector<std::unique_ptr<Writer>> writers;
   for (const Entry* e : case_.writer_entries())
     writers.push_back(plugin_of(reg, PluginKind::writer, e->dict()).writer(e->dict(), named(ctx_, e->key())));
-  if (!root()) {  // a decomposed run's other ranks: only the writers of pieces
+  // A decomposed run's function objects that reduce over ranks are made on every rank and
+  // see the run's ranks; the others only on the root, with one rank.
+  auto fo_context = [&](const std::string& key, bool reduces) {
+    SolverContext c = named(ctx_, key);
+    c.comm = decomposed() && reduces ? comm_ : nullptr;
+    return c;
+  };
+  if (!root()) {  // a decomposed run's other ranks: the writers of pieces, the reducing function objects
     for (auto& w : writers)
       if (w->writes_pieces()) piece_writers_.push_back(own_piece_writers_.emplace_back(std::move(w)).get());
+    for (const Entry* e : case_.function_entries()) {
+      const PluginEntry& pe = plugin_of(reg, PluginKind::functionObject, e->dict());
+      FunctionObject* fo = nullptr;
+      if (pe.reduces_over_ranks) {
+        fo = own_functions_.emplace_back(pe.function_object(e->dict(), fo_context(e->key(), true))).get();
+        energy_ledger_ = energy_ledger_ || fo->needs_energy_ledger();
+      }
+      rank_functions_.push_back(fo);
+    }
     return;
   }
   std::vector<OutputSchedule::Function> functions;
@@ -422,7 +440,8 @@ void Solver<D>::setup_output() {
     const Dictionary& d = e->dict();
     const PluginEntry& pe = plugin_of(reg, PluginKind::functionObject, d);
     OutputSchedule::Function fn;
-    fn.object = pe.function_object(d, named(ctx_, e->key()));
+    fn.object = pe.function_object(d, fo_context(e->key(), pe.reduces_over_ranks));
+    fn.reduces = pe.reduces_over_ranks;
     energy_ledger_ = energy_ledger_ || fn.object->needs_energy_ledger();
     const ParamReader r(*pe.spec, d);  // executeControl, executeInterval: declare_execute_control
     const std::string ec = r.word("executeControl");
@@ -438,6 +457,14 @@ void Solver<D>::setup_output() {
   if (decomposed()) {
     output_->set_decomposed();
     piece_writers_ = output_->piece_writers();
+    std::string reduced, gathered;
+    for (std::size_t i = 0; i < case_.function_entries().size(); ++i) {
+      rank_functions_.push_back(output_->reducing(i));
+      (rank_functions_.back() ? reduced : gathered) += " " + case_.function_entries()[i]->key();
+    }
+    if (!reduced.empty()) log_ << "Function objects reduced over the ranks:" << reduced << "\n";
+    if (!gathered.empty())
+      log_ << "Function objects on rank 0, the whole case gathered there when they are due:" << gathered << "\n";
   }
 }
 

@@ -218,15 +218,23 @@ TEST(MemoryEstimate, ARunOverRanksNeedsItsShareOfTheBackendAndOfTheHost) {
       << crowded[0].what();
 }
 
-// Function objects compute on the whole case, which the first rank gathers when they are
-// due: its host holds the whole case's output copy besides its own share; the other ranks
-// of its machine only their shares.
+// A function object that does not reduce over ranks computes on the whole case, which the
+// first rank gathers when it is due: its host holds the whole case's output copy besides
+// its own share; the other ranks of its machine only their shares. Those that reduce
+// (every shipped one) add nothing.
 TEST(MemoryEstimate, TheFirstRankGathersTheWholeCaseForFunctionObjects) {
+  register_whole_case();
   TempCase tc("memory_gather");
   write_block(tc, "0.001", "1");
   tc.write("system/controlDict", "endTime 0.01; deltaT 1e-5; writeInterval 0.01; functions { e { type energies; } }");
-  const Case c = Case::read(tc.dir(), runtime());
   const auto& reg = runtime().registry();
+  {
+    const Case c = Case::read(tc.dir(), runtime());
+    EXPECT_EQ(estimate_memory(c, reg, Device::cuda, true, {4, 1}).parts[1].host_root_each, 0);
+  }
+  tc.write("system/controlDict",
+           "endTime 0.01; deltaT 1e-5; writeInterval 0.01; functions { e { type energies; } w { type testWholeCase; } }");
+  const Case c = Case::read(tc.dir(), runtime());
   const MemoryPart one = estimate_memory(c, reg, Device::cuda, true).parts[1];
   const MemoryPart four = estimate_memory(c, reg, Device::cuda, true, {4, 1}).parts[1];
   EXPECT_EQ(one.host_root_each, 0);  // one rank: its own points are the whole case

@@ -39,9 +39,9 @@ namespace scree {
 /// on one machine. A rank's backend holds its box of the grid with the halo and about
 /// 1/ranks of the points, up to kRebalanceRatio times that before the boxes move
 /// (case/decomposition.hpp). Each rank makes only the points of its box and writes them
-/// as its own piece; the first rank also gathers the whole case when function objects
-/// are due (they compute on the whole case), and the ranks of one machine share its host
-/// memory.
+/// as its own piece; the first rank also gathers the whole case when a function object
+/// that does not reduce over ranks is due (output/function_object.hpp), and the ranks of
+/// one machine share its host memory.
 struct RankLayout {
   int ranks = 1;
   int per_node = 1;

@@ -15,6 +15,19 @@
 //     void execute(const Snapshot& s) override;
 //   };
 //   SCREE_PLUGIN(r) { r.add_function_object<MyFO>(); }
+//
+// Several ranks (a decomposed run, docs/multi-gpu.md). By default a function object runs on
+// rank 0 with the whole case gathered there, its points in the order of their ids: simple,
+// but rank 0's host then holds every point. One that declares
+//
+//     static constexpr bool reduces_over_ranks = true;
+//
+// is made on every rank (SolverContext::comm names them) and executed on every rank, in
+// the main thread, with the points that rank holds (in no particular order; the energy
+// ledger and the per-body scalars are the case's). It combines what it measures with
+// Ranks (output/ranks.hpp: sums, maxima, quantiles, a gather), every rank making the same
+// calls in the same order, and only Ranks::root() writes files. On one rank the same code
+// runs on the output thread with the whole case, and each Ranks call is its argument.
 #pragma once
 
 #include "scree/output/snapshot.hpp"

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,8 @@
 #include "scree/exec/memory.hpp"
 
 namespace scree {
+
+class Comm;
 
 struct SolverContext {
   std::filesystem::path case_dir;  ///< the case directory
@@ -23,6 +26,9 @@ struct SolverContext {
   std::vector<std::string> body_names;
   std::vector<Real> gravity;
   Real start_time = 0, end_time = 0, delta_t = 0;
+  /// The ranks a function object that reduces over ranks combines its statistics over
+  /// (output/ranks.hpp): those of a decomposed run, or null for one rank.
+  std::shared_ptr<Comm> comm;
   /// <case>/postProcessing/<name>: where a function object writes (created on first use).
   std::filesystem::path post_processing_dir() const { return case_dir / "postProcessing" / name; }
 };

@@ -123,6 +123,7 @@ void Registry::add_function_object() {
   e.function_object = [spec](const Dictionary& d, const SolverContext& ctx) -> std::unique_ptr<FunctionObject> {
     return std::make_unique<F>(ParamReader(*spec, d), ctx);
   };
+  if constexpr (requires { F::reduces_over_ranks; }) e.reduces_over_ranks = F::reduces_over_ranks;
   add(std::move(e));
 }
 

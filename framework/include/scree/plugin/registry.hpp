@@ -55,6 +55,9 @@ struct PluginEntry {
   std::function<std::unique_ptr<BoundaryCondition>(const Dictionary&, const SolverContext&)> boundary;
   std::function<std::unique_ptr<Writer>(const Dictionary&, const SolverContext&)> writer;
   std::function<std::unique_ptr<FunctionObject>(const Dictionary&, const SolverContext&)> function_object;
+  /// kind == functionObject: it reduces over the ranks of a decomposed run itself
+  /// (FunctionObject's reduces_over_ranks, output/function_object.hpp).
+  bool reduces_over_ranks = false;
   /// kind == retention / permeability
   std::function<std::unique_ptr<RetentionModel>(const Dictionary&)> retention;
   std::function<std::unique_ptr<PermeabilityModel>(const Dictionary&)> permeability;
