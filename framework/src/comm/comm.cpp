@@ -80,8 +80,14 @@ class MpiComm final : public Comm {
 #if defined(MPIX_CUDA_AWARE_SUPPORT) && MPIX_CUDA_AWARE_SUPPORT
     cuda = MPIX_Query_cuda_support() ? "CUDA-aware" : "CUDA-aware build, not at run time";
 #endif
-    return "MPI: " + v + "; " + cuda +
-           "; device buffers are staged through the host";
+    return "MPI: " + v + "; " + cuda;
+  }
+  bool device_aware() const override {
+#if defined(MPIX_CUDA_AWARE_SUPPORT) && MPIX_CUDA_AWARE_SUPPORT
+    return MPIX_Query_cuda_support() != 0;
+#else
+    return false;
+#endif
   }
   void max(double* v, int n) override { check(MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MAX, comm_), "max"); }
   void sum(double* v, int n) override { check(MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_SUM, comm_), "sum"); }

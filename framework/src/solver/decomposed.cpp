@@ -132,7 +132,11 @@ void Solver<D>::check_rank_memory(const std::vector<std::vector<std::uint64_t>>&
 template <int D>
 void Solver<D>::report_decomposition() {
   std::ostringstream m;
-  m << "Decomposed over " << comm_->size() << " ranks (" << comm_->describe() << "): boxes of cells";
+  m << "Decomposed over " << comm_->size() << " ranks (" << comm_->describe()
+    << (exec_.device == Device::cpu ? ""
+        : halo_direct() ? "; the halo goes from GPU memory to GPU memory"
+                        : "; GPU buffers are staged through the host")
+    << "): boxes of cells";
   for (int r = 0; r < comm_->size(); ++r) m << (r ? ", " : " ") << decomp_.describe_box(r);
   std::uint64_t mine = 0;
   for (auto& bd : bodies_) mine += static_cast<std::uint64_t>(bd->size());
@@ -265,29 +269,43 @@ void Solver<D>::halo_exchange(const HaloFields& fields) {
   const int count = static_cast<int>(halo_peers_.size());
   if (fields.count == 0 || count == 0) return;
   // Every neighbour at once: the boxes shared with each are packed side by side into one
-  // block, copied to the host in one copy, exchanged with all in flight together, copied
-  // back in one copy and summed in the ranks' order (ordered_sum).
+  // block, exchanged with all in flight together and summed in the ranks' order
+  // (ordered_sum). The block goes to MPI as it is where MPI can read the backend's memory
+  // (the CPU backend; a CUDA-aware MPI), else through host buffers, one copy each way.
   const HaloPeer<D>& last = halo_peers_.back();
   const std::size_t total = static_cast<std::size_t>((last.offset + last.size) * fields.count);
+  const bool direct = halo_direct();
   if (halo_buffer_.size() < total) halo_buffer_.resize(total, exec_.device);
-  halo_send_.reserve(total);
-  halo_recv_.reserve(total);
+  if (direct && halo_arrived_.size() < total) halo_arrived_.resize(total, exec_.device);
+  if (!direct) {
+    halo_send_.reserve(total);
+    halo_recv_.reserve(total);
+  }
   for (const HaloPeer<D>& p : halo_peers_) pack_box<D>(exec_, grid_, p, fields, halo_buffer_.data());
   mem::synchronize(exec_.device);
-  mem::copy(halo_send_.data(), Device::cpu, halo_buffer_.data(), exec_.device, total * sizeof(Real));
+  if (!direct) mem::copy(halo_send_.data(), Device::cpu, halo_buffer_.data(), exec_.device, total * sizeof(Real));
+  Real* const send = direct ? halo_buffer_.data() : halo_send_.data();
+  Real* const recv = direct ? halo_arrived_.data() : halo_recv_.data();
   std::vector<Comm::Exchange> with(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
     const HaloPeer<D>& p = halo_peers_[static_cast<std::size_t>(i)];
     const std::size_t bytes = static_cast<std::size_t>(p.size * fields.count) * sizeof(Real);
     const Index at = p.offset * fields.count;
-    with[static_cast<std::size_t>(i)] = Comm::Exchange{decomp_.neighbours[static_cast<std::size_t>(i)],
-                                                       halo_send_.data() + at, bytes, halo_recv_.data() + at, bytes};
+    with[static_cast<std::size_t>(i)] =
+        Comm::Exchange{decomp_.neighbours[static_cast<std::size_t>(i)], send + at, bytes, recv + at, bytes};
   }
   comm_->exchange(with.data(), count);
-  mem::copy(halo_buffer_.data(), exec_.device, halo_recv_.data(), Device::cpu, total * sizeof(Real));
-  mem::synchronize(exec_.device);  // the copy landed before the stream's kernel reads it
+  if (!direct) {
+    mem::copy(halo_buffer_.data(), exec_.device, halo_recv_.data(), Device::cpu, total * sizeof(Real));
+    mem::synchronize(exec_.device);  // the copy landed before the stream's kernel reads it
+  }
   ordered_sum<D>(exec_, grid_, halo_peers_dev_.data(), halo_peers_.data(), count, halo_self_, fields,
-                 halo_buffer_.data());
+                 direct ? halo_arrived_.data() : halo_buffer_.data());
+}
+
+template <int D>
+bool Solver<D>::halo_direct() const {
+  return exec_.device == Device::cpu || comm_->device_aware();
 }
 
 template <int D>
@@ -667,6 +685,8 @@ template void Solver<2>::halo_sum(int, unsigned);
 template void Solver<3>::halo_sum(int, unsigned);
 template void Solver<2>::halo_exchange(const HaloFields&);
 template void Solver<3>::halo_exchange(const HaloFields&);
+template bool Solver<2>::halo_direct() const;
+template bool Solver<3>::halo_direct() const;
 template OwnedNodes<2> Solver<2>::owned_nodes() const;
 template OwnedNodes<3> Solver<3>::owned_nodes() const;
 template std::vector<Real> Solver<2>::liquid_totals() const;

@@ -203,6 +203,10 @@ class Solver {
   /// indexed as nodes included): the pore liquid's sums (PorousMedia::set_halo) as the
   /// solid's.
   void halo_exchange(const HaloFields& fields);
+  /// Whether the halo's messages go from and into the backend's memory as they are (the
+  /// CPU backend, or an MPI that can read GPU memory: Comm::device_aware), not through
+  /// host buffers.
+  bool halo_direct() const;
   /// The nodes whose shares this rank adds to the case's sums: its own box's (all on one rank).
   OwnedNodes<D> owned_nodes() const;
   /// The pore liquid's cumulative inflows over the ranks (PorousMedia::totals), for a
@@ -274,7 +278,8 @@ class Solver {
   Buffer<HaloPeer<D>> halo_peers_dev_;   // ... on the backend
   int halo_self_ = 0;                    // the neighbours of lower rank than this one
   Buffer<Real> halo_buffer_;             // the shared boxes packed on the backend
-  PinnedBuffer<Real> halo_send_, halo_recv_;  // ... and their host copies, sent and received
+  Buffer<Real> halo_arrived_;            // ... the neighbours' boxes, received on the backend (halo_direct)
+  PinnedBuffer<Real> halo_send_, halo_recv_;  // ... or their host copies, sent and received
 
   // Algorithm (system/mpmSchemes, constant/g)
   Vec<D> gravity_;

@@ -27,8 +27,12 @@ class SCREE_API Comm {
   virtual ~Comm() = default;
   virtual int rank() const = 0;
   virtual int size() const = 0;
-  /// What carries the messages, for the log ("MPI (Open MPI 4.1.4), host-staged", "one rank").
+  /// What carries the messages, for the log ("MPI: Open MPI v4.1.4; built without CUDA
+  /// support", "one rank").
   virtual std::string describe() const = 0;
+  /// Whether messages may be sent from and received into GPU memory (a CUDA-aware MPI, as
+  /// it says at run time); otherwise GPU data goes through host buffers.
+  virtual bool device_aware() const { return false; }
 
   /// Element-wise over the ranks, in place.
   virtual void max(double* v, int n) = 0;
