@@ -452,6 +452,42 @@ std::vector<TwoPhaseVariant> two_phase_setups() {
 
 class DecomposedTwoPhase : public ::testing::TestWithParam<TwoPhaseVariant> {};
 
+// A granular collapse (the phase-transition sand of the paper's column, Feng et al. 2025,
+// Table 3) across the cuts. Frictional flow is not smooth in the round-off: a point's
+// substepping, its yield and its collisional switch are decisions, and a difference in the
+// last bit can take the other branch, which then grows with the flow. So the bound on the
+// decomposed run is the spread of the one-process run itself under another order of the
+// same sums (its points sorted by cell every 3 steps instead of never, which changes the
+// order in which the P2G adds them at each node): a decomposition that did something
+// other than regroup the sums would stand out of that spread by orders of magnitude.
+TEST(DecomposedCollapse, FollowsTheUndecomposedRunWithinItsOwnRoundOffSpread) {
+  Variant s{"collapseSandUSFgimp", "endTime 0.08; deltaT 1e-5; adjustTimeStep yes; maxCo 0.4; writeInterval 1;",
+            "updateScheme USF; shapeFunction gimp;", "dimension 2; lower (0 0); upper (0.3 0.12); cellSize 0.005;",
+            "sand { #includeEtc \"materials/feng2025/table3-columnCollapse\" integrationTolerance 1e-2; "
+            "minSolidFraction 0.01; }",
+            "b { material sand; region { type rectangle; lower (0 0); upper (0.05 0.1); } "
+            "initialStress { type geostatic; K0 0.5; } }",
+            "floor { type fixed; face yMin; } left { type slip; face xMin; }"};
+  SharedCase c("collapse"), sorted("collapseSorted");
+  write_case(c, s);
+  Variant resorted = s;
+  resorted.schemes += " sortInterval 3;";
+  write_case(sorted, resorted);
+  RunStats st;
+  const Snapshot dec = run_to(c.dir(), world(), 0.08, &st);
+  if (!is_root()) return;
+  const Snapshot one = run_to(c.dir(), self(), 0.08), other = run_to(sorted.dir(), self(), 0.08);
+  const Differences d = compare_bodies(dec.bodies[0], one.bodies[0]), spread = compare_bodies(other.bodies[0], one.bodies[0]);
+  std::cout << "[ collapse ] " << world_comm().size() << " ranks (" << st.rebalances << " rebalances) against one: "
+            << "position " << d.x << " of the column's extent, velocity " << d.v << ", stress " << d.s
+            << "; one process sorted otherwise: " << spread.x << ", " << spread.v << ", " << spread.s << "\n";
+  EXPECT_GT(d.hi - d.lo, 0.06) << "the column did not spread (its points 0.049 m apart at the start)";
+  EXPECT_GT(spread.v, 0) << "the other order of the sums changed nothing: no spread to compare with";
+  EXPECT_LT(d.x, 10 * spread.x + 1e-12);
+  EXPECT_LT(d.v, 10 * spread.v + 1e-9);
+  EXPECT_LT(d.s, 10 * spread.s + 1e-9);
+}
+
 TEST_P(DecomposedTwoPhase, FollowsTheUndecomposedRunAndCountsTheWaterOnce) {
   const TwoPhaseVariant& tp = GetParam();
   const Variant& s = tp.v;

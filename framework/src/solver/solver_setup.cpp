@@ -69,7 +69,7 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
     sync_control_to_device();
   }
   setup_split();
-  if (decomposed()) tuner_.reset();  // the ranks take the same kernels: no per-rank timing decides
+  if (!root()) tuner_.reset();  // the root's tuner decides for every rank (agree_chunk)
   setup_boundaries();
   energy_ledger_ = opt_.energy_ledger;
   if (opt_.output) setup_output();  // a decomposed run: the root's, and every rank's writers of pieces
