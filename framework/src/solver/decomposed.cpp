@@ -351,17 +351,13 @@ void Solver<D>::reduce_clock() {
 
 template <int D>
 void Solver<D>::agree_chunk(std::int64_t& n, double& t_event) {
-  // The root's chunk length and target, and the stress pass's way its split tuner chose
-  // (the root times the whole decomposed step, waits for the other ranks included).
   struct {
     std::int64_t n;
     double t_event;
-    int way;
-  } agreed{std::min(n, std::max<std::int64_t>(1, next_migration_ - steps_done())), t_event, stress_way()};
+  } agreed{std::min(n, std::max<std::int64_t>(1, next_migration_ - steps_done())), t_event};
   comm_->broadcast(&agreed, sizeof agreed, 0);
   n = agreed.n;
   t_event = agreed.t_event;
-  if (agreed.way != stress_way()) set_stress_way(agreed.way);
 }
 
 template <int D>

@@ -69,7 +69,9 @@ Solver<D>::Solver(const Case& c, PluginRuntime& rt, const RunOptions& o)
     sync_control_to_device();
   }
   setup_split();
-  if (!root()) tuner_.reset();  // the root's tuner decides for every rank (agree_chunk)
+  // A decomposed run keeps the split the policy sets: every rank runs the same kernels, and
+  // the root's tuner choosing for all cost the scaling runs its trials (docs/multi-gpu.md).
+  if (decomposed()) tuner_.reset();
   setup_boundaries();
   energy_ledger_ = opt_.energy_ledger;
   if (opt_.output) setup_output();  // a decomposed run: the root's, and every rank's writers of pieces
