@@ -128,8 +128,8 @@ std::vector<double> Energies::budget(const Result& r, const EnergyLedger& e, con
 void Energies::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
-  lost_.record(s, bodies_);
   const Result r = evaluate(s);
+  lost_.record(s, bodies_);  // after every reduction: the root's writes come last
   std::vector<double> row{s.time, r.kinetic, r.potential, r.total()};
   if (budget_) {
     if (!s.energy.kept)

@@ -279,16 +279,24 @@ void ParticleProbes::open_probe(Probe& pr, const BodySnapshot& b) {
 void ParticleProbes::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
-  lost_.record(s, bodies_);
   bool fresh = false;
   if (!picked_) {
-    if (ranks_.root()) ensure_writable_dir(dir_, who_);
     // A restart takes the root's saved selection (every rank learns it); else pick anew.
-    std::vector<double> saved(probes_.size(), -1);
-    if (ranks_.root() && start_time_ > 0 && load_selection())
-      for (std::size_t i = 0; i < probes_.size(); ++i) saved[i] = static_cast<double>(probes_[i].id);
+    // The last entry says that the root failed to make its directory or read the
+    // selection: every rank stops then, none is left waiting in the next reduction.
+    std::vector<double> saved(probes_.size() + 1, -1);
+    std::string error;
+    if (ranks_.root()) try {
+        ensure_writable_dir(dir_, who_);
+        if (start_time_ > 0 && load_selection())
+          for (std::size_t i = 0; i < probes_.size(); ++i) saved[i] = static_cast<double>(probes_[i].id);
+      } catch (const std::exception& e) {
+        error = e.what();
+        saved.back() = 1;
+      }
     ranks_.max(saved);
-    fresh = saved.empty() || saved[0] < 0;
+    if (saved.back() > 0) throw std::runtime_error(ranks_.root() ? error : who_ + ": rank 0 could not prepare its files");
+    fresh = saved[0] < 0;
     if (fresh)
       pick(s);
     else
@@ -297,6 +305,7 @@ void ParticleProbes::execute(const Snapshot& s) {
   }
   std::optional<Snapshot> gathered;  // several ranks: the followed points, on the root
   if (ranks_.size() > 1) gathered = followed(s);
+  lost_.record(s, bodies_);  // after every reduction: the root's writes come last
   if (!ranks_.root()) return;
   const Snapshot& view = gathered ? *gathered : s;
   if (fresh) save_selection(view);

@@ -319,8 +319,8 @@ RunOut::Result RunOut::evaluate(const Snapshot& s) const {
 void RunOut::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
-  lost_.record(s, bodies_);
   const Result r = evaluate(s);
+  lost_.record(s, bodies_);  // after every reduction: the root's writes come last
   std::vector<double> row = {s.time, r.runout, r.height, r.kinetic_energy, r.max_speed, r.mean_velocity[0],
                              r.mean_velocity[1]};
   if (dimension_ == 3) row.push_back(r.mean_velocity[2]);

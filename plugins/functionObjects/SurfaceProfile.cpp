@@ -295,14 +295,17 @@ std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot&
 void SurfaceProfile::execute(const Snapshot& s) {
   if (s.step == last_step_) return;  // the same state again (the final output)
   last_step_ = s.step;
-  lost_.record(s, bodies_);
-  if (ranks_.root() && !prepared_) {
+  // Every rank's reductions first; then the root alone prepares and writes.
+  auto prepare = [&] {
+    if (prepared_) return;
     prepare_time_files(dir_, who_, start_time_);
     prepared_ = true;
-  }
+  };
   if (field_) {
     const auto cells = evaluate_field(s);
+    lost_.record(s, bodies_);
     if (!ranks_.root()) return;
+    prepare();
     write_file_atomically(dir_ / (time_name(s.time) + ".csv"), [&](const fs::path& tmp) {
       std::ofstream out(tmp, std::ios::trunc);
       if (!out) throw std::runtime_error(who_ + ": cannot write " + tmp.string());
@@ -315,7 +318,9 @@ void SurfaceProfile::execute(const Snapshot& s) {
     return;
   }
   const auto bins = evaluate(s);
+  lost_.record(s, bodies_);
   if (!ranks_.root()) return;
+  prepare();
   write_file_atomically(dir_ / (time_name(s.time) + ".csv"), [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::trunc);
     if (!out) throw std::runtime_error(who_ + ": cannot write " + tmp.string());

@@ -246,6 +246,22 @@ TEST_P(FunctionObjectsOverRanks, WriteWhatOneProcessWritesFromTheWholeCase) {
 INSTANTIATE_TEST_SUITE_P(Dimensions, FunctionObjectsOverRanks, ::testing::Values(2, 3),
                          [](const ::testing::TestParamInfo<int>& i) { return std::to_string(i.param) + "D"; });
 
+/// The root's files fail (here: a file where its directory should be) after its reductions
+/// began: every rank stops with an error, none waits in a reduction the root never makes.
+TEST(FunctionObjectsOverRanks, ARootThatCannotWriteStopsEveryRank) {
+  SharedDir dir("unwritable");
+  scree::SolverContext ctx = make_context(dir.path("decomposed"), "probes", 2);
+  ctx.comm = scree::world();
+  auto fo = make_function("particleProbes", "points ((0.5 0.2));", ctx);
+  if (is_root()) {
+    fs::create_directories(dir.path("decomposed") / "postProcessing");
+    std::ofstream(dir.path("decomposed") / "postProcessing" / "probes") << "in the way\n";
+  }
+  world_comm().barrier();
+  const Snapshot s = whole(2, 0, 0);
+  EXPECT_THROW(fo->execute(share(s, world_comm().size(), world_comm().rank())), std::runtime_error);
+}
+
 /// The quantile over the ranks against the one-process rule on values with repeats,
 /// negative values and zeros of both signs, for every k.
 TEST(RanksQuantile, IsTheKthSmallestOfEveryRanksValues) {
