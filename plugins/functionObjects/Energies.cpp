@@ -42,7 +42,7 @@ Energies::Energies(const ParamReader& r, const SolverContext& ctx)
       bodies_(read_bodies(r, ctx)),
       origin_(read_point(r, "origin", ctx)),
       budget_(r.boolean("budget")),
-      ranks_(ctx) {
+      ranks_(ctx.comm) {
   lost_ = LostPoints(ctx, who_);
   if (budget_ && !bodies_.empty())
     throw InputError(where_of(r, "bodies"),

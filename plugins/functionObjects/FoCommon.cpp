@@ -22,7 +22,7 @@ std::string join(const std::vector<std::string>& v) {
 // ------------------------------------------------------------------ LostPoints
 
 LostPoints::LostPoints(const SolverContext& ctx, std::string who)
-    : ranks_(ctx), path_(ctx.post_processing_dir() / "lostPoints.csv"), start_time_(ctx.start_time), who_(std::move(who)) {}
+    : ranks_(ctx.comm), path_(ctx.post_processing_dir() / "lostPoints.csv"), start_time_(ctx.start_time), who_(std::move(who)) {}
 
 std::int64_t LostPoints::record(const Snapshot& s, const std::vector<std::string>& bodies) {
   const bool writes = ranks_.root() && !path_.empty();

@@ -54,7 +54,7 @@ LineProfile::LineProfile(const ParamReader& r, const SolverContext& ctx)
       dimension_(ctx.dimension == 3 ? 3 : 2),
       start_time_(ctx.start_time),
       bodies_(read_bodies(r, ctx)),
-      ranks_(ctx),
+      ranks_(ctx.comm),
       start_(read_point(r, "start", ctx)),
       end_(read_point(r, "end", ctx)),
       long_format_(r.boolean("longFormat")) {

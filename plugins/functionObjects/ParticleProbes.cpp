@@ -42,7 +42,7 @@ ParticleProbes::ParticleProbes(const ParamReader& r, const SolverContext& ctx)
       dimension_(ctx.dimension),
       start_time_(ctx.start_time),
       bodies_(read_bodies(r, ctx)),
-      ranks_(ctx) {
+      ranks_(ctx.comm) {
   lost_ = LostPoints(ctx, who_);
   // points ((x y) (x y) ...)
   const Entry& pe = r.entry("points");

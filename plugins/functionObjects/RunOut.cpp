@@ -185,7 +185,7 @@ RunOut::RunOut(const ParamReader& r, const SolverContext& ctx)
       up_(read_direction(r, "up", ctx, default_up(ctx))),
       front_quantile_(r.scalar("frontQuantile")),
       height_quantile_(r.scalar("heightQuantile")),
-      ranks_(ctx) {
+      ranks_(ctx.comm) {
   lost_ = LostPoints(ctx, who_);
   if (r.has("radial")) {
     for (const char* k : {"direction", "origin", "up"})

@@ -101,7 +101,7 @@ SurfaceProfile::SurfaceProfile(const ParamReader& r, const SolverContext& ctx)
     : who_("surfaceProfile '" + ctx.name + "'"),
       dir_(ctx.post_processing_dir()),
       bodies_(read_bodies(r, ctx)),
-      ranks_(ctx),
+      ranks_(ctx.comm),
       origin_(read_point(r, "origin", ctx)),
       direction_(read_direction(r, "direction", ctx, {1, 0, 0})),
       up_(read_direction(r, "up", ctx, default_up(ctx))),

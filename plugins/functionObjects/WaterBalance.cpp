@@ -32,7 +32,7 @@ ParamSpec WaterBalance::spec() {
 }
 
 WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
-    : who_("waterBalance '" + ctx.name + "'"), bodies_(read_bodies(r, ctx)), ranks_(ctx) {
+    : who_("waterBalance '" + ctx.name + "'"), bodies_(read_bodies(r, ctx)), ranks_(ctx.comm) {
   lost_ = LostPoints(ctx, who_);
   const std::string unit = ctx.dimension == 3 ? " [kg]" : " [kg/m]";
   const std::vector<std::string> header = {"time [s]",

@@ -6,11 +6,7 @@
 #include <cstring>
 #include <limits>
 
-#include "scree/plugin/context.hpp"
-
 namespace scree {
-
-Ranks::Ranks(const SolverContext& ctx) : comm_(ctx.comm) {}
 
 void Ranks::sum(std::vector<double>& v) const {
   if (size() > 1 && !v.empty()) comm_->sum(v.data(), static_cast<int>(v.size()));

@@ -22,15 +22,12 @@
 
 namespace scree {
 
-struct SolverContext;
-
 class SCREE_API Ranks {
  public:
   /// One rank (no messages).
   Ranks() = default;
+  /// The ranks of `comm` (a plugin's SolverContext::comm; one rank where it is null).
   explicit Ranks(std::shared_ptr<Comm> comm) : comm_(std::move(comm)) {}
-  /// The ranks of the run a plugin belongs to (SolverContext::comm; one rank where it is null).
-  explicit Ranks(const SolverContext& ctx);
 
   int rank() const { return comm_ ? comm_->rank() : 0; }
   int size() const { return comm_ ? comm_->size() : 1; }
