@@ -403,6 +403,7 @@ HaloFields PorousMedia<D>::mixture_fields(const GridFields<D>& solid, int set) c
   }
   for (int d = 0; d < D; ++d) f.add(l.momentum[d]);
   for (int d = 0; d < D; ++d) f.add(l.force[d]);
+  for (int d = 0; d < D; ++d) f.add(l.area[d]);
   f.add(const_cast<Real*>(cells_[set].data()));
   return f;
 }
@@ -413,7 +414,6 @@ HaloFields PorousMedia<D>::surface_fields(int set) const {
   HaloFields f;
   const LiquidFields<D>& l = sets_[set];
   for (int d = 0; d < D; ++d) f.add(l.gradient[d]);
-  for (int d = 0; d < D; ++d) f.add(l.area[d]);
   f.add(l.pressure);
   return f;
 }

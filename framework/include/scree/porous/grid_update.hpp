@@ -177,8 +177,8 @@ struct TwoPhaseGridUpdate {
       liquid.velocity_new[d][I] = wl[d];
     }
     // The next step's P2G adds into the other sets. The fields only SurfaceScatter adds
-    // (gradient, area, pressure: at surface nodes) are cleared where they were added, after
-    // their last reader (SurfaceInflow).
+    // (gradient, pressure: at surface nodes) are cleared where they were added, after their
+    // last reader (SurfaceInflow).
     solid_other.mass[I] = 0;
     liquid_other.mass[I] = 0;
     liquid_other.mass_mix[I] = 0;
@@ -192,6 +192,7 @@ struct TwoPhaseGridUpdate {
       solid_other.force[d][I] = 0;
       liquid_other.momentum[d][I] = 0;
       liquid_other.force[d][I] = 0;
+      liquid_other.area[d][I] = 0;  // after its last reader, this step's PoreRate
     }
   }
 };
@@ -200,8 +201,8 @@ struct TwoPhaseGridUpdate {
 /// hydraulic node laws), added to totals[0]: at a surface node I, -dt rho_l q_I . a_I with
 /// q_I = (M_lm / M_l)(v_l - v_s) the nodal seepage and a_I = sum V grad N = int N n dGamma
 /// (outward n, the divergence theorem), rho_l = M_l / sum N V. Interior nodes carry no
-/// boundary, so what the points' storage gains beyond this sum is the discretisation's
-/// imbalance (the water-balance function object reports it).
+/// boundary: the points' divergence leaves them none (PoreRate), so that the points' storage
+/// gains this sum and no more (the water-balance function object checks it).
 /// The last reader of the fields SurfaceScatter adds at the surface nodes: it clears them
 /// there, so that the set is zero everywhere when its turn comes again (the grid update would
 /// clear them at every node, for the few surface nodes that hold them).
@@ -230,10 +231,7 @@ struct SurfaceInflow {
       const Real dt = control->dt[parity];
       if (qa != 0) atomic_add(totals, -dt * (ml / vol) * qa, serial);
     }
-    for (int d = 0; d < D; ++d) {
-      liquid.gradient[d][I] = 0;
-      liquid.area[d][I] = 0;
-    }
+    for (int d = 0; d < D; ++d) liquid.gradient[d][I] = 0;
     liquid.pressure[I] = 0;
   }
 };

@@ -52,7 +52,8 @@ struct LiquidFields {
   Real* conductance;      ///< sum N V k_rel [m^3]; over `volume`: the node's mean k_rel
   Real* velocity_new[D];  ///< v_l^{k+1} [m/s]
   Real* gradient[D];      ///< sum (m_s + m_lm) grad N [kg/m], the mixture density's (eq. A)
-  Real* area[D];          ///< sum V grad N [m^2 per unit thickness]: the surface's share, int N n dGamma
+  Real* area[D];          ///< sum V grad N [m^2 per unit thickness], at every node: at a surface node its
+                          ///< share of the surface, int N n dGamma; elsewhere the quadrature's error (PoreRate)
   Real* pressure;         ///< sum N V p_w [Pa m^3]; over `volume`: the nodal pore pressure
   Real* volume;           ///< sum N V [m^3] (see drag_per_mass)
 };

@@ -43,6 +43,21 @@ namespace scree {
 ///   cell stayed rho g h/2 apart from the initial hydrostatic profile (0.02 in S_l), more
 ///   with the slope of the rate accumulated across the front.
 ///
+/// The seepage's divergence keeps the divergence theorem. Summed over the points,
+/// sum_p V_p div q(x_p) = sum_I q_I . a_I with a_I = sum_p V_p grad N_I(x_p): at a node on
+/// the surface its share of the surface, int N_I n dGamma (what SurfaceInflow counts), and
+/// elsewhere the quadrature of int grad N_I dV, which is 0 when the node's support lies in
+/// the soil but which the points give as 0 only while they sit regularly. In a disordered
+/// mass (the debris of a failed slope) that error made liquid out of nothing, as much as
+/// the rain brought in (cases/rainfallSlope/README.md, "The water balance after the
+/// failure"). So off the surface the seepage's test gradient carries the correction of
+/// variationally consistent integration (Chen, Hillman & Rueter 2013, IJNME 95:387, the
+/// first-order integration constraint), grad N_I - N_I a_I / sum_q N_Iq V_q: its sum over the
+/// points is then exactly 0 at such a node, where the points sit regularly the correction is
+/// the round-off of a_I = 0, and the liquid the points gain is what crossed the surface. The
+/// skeleton's share, S_l div v_s, is left as it is: it is each point's own change of volume
+/// (its J follows the same nodal velocities), which moves no liquid between points.
+///
 /// Three passes at the points' positions x^k, before the solid pass moves them: PoreRate (the
 /// liquid velocity's G2P, r_p and the cell's moments), CellPressure (per cell: P_c, x_c,
 /// g_c), then PorePressure (p_w, the prescribed pore pressures, S_l(p_w)).
@@ -67,13 +82,15 @@ struct PoreRate : PorePass<D, Shape> {
       if (!(ml > 0)) return;
       const Real rm = 1 / ml;
       const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
+      // The seepage's test gradient: grad N_I, less N_I a_I / sum N V off the surface (above).
+      const Real k = lp.surface[I] ? Real(0) : N / nodal_volume<D>(lp.gather, I, lp.drag_per_mass, lp.pore.rho_l);
       for (int d = 0; d < D; ++d) {
         const Real vln = lp.gather.velocity_new[d][I];
         const Real vsn = pp.gather.velocity_new[d][I];
         vpic[d] += N * vln;
         dv[d] += N * (vln - lp.gather.momentum[d][I] * rm);
         div_s += vsn * gradN[d];
-        div_q += nS * (vln - vsn) * gradN[d];
+        div_q += nS * (vln - vsn) * (gradN[d] - k * lp.gather.area[d][I]);
       }
     });
     const Real a = pic_share(pp.physics, dt);

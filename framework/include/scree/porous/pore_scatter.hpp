@@ -58,7 +58,8 @@ struct PoreColumns {
 ///   the mixture force  F_mix = -V (sigma' - S_l p_w I) grad N + N (m_s + m_lm) g
 ///     (porous/two_phase.hpp), added as one value per node and axis,
 ///   the liquid: porosity from J, M_l, M_lm, the drag and conductance sums, the liquid
-///     momentum, F_l = V p_w grad N + N m_l g, sum N V,
+///     momentum, F_l = V p_w grad N + N m_l g, sum N V, and sum V grad N at every node (the
+///     surface's share where the node is on it; PoreRate's divergence correction elsewhere),
 /// and the volume the points fill in each cell. The fields read only at surface nodes follow in
 /// SurfaceScatter.
 /// One pass for both phases builds the stencil and the warp's runs once, and the mixture
@@ -155,6 +156,7 @@ struct MixtureScatter : PorePass<D, Shape> {
         add(pp.scatter.force[d] + I, -V * s + N * (m_s + m_lm) * pp.physics.gravity[d]);
         add(lp.scatter.momentum[d] + I, N * m_l * vl[d]);
         add(lp.scatter.force[d] + I, V * pw * gradN[d] + N * m_l * pp.physics.gravity[d]);
+        add(lp.scatter.area[d] + I, V * gradN[d]);
       }
     });
     // The pore liquid's signal speed (undrained, the mixture's inertia): c^2 = S_l^2 /
@@ -173,9 +175,9 @@ struct MixtureScatter : PorePass<D, Shape> {
   }
 };
 
-/// The liquid's nodal fields read at surface nodes alone (the closed surface's p_b and
-/// area, eq. A's mixture-density gradient, the surface inflow): sum (m_s + m_lm) grad N,
-/// sum V grad N and sum N V p_w, added only into the nodes SurfaceMask marked, by the points
+/// The liquid's nodal fields read at surface nodes alone (the closed surface's p_b, eq. A's
+/// mixture-density gradient): sum (m_s + m_lm) grad N and sum N V p_w, added only into the
+/// nodes SurfaceMask marked, by the points
 /// whose stencil reaches one: added by every point in MixtureScatter, they would be a third
 /// of its atomics, for nodes that are never read. Weights at x^{k+1}, as MixtureScatter's
 /// (whose porosity it reads).
@@ -228,10 +230,7 @@ struct SurfaceScatter : PorePass<D, Shape> {
         if (mine && value != 0) atomic_add(field, value, serial);
 #endif
       };
-      for (int d = 0; d < D; ++d) {
-        add(lp.scatter.gradient[d] + I, m * gradN[d]);
-        add(lp.scatter.area[d] + I, V * gradN[d]);
-      }
+      for (int d = 0; d < D; ++d) add(lp.scatter.gradient[d] + I, m * gradN[d]);
       add(lp.scatter.pressure + I, N * V * pw);
     });
   }
