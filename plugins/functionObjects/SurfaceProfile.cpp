@@ -183,12 +183,13 @@ std::vector<SurfaceProfile::Bin> SurfaceProfile::evaluate(const Snapshot& s) con
     last = static_cast<std::int64_t>(std::ceil((hi_ - lo_) / width_)) - 1;
   } else {  // the occupied bins of every rank
     const double inf = std::numeric_limits<double>::infinity();
-    std::vector<double> ends = {bins.empty() ? -inf : -static_cast<double>(bins.begin()->first),
-                                bins.empty() ? -inf : static_cast<double>(bins.rbegin()->first)};
-    ranks_.max(ends);
-    if (ends[1] >= -ends[0]) {
-      first = static_cast<std::int64_t>(-ends[0]);
-      last = static_cast<std::int64_t>(ends[1]);
+    std::vector<double> lo = {bins.empty() ? inf : static_cast<double>(bins.begin()->first)},
+                        hi = {bins.empty() ? -inf : static_cast<double>(bins.rbegin()->first)};
+    ranks_.min(lo);
+    ranks_.max(hi);
+    if (hi[0] >= lo[0]) {
+      first = static_cast<std::int64_t>(lo[0]);
+      last = static_cast<std::int64_t>(hi[0]);
     }
   }
   std::vector<Bin> out;
@@ -267,14 +268,15 @@ std::vector<SurfaceProfile::Cell> SurfaceProfile::evaluate_field(const Snapshot&
   } else if (ranks_.size() > 1) {  // the occupied bins of every rank
     const double inf = std::numeric_limits<double>::infinity();
     const bool any = max_a >= min_a;
-    std::vector<double> ends = {any ? -static_cast<double>(min_a) : -inf, any ? static_cast<double>(max_a) : -inf,
-                                any ? -static_cast<double>(min_b) : -inf, any ? static_cast<double>(max_b) : -inf};
-    ranks_.max(ends);
-    if (ends[1] >= -ends[0]) {
-      min_a = static_cast<std::int64_t>(-ends[0]);
-      max_a = static_cast<std::int64_t>(ends[1]);
-      min_b = static_cast<std::int64_t>(-ends[2]);
-      max_b = static_cast<std::int64_t>(ends[3]);
+    std::vector<double> lo = {any ? static_cast<double>(min_a) : inf, any ? static_cast<double>(min_b) : inf},
+                        hi = {any ? static_cast<double>(max_a) : -inf, any ? static_cast<double>(max_b) : -inf};
+    ranks_.min(lo);
+    ranks_.max(hi);
+    if (hi[0] >= lo[0]) {
+      min_a = static_cast<std::int64_t>(lo[0]);
+      max_a = static_cast<std::int64_t>(hi[0]);
+      min_b = static_cast<std::int64_t>(lo[1]);
+      max_b = static_cast<std::int64_t>(hi[1]);
     }
   }
   const double oa = dot(axis_a_, origin_.data()), ob = dot(axis_b_, origin_.data());
