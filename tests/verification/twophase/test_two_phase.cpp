@@ -956,14 +956,14 @@ TEST(TwoPhase, RainOnAnInclinedFaceEntersAtItsHorizontalProjection3D) {
 // base; every surface is closed, so its stored liquid sum rho_l (1 + p/K_l) n S V changes only
 // by what the surface counter says crossed the surface. The points' divergence of the seepage
 // sums to the nodal seepage times sum_p V_p grad N_I(x_p) over every node; inside the soil
-// that sum is the quadrature of int grad N_I dV = 0, which disordered points miss, and the
-// seepage that goes on in the heap at rest then made liquid at a steady rate (3.4e-4 of the
-// stored liquid a second here; in the slope's debris as much as the rain brought). Checked
-// from 0.4 s (the heap at rest) to 1 s: the stored liquid less what crossed the surface
-// changes by at most 1e-5 of the stored liquid. What remains at rest is second order in the
-// pressure changes of a step (the storage linearised over a step; measured 4e-7); the fault
-// made 2e-4. The column is checked to have slumped (its foot moved by more than half a cell:
-// the points no longer sit where they were generated).
+// that sum is the quadrature of int grad N_I dV = 0, which disordered points miss unless the
+// divergence is corrected (porous/pore_gather.hpp), and the seepage that goes on in the heap
+// at rest would then make liquid at a steady rate. Checked from 0.4 s (the heap at rest) to
+// 1 s: the stored liquid less what crossed the surface changes by at most 1e-5 of the stored
+// liquid. What may remain at rest is second order in a step's pressure changes (the storage
+// linearised over a step), orders below the bound; the uncorrected divergence exceeds it
+// twentyfold. The column is checked to have slumped (its foot moved by more than half a
+// cell: the points no longer sit where they were generated).
 TEST(TwoPhase, ACollapsedClosedHeapMakesNoLiquid) {
   TempCase tc("closed_heap");
   const double rho_l = 1000, Kl = 2e7;

@@ -48,9 +48,9 @@ namespace scree {
 /// the surface its share of the surface, int N_I n dGamma (what SurfaceInflow counts), and
 /// elsewhere the quadrature of int grad N_I dV, which is 0 when the node's support lies in
 /// the soil but which the points give as 0 only while they sit regularly. In a disordered
-/// mass (the debris of a failed slope) that error made liquid out of nothing, as much as
-/// the rain brought in (cases/rainfallSlope/README.md, "The water balance after the
-/// failure"). So off the surface the seepage's test gradient carries the correction of
+/// mass (the debris of a failed slope) the uncorrected sum makes liquid out of nothing, as
+/// much as the rain brings in (cases/rainfallSlope/README.md, "The water balance closes,
+/// after the failure too"). So off the surface the seepage's test gradient carries the correction of
 /// variationally consistent integration (Chen, Hillman & Rueter 2013, IJNME 95:387, the
 /// first-order integration constraint), grad N_I - N_I a_I / sum_q N_Iq V_q: its sum over the
 /// points is then exactly 0 at such a node, where the points sit regularly the correction is
