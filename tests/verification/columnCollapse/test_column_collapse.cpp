@@ -1,8 +1,8 @@
 // Regression of the granular column collapse at 5 mm cells: cases/columnCollapse
-// variant C-2 (3,200 particles, 110,000 steps), run to the end on the CPU backend. The
-// deposit's run-out and height must stay within a tolerance of the reference values this
-// code produced when the case was validated (README of the case: C-2 row of the mesh
-// study), and the flow must have come to rest.
+// variant C-2 (3,200 particles, 110,000 steps), run to the end on the CPU backend (or the
+// GPU's, with --device=cuda). The deposit's run-out and height must stay within a
+// tolerance of the reference values this code produced when the case was validated (README
+// of the case: C-2 row of the mesh study), and the flow must have come to rest.
 //
 // Tolerances: run-out 4% and height 2%. The flow is a chaotic many-particle process:
 // the order of the atomic additions on several threads changes the last bits of nodal
@@ -62,3 +62,5 @@ TEST(ColumnCollapse, C2RunoutAndHeightMatchTheReference) {
 
 }  // namespace
 }  // namespace scree::test
+
+SCREE_TEST_MAIN()
