@@ -23,6 +23,9 @@
 // The rain offered to the surface nodes and what they do not take of it (the surface ponds,
 // or the water runs off) are counted in the case's liquid totals (TwoPhaseNodes::totals):
 // the snapshot's liquidRainOffered and liquidRainNotTaken, waterBalance's rain columns.
+// Where the surface ponds is seen on the points: a surface node that does not take all the
+// rain holds the rate it leaves (LiquidFields::not_taken), and the points in its reach carry
+// it as rainNotTaken, with pondingDuration, how long it has lasted (PoreRate).
 //
 // Surface nodes are found at every step: nodes with mass that touch an empty cell and a cell
 // holding points, or only empty cells (their mass then comes from the GIMP domains of points
@@ -87,31 +90,43 @@ struct RainfallKernel {
       vl[d] = g.liquid.velocity_new[d][I];
     }
     if (g.masks && g.masks[I]) project_on_walls<D>(g.walls, g.masks[I], t, grad);  // the walls' planes
-    if (rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], w, vs, vl)) {
+    const bool takes_it_all = rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], w, vs, vl);
+    if (takes_it_all) {
       for (int d = 0; d < D; ++d) {
         g.solid.velocity_new[d][I] = vs[d];
         g.liquid.velocity_new[d][I] = vl[d];
       }
     }
-    if (g.totals && g.owned.holds(g.grid, I)) book(I, w, vs, vl);
+    const Share s = share(I, w, vs, vl);
+    // Where (B) fails the surface ponds: the rain it does not take, per unit horizontal area,
+    // is the intensity times the share of what was offered that did not enter (more than the
+    // intensity where liquid seeps out). Every node of the rank's grid gets it (the points
+    // near a cut read their ghosts' too).
+    if (!takes_it_all && s.offered > 0) g.liquid.not_taken[I] = rate * fmax(Real(0), 1 - s.taken / s.offered);
+    if (g.totals && s.offered > 0 && g.owned.holds(g.grid, I)) {
+      atomic_add(g.totals + 2, s.offered, g.serial);
+      atomic_add(g.totals + 3, s.offered - s.taken, g.serial);
+    }
   }
 
-  /// The rain offered to node I, rho_l |w . a_I| dt (a_I = sum V grad N_I, the node's share
-  /// of the surface, outwards: w . a_I < 0 where the rain falls onto it), and what the node
-  /// does not take of it: offered less its inflow -dt (M_l / V_I) n S_l (v_l - v_s) . a_I,
-  /// SurfaceInflow's count (porous/grid_update.hpp) with this step's corrected velocities.
-  SCREE_HD void book(Index I, const Real* w, const Real* vs, const Real* vl) const {
+  /// The rain offered to node I in the step [kg] (per metre in 2D), rho_l |w . a_I| dt
+  /// (a_I = sum V grad N_I, the node's share of the surface, outwards: w . a_I < 0 where the
+  /// rain falls onto it; 0 elsewhere), and what the node takes of it, its inflow
+  /// -dt (M_l / V_I) n S_l (v_l - v_s) . a_I: SurfaceInflow's count (porous/grid_update.hpp)
+  /// with this step's corrected velocities.
+  struct Share {
+    Real offered = 0, taken = 0;
+  };
+  SCREE_HD Share share(Index I, const Real* w, const Real* vs, const Real* vl) const {
     Real wa = 0, qa = 0;
     const Real ml = g.liquid.mass[I], nS = ml > 0 ? g.liquid.mass_mix[I] / ml : Real(0);
     for (int d = 0; d < D; ++d) {
       wa += w[d] * g.liquid.area[d][I];
       qa += nS * (vl[d] - vs[d]) * g.liquid.area[d][I];
     }
-    if (!(wa < 0)) return;
+    if (!(wa < 0)) return {};
     const Real dt = g.control->dt[g.parity], vol = nodal_volume<D>(g.liquid, I, g.drag_per_mass, g.rho_l);
-    const Real offered = -dt * g.rho_l * wa, taken = vol > 0 ? -dt * (ml / vol) * qa : Real(0);
-    atomic_add(g.totals + 2, offered, g.serial);
-    atomic_add(g.totals + 3, offered - taken, g.serial);
+    return {-dt * g.rho_l * wa, vol > 0 ? -dt * (ml / vol) * qa : Real(0)};
   }
 };
 }  // namespace detail

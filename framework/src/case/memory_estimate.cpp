@@ -13,6 +13,7 @@
 #include "scree/mpm/grid.hpp"
 #include "scree/mpm/particle_pass.hpp"
 #include "scree/mpm/wall_law.hpp"
+#include "scree/output/field_info.hpp"
 #include "scree/porous/two_phase.hpp"
 
 namespace scree {
@@ -156,9 +157,9 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
                  D == 2 ? points<2>(*b.dict, h, n_ppc, m.case_dir) : points<3>(*b.dict, h, n_ppc, m.case_dir)};
     if (R > 1) p.rank_share = std::min(1.0, kRebalanceRatio / R);  // the most a rank holds before a recut
     // particle_storage.hpp: x, v, x0 (D each), F (D^2), sigma (4 in 2D, 6 in 3D), mass,
-    // volume0, id, C (D^2, APIC), the state, a two-phase body's 4 + 2 D extra columns.
+    // volume0, id, C (D^2, APIC), the state, a two-phase body's extra columns (PoreColumn).
     const double columns = 3 * D + D * D + (D == 2 ? 4 : 6) + 3 + (m.apic ? D * D : 0) + b.state_reals +
-                           (b.two_phase ? 4 + 2 * D : 0);
+                           (b.two_phase ? (D == 2 ? kPoreColumns<2> : kPoreColumns<3>) : 0);
     const double block = columns * kReal;
     // particle_sort.hpp: keys and permutation (2 uint32 each, double-buffered), and a
     // scratch block of every column (a block up to 64 MiB) or 4 of them.
@@ -179,8 +180,11 @@ MemoryEstimate evaluate(const Model& m, double h, int body = -1, int ppc = 0) {
     // snapshots (one being written, the writer's own copy of it, the next one being
     // taken): position (3), id, velocity, displacement (3 each), stress (6), pressure,
     // deviatoric stress, volume, mass, density, bodyId, the material's and a two-phase
-    // body's (4 scalars, 2 vectors of 3).
-    const double fields = (3 + 1 + 3 + 3 + 6 + 6 + b.output_reals + (b.two_phase ? 10 : 0)) * kReal;
+    // body's (two_phase_fields: vectors of 3).
+    double two_phase_reals = 0;
+    if (b.two_phase)
+      for (const FieldInfo& f : two_phase_fields()) two_phase_reals += f.components;
+    const double fields = (3 + 1 + 3 + 3 + 6 + 6 + b.output_reals + two_phase_reals) * kReal;
     // A decomposed run: each rank writes its own points as a piece, on its main thread (one
     // snapshot at a time, and the writer's copy of it); the first also gathers the whole
     // case when a function object that does not reduce over ranks is due.

@@ -63,7 +63,14 @@ const std::vector<FieldInfo>& two_phase_fields() {
       {"porosity", 1, "-", "porosity n = 1 - (1 - n0) / det F"},
       {"suction", 1, "Pa", "suction s = -p_w where p_w < 0, else 0"},
       {"liquidVelocity", 3, "m/s", "velocity of the pore liquid v_l"},
-      {"seepageVelocity", 3, "m/s", "Darcy flux, the seepage velocity w = n S_l (v_l - v_s)"}};
+      {"seepageVelocity", 3, "m/s", "Darcy flux, the seepage velocity w = n S_l (v_l - v_s)"},
+      {"rainNotTaken", 1, "m/s",
+       "rain the surface does not take (it ponds or runs off), with any liquid seeping out there, per unit "
+       "horizontal area: the most at the surface nodes in the point's reach; 0 where the surface takes all the rain "
+       "or none falls"},
+      {"pondingDuration", 1, "s",
+       "how long the surface in the point's reach has not taken all the rain, without a break (0: it takes it all); "
+       "the ponding began at the time less this"}};
   return fields;
 }
 
@@ -144,6 +151,7 @@ void PorousMedia<D>::set_grid(const GridGeometry<D>& grid) {
     for (int d = 0; d < D; ++d) f.area[d] = next();
     f.pressure = next();
     f.volume = next();
+    f.not_taken = next();
     cells_[s].resize(static_cast<std::size_t>(nn), exec_.device);
   }
   surface_.resize(static_cast<std::size_t>(nn), exec_.device);
@@ -246,7 +254,7 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
   std::vector<Real> vl(n * D);
   for (std::size_t p = 0; p < n; ++p)
     for (int d = 0; d < D; ++d) vl[p * D + static_cast<std::size_t>(d)] = p < s.v.size() ? s.v[p][d] : Real(0);
-  const std::vector<Real>* initial[] = {&pw, &sat, &por, &suction, &vl, nullptr};
+  const std::vector<Real>* initial[] = {&pw, &sat, &por, &suction, &vl, nullptr, nullptr, nullptr};
   for (std::size_t k = 0; k < two_phase_fields().size(); ++k) {
     const FieldInfo& f = two_phase_fields()[k];
     s.extra.push_back(Col{f.name, f.unit, f.doc, f.components == 1 ? 1 : D, 0,

@@ -748,19 +748,44 @@ TEST(TwoPhase, RainFollowsItsHyetograph) {
 // rain (measured: 1e-15). The heavy one leaves a share on the surface, more than 5% of it
 // (measured: 27% in 0.3 s; the unsaturated top takes more than K_sat while its suction
 // lasts).
+// Where and since when it ponds, on the points (rainNotTaken, pondingDuration): under the
+// light rain every point reads 0. Under the heavy one the top row reads, at the end, the rain
+// less what the surface takes: w - q, q the surface inflow's rate over the last 0.01 s
+// (liquidInflowSurface, another kernel's count), within 2% of w (the rate drifts over those
+// 0.01 s; measured 0.5%); its pondingDuration is the time since the not-taken total began to
+// grow (found to 0.01 s by reading the total every 0.01 s, plus a step either side); the
+// points more than two cells below the top, beyond the reach of the surface nodes, read 0.
 TEST(TwoPhase, RainTheSurfaceCannotTakeIsCountedAsNotTaken) {
-  const double width = 0.025, rho_l = 1000, end = 0.3;
+  const double width = 0.025, rho_l = 1000, end = 0.3, H = 1.05, h = 0.025, chunk = 0.01;
   for (const double w : {5e-4, 5e-3}) {
     TempCase tc(w < 1e-3 ? "rain_taken" : "rain_ponds");
     const std::string bc =
         "rain { type rainfall; box { min (-1 1.0); max (1 1.2); } intensity " + std::to_string(w) + "; unit m/s; }";
-    write_column(tc, width, 1.05, 1.1, 0.025, kSeedSoil, "", bc, "soil { type linearElastic; E 5e8; nu 0; rho 2700; }",
+    write_column(tc, width, H, 1.1, h, kSeedSoil, "", bc, "soil { type linearElastic; E 5e8; nu 0; rho 2700; }",
                  "gimp");
     tc.write("system/mpmSchemes", "updateScheme USL; shapeFunction gimp; massTolerance 0;");
     Case cs = Case::read(tc.dir(), runtime());
     Simulation sim(cs, runtime(), options());
+    // The first reading of the not-taken total above round-off (1e-6 of the rain so far)
+    // brackets the ponding's start.
+    const int chunks = static_cast<int>(std::lround(end / chunk));
+    double ponds_after = -1, ponds_by = -1, inflow_before_end = 0;
+    for (int k = 1; k < chunks; ++k) {
+      sim.advance_to(k * chunk);
+      const Snapshot s = sim.snapshot();
+      const BodySnapshot& b = s.bodies.at(0);
+      if (ponds_by < 0 && b.scalar("liquidRainNotTaken")->value > 1e-6 * rho_l * w * width * k * chunk) {
+        ponds_after = (k - 1) * chunk;
+        ponds_by = k * chunk;
+      }
+      inflow_before_end = b.scalar("liquidInflowSurface")->value;
+    }
     sim.advance_to(end);
     const Snapshot s = sim.snapshot();
+    if (ponds_by < 0 && s.bodies.at(0).scalar("liquidRainNotTaken")->value > 1e-6 * rho_l * w * width * end) {
+      ponds_after = end - chunk;
+      ponds_by = end;
+    }
     const BodySnapshot& b = s.bodies.at(0);
     const auto *offered = b.scalar("liquidRainOffered"), *not_taken = b.scalar("liquidRainNotTaken"),
                *inflow = b.scalar("liquidInflowSurface");
@@ -774,6 +799,36 @@ TEST(TwoPhase, RainTheSurfaceCannotTakeIsCountedAsNotTaken) {
       EXPECT_LT(std::fabs(not_taken->value), 0.01 * rain);
     else
       EXPECT_GT(not_taken->value, 0.05 * rain) << "a rain of 25 K_sat ponds";
+
+    const FieldData &rate = field(b, "rainNotTaken"), &lasted = field(b, "pondingDuration");
+    const double q = (inflow->value - inflow_before_end) / (rho_l * width * chunk), dt_max = 1e-3;
+    double top_lo = 1e300, top_hi = -1e300, lasted_lo = 1e300, lasted_hi = -1e300, deep = 0;
+    for (Index i = 0; i < b.n; ++i) {
+      const double y = b.position[3 * i + 1];
+      if (y > H - h) {
+        top_lo = std::min(top_lo, rate.values[i]);
+        top_hi = std::max(top_hi, rate.values[i]);
+        lasted_lo = std::min(lasted_lo, lasted.values[i]);
+        lasted_hi = std::max(lasted_hi, lasted.values[i]);
+      } else if (y < H - 2 * h) {
+        deep = std::max({deep, std::fabs(rate.values[i]), std::fabs(lasted.values[i])});
+      }
+    }
+    std::printf("w = %g m/s: the top row's rainNotTaken %.4g-%.4g m/s (w - q = %.4g), pondingDuration %.4g-%.4g s "
+                "(the total grew from %.2f-%.2f s), deeper points at most %.3g\n",
+                w, top_lo, top_hi, w - q, lasted_lo, lasted_hi, ponds_after, ponds_by, deep);
+    EXPECT_EQ(deep, 0) << "w = " << w << ": a point beyond the surface nodes' reach";
+    if (w < 1e-3) {
+      EXPECT_EQ(top_hi, 0) << "the light rain is taken whole";
+      EXPECT_EQ(lasted_hi, 0) << "the light rain is taken whole";
+      EXPECT_LT(ponds_by, 0) << "the light rain's not-taken total grew";
+    } else {
+      ASSERT_GT(ponds_by, 0) << "the heavy rain's not-taken total never grew";
+      EXPECT_NEAR(top_lo, w - q, 0.02 * w);
+      EXPECT_NEAR(top_hi, w - q, 0.02 * w);
+      EXPECT_GE(lasted_lo, end - ponds_by - dt_max);
+      EXPECT_LE(lasted_hi, end - ponds_after + dt_max);
+    }
   }
 }
 

@@ -183,6 +183,7 @@ struct TwoPhaseGridUpdate {
     liquid_other.mass[I] = 0;
     liquid_other.mass_mix[I] = 0;
     liquid_other.conductance[I] = 0;
+    liquid_other.not_taken[I] = 0;  // after its last reader, this step's PoreRate
     if (!(drag_per_mass > 0)) {
       liquid_other.drag[I] = 0;
       liquid_other.volume[I] = 0;

@@ -2,11 +2,13 @@
 // points, its constants, and its nodal fields on the grid.
 //
 // Per point (extra columns, PoreColumn): p_w (compression positive) [Pa], S_l, n, suction,
-// v_l, seepage velocity w = n S_l (v_l - v_s).
+// v_l, seepage velocity w = n S_l (v_l - v_s), and where rain falls, the rain the surface in
+// the point's reach does not take and for how long it has not.
 // Per node (LiquidFields): M_l = sum N rho_l V, M_lm = sum N n S_l rho_l V (the liquid's
 // mass in the mixture), liquid momentum sum N rho_l V v_l, liquid force F_l, drag
 // coefficient Q, liquid velocities, and for the rainfall condition the gradient of the
-// mixture density sum (m_s + m_lm) grad N (its eq. A) and the points per cell.
+// mixture density sum (m_s + m_lm) grad N (its eq. A), the rain a surface node does not
+// take, and the points per cell.
 #pragma once
 
 #include <cstdint>
@@ -23,8 +25,14 @@ enum PoreColumn : int { kPorePressure = 0, kSaturation = 1, kPorosity = 2, kSuct
 /// Column of the seepage velocity's first component.
 template <int D>
 inline constexpr int kSeepage = kLiquidVelocity + D;
+/// Column of the rain not taken at the surface nodes in the point's reach [m/s], and of
+/// how long they have not taken all of it [s] (PoreRate).
 template <int D>
-inline constexpr int kPoreColumns = kLiquidVelocity + 2 * D;
+inline constexpr int kRainNotTaken = kLiquidVelocity + 2 * D;
+template <int D>
+inline constexpr int kPondingDuration = kRainNotTaken<D> + 1;
+template <int D>
+inline constexpr int kPoreColumns = kPondingDuration<D> + 1;
 
 /// The constants of a two-phase body.
 struct PoreParams {
@@ -56,6 +64,8 @@ struct LiquidFields {
                           ///< share of the surface, int N n dGamma; elsewhere the quadrature's error (PoreRate)
   Real* pressure;         ///< sum N V p_w [Pa m^3]; over `volume`: the nodal pore pressure
   Real* volume;           ///< sum N V [m^3] (see drag_per_mass)
+  Real* not_taken;        ///< rain a surface node does not take, per unit horizontal area [m/s]:
+                          ///< written by the rainfall condition where the surface ponds, else 0
 };
 
 /// A node's sum N V [m^3] and drag at k_rel = 1 [kg/s] (LiquidFields::volume, drag), from
@@ -69,7 +79,7 @@ SCREE_INLINE Real nodal_drag(const LiquidFields<D>& f, Index I, Real drag_per_ma
   return drag_per_mass > 0 ? f.mass_mix[I] * drag_per_mass : f.drag[I];
 }
 template <int D>
-inline constexpr int kLiquidFieldCount = 6 + 5 * D;
+inline constexpr int kLiquidFieldCount = 7 + 5 * D;
 
 /// The cell of the grid that holds x (cell (i, j) indexed as node (i, j), strides of the
 /// node counts): the points-per-cell counts and the liquid mass balance use it.

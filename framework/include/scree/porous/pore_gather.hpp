@@ -76,10 +76,11 @@ struct PoreRate : PorePass<D, Shape> {
     if (!st.inside) return;
     Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
     for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
-    Real div_s = 0, div_q = 0;
+    Real div_s = 0, div_q = 0, not_taken = 0;
     for_each_stencil_node(st, pp.grid, x, true, [&](Index I, Real N, const Vec<D>& gradN, const Vec<D>&) {
       const Real ml = lp.gather.mass[I];
       if (!(ml > 0)) return;
+      if (N > 0) not_taken = fmax(not_taken, lp.gather.not_taken[I]);
       const Real rm = 1 / ml;
       const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
       // The seepage's test gradient: grad N_I, less N_I a_I / sum N V off the surface (above).
@@ -95,6 +96,10 @@ struct PoreRate : PorePass<D, Shape> {
     });
     const Real a = pic_share(pp.physics, dt);
     for (int d = 0; d < D; ++d) col(kLiquidVelocity + d, p) = a * vpic[d] + (1 - a) * (vl[d] + dv[d]);
+    // Ponding seen from the point: the most rain left by a surface node in its reach, and
+    // for how many seconds without a break.
+    col(kRainNotTaken<D>, p) = not_taken;
+    col(kPondingDuration<D>, p) = not_taken > 0 ? col(kPondingDuration<D>, p) + dt : Real(0);
     const Real n = col(kPorosity, p), S = col(kSaturation, p), pw = col(kPorePressure, p);
     const Real V = Base::volume_at(p, n);
     const Real r = -(S * div_s + div_q) * V, c = lp.pore.storage(n, S, pw) * V;
