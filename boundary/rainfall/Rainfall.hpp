@@ -2,10 +2,16 @@
 // of both phases' nodal velocities (and so accelerations) after the grid update; the
 // supplementary material of the rainfall-infiltration MPM we implement, its eqs. (A)-(E):
 //
-//   (A) outward unit normal at node I from the mixture's density:
-//         n_I = sum_p rho_mix,p grad N_I(x_p) V_p / |...|,  rho_mix V = m_s + n S_l rho_l V
+//   (A) outward unit normal at node I, the direction of its share of the surface
+//         a_I = sum_p V_p grad N_I(x_p),  n_I = a_I / |a_I|
 //       (grad N_I(x_p) points from the points towards the node: outwards at a surface node;
-//       at a node that slip or friction walls hold, in the walls' planes: project_on_walls);
+//       at a node that slip or friction walls hold, in the walls' planes: project_on_walls).
+//       The seed's eq. (A) weights the sum with the mixture's density rho_mix (m_s + n S_l
+//       rho_l V per point); where the saturation varies along the surface that tilts n_I off
+//       the surface of the points, and the flux the correction sets along n_I is not the flux
+//       through a_I, which is what the surface takes (SurfaceInflow counts it so): on
+//       cases/rainfallSlope the surface took up to 0.3% more than the rain in its first
+//       seconds. Along a_I the surface takes exactly the rain where (B) holds;
 //   (B) if [n S_l (v~_l - v~_s) - w] . n_I <= 0, the surface would take at least the rain
 //       (w: the rain's velocity, intensity x its unit direction; w . n < 0 into the soil):
 //       correct, else the soil cannot take the rain, the surface keeps the natural
@@ -85,7 +91,7 @@ struct RainfallKernel {
     for (int d = 0; d < D; ++d) w[d] = rate * dir[d] / len;
     Real grad[D], vs[D], vl[D];
     for (int d = 0; d < D; ++d) {
-      grad[d] = g.liquid.gradient[d][I];
+      grad[d] = g.liquid.area[d][I];
       vs[d] = g.solid.velocity_new[d][I];
       vl[d] = g.liquid.velocity_new[d][I];
     }

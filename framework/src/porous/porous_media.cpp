@@ -147,7 +147,6 @@ void PorousMedia<D>::set_grid(const GridGeometry<D>& grid) {
     for (int d = 0; d < D; ++d) f.momentum[d] = next();
     for (int d = 0; d < D; ++d) f.force[d] = next();
     for (int d = 0; d < D; ++d) f.velocity_new[d] = next();
-    for (int d = 0; d < D; ++d) f.gradient[d] = next();
     for (int d = 0; d < D; ++d) f.area[d] = next();
     f.pressure = next();
     f.volume = next();
@@ -421,7 +420,6 @@ HaloFields PorousMedia<D>::surface_fields(int set) const {
   // What SurfaceScatter adds at the surface nodes.
   HaloFields f;
   const LiquidFields<D>& l = sets_[set];
-  for (int d = 0; d < D; ++d) f.add(l.gradient[d]);
   f.add(l.pressure);
   return f;
 }

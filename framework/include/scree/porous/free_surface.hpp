@@ -14,8 +14,8 @@ namespace scree {
 
 /// The surface normal at a node that walls hold lies in the walls' planes. A contact wall
 /// (slip, friction) is a plane of symmetry of the soil it holds: mirrored across it, the
-/// mixture's density has no gradient along the wall's normal. Without a mirror the points
-/// stop at the wall, and eq. (A) tilts the normal towards it: at the top nodes of a
+/// soil has no surface along the wall's normal. Without a mirror the points stop at the
+/// wall, and sum V grad N tilts the normal towards it: at the top nodes of a
 /// one-cell-wide column it points along the diagonal, and a correction along it (eq. C, or
 /// a closed surface's) sets the seepage along the diagonal, which the wall then halves.
 /// So the gradient loses its components along the normals of the contact walls acting at
@@ -166,10 +166,11 @@ SCREE_INLINE std::uint32_t exposed_open_masks(const GridGeometry<D>& grid, const
 }
 
 /// The seepage through a surface node set to w . n (w: a prescribed seepage velocity, e.g.
-/// rain; n the outward normal from the mixture's density, eq. A of the rainfall paper's
-/// supplement), keeping the mixture's momentum (its eqs. C-E; boundary/rainfall). With
-/// `only_if_more` the correction applies only where the soil would take at least w (eq. B).
-/// Returns whether it was applied.
+/// rain; n = grad / |grad| the outward normal, grad the node's share of the surface
+/// sum V grad N, the flux through which SurfaceInflow counts: boundary/rainfall says why not
+/// the seed's mixture-density weighting of eq. A), keeping the mixture's momentum (the
+/// rainfall paper's supplement, eqs. C-E). With `only_if_more` the correction applies only
+/// where the soil would take at least w (eq. B). Returns whether it was applied.
 template <int D>
 SCREE_HD inline bool seepage_correction(const Real* grad, Real ms, Real ml, Real mlm, const Real* w, Real* vs,
                                         Real* vl, bool only_if_more) {
@@ -178,7 +179,7 @@ SCREE_HD inline bool seepage_correction(const Real* grad, Real ms, Real ml, Real
   if (!(g2 > 0) || !(ml > 0) || !(mlm > 0) || !(ms > 0)) return false;
   const Real inv = 1 / sqrt(g2);
   Real n[D];
-  for (int d = 0; d < D; ++d) n[d] = grad[d] * inv;  // (A)
+  for (int d = 0; d < D; ++d) n[d] = grad[d] * inv;
   const Real nS = mlm / ml;
   Real rel = 0, wn = 0;
   for (int d = 0; d < D; ++d) {

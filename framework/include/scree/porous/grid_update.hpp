@@ -165,7 +165,7 @@ struct TwoPhaseGridUpdate {
       // cut): open, the liquid leaves at p_w = 0; never does it enter.
       Real grad[D];
       const Real w0[D] = {};
-      for (int d = 0; d < D; ++d) grad[d] = liquid.gradient[d][I];
+      for (int d = 0; d < D; ++d) grad[d] = liquid.area[d][I];  // the surface's share: its normal
       if (mask) project_on_walls<D>(walls, mask, t, grad);
       if (seepage_correction<D>(grad, ms, ml, mlm, w0, ws, wl, outflow_only)) {
         if (mask) apply_walls<D>(walls, mask, ws, x, t);  // the walls have the last word
@@ -177,7 +177,7 @@ struct TwoPhaseGridUpdate {
       liquid.velocity_new[d][I] = wl[d];
     }
     // The next step's P2G adds into the other sets. The fields only SurfaceScatter adds
-    // (gradient, pressure: at surface nodes) are cleared where they were added, after their
+    // (pressure: at surface nodes) are cleared where they were added, after their
     // last reader (SurfaceInflow).
     solid_other.mass[I] = 0;
     liquid_other.mass[I] = 0;
@@ -232,7 +232,6 @@ struct SurfaceInflow {
       const Real dt = control->dt[parity];
       if (qa != 0) atomic_add(totals, -dt * (ml / vol) * qa, serial);
     }
-    for (int d = 0; d < D; ++d) liquid.gradient[d][I] = 0;
     liquid.pressure[I] = 0;
   }
 };

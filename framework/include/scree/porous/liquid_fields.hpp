@@ -6,9 +6,8 @@
 // the point's reach does not take and for how long it has not.
 // Per node (LiquidFields): M_l = sum N rho_l V, M_lm = sum N n S_l rho_l V (the liquid's
 // mass in the mixture), liquid momentum sum N rho_l V v_l, liquid force F_l, drag
-// coefficient Q, liquid velocities, and for the rainfall condition the gradient of the
-// mixture density sum (m_s + m_lm) grad N (its eq. A), the rain a surface node does not
-// take, and the points per cell.
+// coefficient Q, liquid velocities, the surface's share sum V grad N (its normal), the rain
+// a surface node does not take, and the points per cell.
 #pragma once
 
 #include <cstdint>
@@ -59,7 +58,6 @@ struct LiquidFields {
   Real* drag;             ///< sum N V n S_l mu_l / kappa [kg/s]: Q at k_rel = 1 (see drag_per_mass)
   Real* conductance;      ///< sum N V k_rel [m^3]; over `volume`: the node's mean k_rel
   Real* velocity_new[D];  ///< v_l^{k+1} [m/s]
-  Real* gradient[D];      ///< sum (m_s + m_lm) grad N [kg/m], the mixture density's (eq. A)
   Real* area[D];          ///< sum V grad N [m^2 per unit thickness], at every node: at a surface node its
                           ///< share of the surface, int N n dGamma; elsewhere the quadrature's error (PoreRate)
   Real* pressure;         ///< sum N V p_w [Pa m^3]; over `volume`: the nodal pore pressure
@@ -79,7 +77,7 @@ SCREE_INLINE Real nodal_drag(const LiquidFields<D>& f, Index I, Real drag_per_ma
   return drag_per_mass > 0 ? f.mass_mix[I] * drag_per_mass : f.drag[I];
 }
 template <int D>
-inline constexpr int kLiquidFieldCount = 7 + 5 * D;
+inline constexpr int kLiquidFieldCount = 7 + 4 * D;
 
 /// The cell of the grid that holds x (cell (i, j) indexed as node (i, j), strides of the
 /// node counts): the points-per-cell counts and the liquid mass balance use it.

@@ -175,12 +175,10 @@ struct MixtureScatter : PorePass<D, Shape> {
   }
 };
 
-/// The liquid's nodal fields read at surface nodes alone (the closed surface's p_b, eq. A's
-/// mixture-density gradient): sum (m_s + m_lm) grad N and sum N V p_w, added only into the
-/// nodes SurfaceMask marked, by the points
-/// whose stencil reaches one: added by every point in MixtureScatter, they would be a third
-/// of its atomics, for nodes that are never read. Weights at x^{k+1}, as MixtureScatter's
-/// (whose porosity it reads).
+/// The liquid's nodal field read at surface nodes alone (the closed surface's p_b): sum N V
+/// p_w, added only into the nodes SurfaceMask marked, by the points whose stencil reaches
+/// one: added by every point in MixtureScatter, it would be atomics for nodes that are never
+/// read. Weights at x^{k+1}, as MixtureScatter's.
 template <int D, class Shape>
 struct SurfaceScatter : PorePass<D, Shape> {
   using Base = PorePass<D, Shape>;
@@ -201,14 +199,12 @@ struct SurfaceScatter : PorePass<D, Shape> {
     if (!__any_sync(0xffffffffu, touches)) return;  // the whole warp inside the soil (uniform)
 #endif
     active = active && touches;
-    Real V = 0, pw = 0, m = 0;
+    Real V = 0, pw = 0;
     if (active) {
       Mat<D> F;
       for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
       V = pa.volume0[p] * det(F);
-      const Real n = col(kPorosity, p), S = col(kSaturation, p);
       pw = col(kPorePressure, p);
-      m = pa.mass[p] + n * S * lp.pore.rho_l * V;  // m_s + m_lm
     }
     const bool serial = pp.policy.serial;
 #if defined(__CUDA_ARCH__)
@@ -217,7 +213,7 @@ struct SurfaceScatter : PorePass<D, Shape> {
 #else
     const WarpSegment seg(0);
 #endif
-    for_each_stencil_node(st, pp.grid, x, active, [&](Index I, Real N, const Vec<D>& gradN, const Vec<D>&) {
+    for_each_stencil_node(st, pp.grid, x, active, [&](Index I, Real N, const Vec<D>&, const Vec<D>&) {
       const bool mine = active && lp.surface[I] != 0;  // the same node for a whole run of lanes
 #if !defined(__CUDA_ARCH__)
       if (!mine || N == 0) return;
@@ -230,7 +226,6 @@ struct SurfaceScatter : PorePass<D, Shape> {
         if (mine && value != 0) atomic_add(field, value, serial);
 #endif
       };
-      for (int d = 0; d < D; ++d) add(lp.scatter.gradient[d] + I, m * gradN[d]);
       add(lp.scatter.pressure + I, N * V * pw);
     });
   }
