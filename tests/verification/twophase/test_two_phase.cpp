@@ -979,7 +979,11 @@ TEST(TwoPhase, InclinedFaceKeepsItsWaterWithoutRain3D) { expect_inclined_face_ke
 // it whole), over the crest, the face and the toe (the whole top between the slip walls):
 // what enters is rho_l w A t with A the surface's horizontal projection (the rain per unit
 // horizontal area, eq. C with w . n on each node's share a_I of the surface), within 2% as
-// the columns under rain above; and the stored liquid grows by it.
+// the columns under rain above; and the stored liquid grows by it. Where the soil takes the
+// rain whole, each node takes what was offered to it: the not-taken count is within 1e-4 of
+// the rain (measured 3.1e-5 in 2D and 6.2e-5 in 3D, not located yet; with the correction's
+// normal from the mixture's density, which the saturation along the face tilts off a_I,
+// -1.3e-3 in 2D), and no point reads ponding.
 void expect_rain_enters_at_the_horizontal_projection(const InclinedSlope& slope, double end) {
   TempCase tc("inclined_rain_" + std::to_string(slope.dimension) + "d");
   const double rho_l = 1000, Kl = 2e7, w = 2e-3;
@@ -999,6 +1003,10 @@ void expect_rain_enters_at_the_horizontal_projection(const InclinedSlope& slope,
   EXPECT_NEAR(offered->value, rain, 0.02 * rain) << "kg: the rain offered to the surface";
   EXPECT_NEAR(surface->value, rain, 0.02 * rain) << "kg: entered through the surface";
   EXPECT_NEAR(gained, rain, 0.02 * rain) << "kg: the stored liquid's gain";
+  EXPECT_NEAR(not_taken->value, 0, 1e-4 * rain) << "kg: not taken, where the soil takes the rain whole";
+  double ponding = 0;
+  for (double v : field(b, "pondingDuration").values) ponding = std::max(ponding, v);
+  EXPECT_EQ(ponding, 0) << "s: the longest ponding, where the soil takes the rain whole";
 }
 
 TEST(TwoPhase, RainOnAnInclinedFaceEntersAtItsHorizontalProjection) {
