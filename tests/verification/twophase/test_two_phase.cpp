@@ -769,22 +769,17 @@ TEST(TwoPhase, RainTheSurfaceCannotTakeIsCountedAsNotTaken) {
     // The first reading of the not-taken total above round-off (1e-6 of the rain so far)
     // brackets the ponding's start.
     const int chunks = static_cast<int>(std::lround(end / chunk));
+    Snapshot s;
     double ponds_after = -1, ponds_by = -1, inflow_before_end = 0;
-    for (int k = 1; k < chunks; ++k) {
-      sim.advance_to(k * chunk);
-      const Snapshot s = sim.snapshot();
-      const BodySnapshot& b = s.bodies.at(0);
-      if (ponds_by < 0 && b.scalar("liquidRainNotTaken")->value > 1e-6 * rho_l * w * width * k * chunk) {
-        ponds_after = (k - 1) * chunk;
-        ponds_by = k * chunk;
+    for (int k = 1; k <= chunks; ++k) {
+      const double t = k < chunks ? k * chunk : end;
+      if (k == chunks) inflow_before_end = s.bodies.at(0).scalar("liquidInflowSurface")->value;
+      sim.advance_to(t);
+      s = sim.snapshot();
+      if (ponds_by < 0 && s.bodies.at(0).scalar("liquidRainNotTaken")->value > 1e-6 * rho_l * w * width * t) {
+        ponds_after = t - chunk;
+        ponds_by = t;
       }
-      inflow_before_end = b.scalar("liquidInflowSurface")->value;
-    }
-    sim.advance_to(end);
-    const Snapshot s = sim.snapshot();
-    if (ponds_by < 0 && s.bodies.at(0).scalar("liquidRainNotTaken")->value > 1e-6 * rho_l * w * width * end) {
-      ponds_after = end - chunk;
-      ponds_by = end;
     }
     const BodySnapshot& b = s.bodies.at(0);
     const auto *offered = b.scalar("liquidRainOffered"), *not_taken = b.scalar("liquidRainNotTaken"),
