@@ -33,6 +33,17 @@
 // rain holds the rate it leaves (LiquidFields::not_taken), and the points in its reach carry
 // it as rainNotTaken, with pondingDuration, how long it has lasted (PoreRate).
 //
+// What the surface does not take stands on it up to `pondingDepth` (as the surface storage
+// of a Richards solver, HYDRUS's largest surface pressure head), and the rest runs off
+// (liquidRunOff). The pond P_I of a surface node is offered to the soil with the next step's
+// rain, w' = w - P_I / (dt rho_l a_I . up) up in (B)-(E), until it has drained, also after
+// the rain has stopped (the grid update keeps such a node's surface open); its weight loads
+// the surface, p_b = rho_l g d on both phases, d = P_I / (rho_l a_I . up) its depth. Between
+// steps the points near the surface carry it (the grid is cleared every step): SurfaceScatter
+// returns it to the surface nodes that face up, PoreRate gathers it back, both keeping it
+// whole. The points show it as pondDepth, and carry it as pond, whose sum is the water
+// standing on the surface: liquidRainNotTaken - liquidRunOff.
+//
 // Surface nodes are found at every step: nodes with mass that touch an empty cell and a cell
 // holding points, or only empty cells (their mass then comes from the GIMP domains of points
 // beyond: porous/free_surface.hpp, surface_node), inside the condition's region and time window.
@@ -43,7 +54,7 @@
 // hyetograph as a table or a CSV file, evaluated at every step's time on the device.
 //
 //   rain { type rainfall; box { min (0 1.0); max (0.1 1.2); } intensity 1800; unit mm/h; }
-//   rain { type rainfall; face yMax;
+//   rain { type rainfall; face yMax; pondingDepth 0.01;
 //          intensity { type csvFile; file "constant/hyetograph.csv"; timeUnit h; unit mm/h;
 //                      interpolation step; outOfBounds zero; } }
 #pragma once
@@ -78,17 +89,33 @@ struct RainfallKernel {
   Real dir[3];          // the rain's direction, of length len
   Real len;
   Real t_start, t_end;
+  Real pond_depth;  // the most water the surface holds [m]; 0: all the surface leaves runs off
   TwoPhaseNodes<D> g;
   SCREE_HD void operator()(Index i) const {
     const Index I = nodes[i];
     const Real t = g.control->t[g.parity];
-    if (t < t_start || t >= t_end) return;
+    const bool raining = t >= t_start && t < t_end;
+    const Real P = pond_depth > 0 ? g.liquid.pond[I] : Real(0);  // the pond on the node [kg]
+    if (!raining && !(P > 0)) return;
     const Real ms = g.solid.mass[I];
     if (!(ms > g.mass_eps)) return;
     if (!surface_node<D>(g.grid, g.cells, I, g.walls, g.masks ? g.masks[I] : 0u, t, true)) return;
-    const Real rate = intensity(t);
-    Real w[D];
-    for (int d = 0; d < D; ++d) w[d] = rate * dir[d] / len;
+    const Real rate = raining ? intensity(t) : Real(0);
+    Real w[D], level = 0;  // level = a_I . up, the node's share of the surface seen from above
+    for (int d = 0; d < D; ++d) {
+      w[d] = rate * dir[d] / len;
+      level += g.liquid.area[d][I] * g.up[d];
+    }
+    // The pond is offered with the rain: P over the step, falling onto the node's level share,
+    // w' = w - P / (dt rho_l a_I . up) up, so that rho_l |w' . a_I| dt is the rain's offer
+    // plus P. (B)-(E) then hold with w' as with the rain alone: the surface takes all of it
+    // where the soil can, else it keeps the natural condition and the pond what it leaves.
+    const Real dt = g.control->dt[g.parity];
+    Real runoff = 0;
+    const Real pond_in = P > 0 && level > 0 ? P : Real(0);
+    if (P > 0 && !(level > 0)) runoff = P;  // a surface turned away holds no water
+    Real wp[D];
+    for (int d = 0; d < D; ++d) wp[d] = w[d] - (pond_in > 0 && dt > 0 ? pond_in / (dt * g.rho_l * level) : Real(0)) * g.up[d];
     Real grad[D], vs[D], vl[D];
     for (int d = 0; d < D; ++d) {
       grad[d] = g.liquid.area[d][I];
@@ -96,22 +123,33 @@ struct RainfallKernel {
       vl[d] = g.liquid.velocity_new[d][I];
     }
     if (g.masks && g.masks[I]) project_on_walls<D>(g.walls, g.masks[I], t, grad);  // the walls' planes
-    const bool takes_it_all = rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], w, vs, vl);
+    const bool takes_it_all = rainfall_correction<D>(grad, ms, g.liquid.mass[I], g.liquid.mass_mix[I], wp, vs, vl);
     if (takes_it_all) {
       for (int d = 0; d < D; ++d) {
         g.solid.velocity_new[d][I] = vs[d];
         g.liquid.velocity_new[d][I] = vl[d];
       }
     }
-    const Share s = share(I, w, vs, vl);
+    const Share s = share(I, w, vs, vl, pond_in > 0);
     // Where (B) fails the surface ponds: the rain it does not take, per unit horizontal area,
     // is the intensity times the share of what was offered that did not enter (more than the
     // intensity where liquid seeps out). Every node of the rank's grid gets it (the points
     // near a cut read their ghosts' too).
     if (!takes_it_all && s.offered > 0) g.liquid.not_taken[I] = rate * fmax(Real(0), 1 - s.taken / s.offered);
-    if (g.totals && s.offered > 0 && g.owned.holds(g.grid, I)) {
+    // What the surface leaves stands on it, up to pond_depth (rho_l pond_depth a_I . up), and
+    // the rest runs off; where it takes all, nothing stands (the round-off of taken = P +
+    // offered runs off, so that the pond is always [3] - [4] of the totals). A step of no
+    // time (on a target time) moves no water: the pond stays.
+    const Real left = pond_in + s.offered - s.taken;
+    const Real kept = !(dt > 0) ? pond_in
+                      : takes_it_all || !(level > 0) ? Real(0)
+                                                     : fmin(fmax(left, Real(0)), g.rho_l * pond_depth * level);
+    runoff += left - kept;
+    if (pond_depth > 0) g.liquid.pond[I] = kept;
+    if (g.totals && (s.offered > 0 || P > 0) && g.owned.holds(g.grid, I)) {
       atomic_add(g.totals + 2, s.offered, g.serial);
       atomic_add(g.totals + 3, s.offered - s.taken, g.serial);
+      atomic_add(g.totals + 4, runoff, g.serial);
     }
   }
 
@@ -123,16 +161,17 @@ struct RainfallKernel {
   struct Share {
     Real offered = 0, taken = 0;
   };
-  SCREE_HD Share share(Index I, const Real* w, const Real* vs, const Real* vl) const {
+  /// With `pond`, what the node takes is counted also where no rain falls onto it.
+  SCREE_HD Share share(Index I, const Real* w, const Real* vs, const Real* vl, bool pond) const {
     Real wa = 0, qa = 0;
     const Real ml = g.liquid.mass[I], nS = ml > 0 ? g.liquid.mass_mix[I] / ml : Real(0);
     for (int d = 0; d < D; ++d) {
       wa += w[d] * g.liquid.area[d][I];
       qa += nS * (vl[d] - vs[d]) * g.liquid.area[d][I];
     }
-    if (!(wa < 0)) return {};
+    if (!(wa < 0) && !pond) return {};
     const Real dt = g.control->dt[g.parity], vol = nodal_volume<D>(g.liquid, I, g.drag_per_mass, g.rho_l);
-    return {-dt * g.rho_l * wa, vol > 0 ? -dt * (ml / vol) * qa : Real(0)};
+    return {wa < 0 ? -dt * g.rho_l * wa : Real(0), vol > 0 ? -dt * (ml / vol) * qa : Real(0)};
   }
 };
 }  // namespace detail
@@ -153,6 +192,12 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
     s.vector("direction", "-", "direction in which the rain falls (default: along gravity)").size(-1).optional();
     s.scalar("startTime", "s", "the rain starts").default_value(-kUnbounded);
     s.scalar("endTime", "s", "the rain stops").default_value(kUnbounded);
+    s.scalar("pondingDepth", "m",
+             "the most water that stands on the surface where it cannot take the rain (a pond, which drains into "
+             "the soil as the soil takes it, also after the rain, and loads the surface with its weight); what "
+             "exceeds it runs off. 0: all of it runs off")
+        .default_value(0.0)
+        .non_negative();
     return s;
   }
   Rainfall(const ParamReader& r, const SolverContext& ctx)
@@ -172,9 +217,11 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
     len_ = len;
     t_start_ = r.scalar("startTime");
     t_end_ = r.scalar("endTime");
+    pond_depth_ = r.scalar("pondingDepth");
     hosted_ = select_nodes(NodeLattice::of(ctx), [this](const Real* x) { return region_.contains(x); });
   }
   bool has_hydraulic_law() const override { return true; }
+  bool keeps_a_pond() const override { return pond_depth_ > 0; }
   /// Under the rain the surface is open (p_w = 0, the weak form's natural condition): the
   /// soil takes what it can, and (B) clips it to the rain.
   void open_surfaces(std::vector<OpenSurface>& out) const override {
@@ -191,7 +238,8 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
       nodes_.resize(hosted_.size(), ex.device);
       nodes_.copy_from_host(hosted_);
     }
-    detail::RainfallKernel<D> k{nodes_.data(), intensity_.on(ex), {dir_[0], dir_[1], dir_[2]}, len_, t_start_, t_end_, g};
+    detail::RainfallKernel<D> k{nodes_.data(), intensity_.on(ex), {dir_[0], dir_[1], dir_[2]}, len_, t_start_, t_end_,
+                                pond_depth_, g};
     parallel_for(ex, static_cast<Index>(hosted_.size()), k);
   }
 
@@ -199,6 +247,7 @@ class Rainfall final : public BoundaryCondition, public HydraulicCondition {
   FunctionOfTime intensity_;
   Real dir_[3] = {0, 0, 0}, len_ = 1;
   Real t_start_ = -kUnbounded, t_end_ = kUnbounded;
+  Real pond_depth_ = 0;
   std::vector<Index> hosted_;
   mutable Buffer<Index> nodes_;
 };

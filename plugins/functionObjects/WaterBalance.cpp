@@ -14,7 +14,7 @@ namespace {
 
 const char* const kScalars[] = {"liquidDensity", "liquidBulkModulus", "liquidInflowSurface",
                                 "liquidInflowPrescribed"};
-const char* const kRainScalars[] = {"liquidRainOffered", "liquidRainNotTaken"};
+const char* const kRainScalars[] = {"liquidRainOffered", "liquidRainNotTaken", "liquidRunOff"};
 const char* const kFields[] = {"porePressure", "saturation", "porosity", "volume"};
 
 bool two_phase(const BodySnapshot& b) { return b.scalar("liquidDensity") != nullptr; }
@@ -43,7 +43,9 @@ WaterBalance::WaterBalance(const ParamReader& r, const SolverContext& ctx)
                                            "balanceError" + unit,
                                            "relativeError [-]",
                                            "rain" + unit,
-                                           "rainNotTaken" + unit};
+                                           "rainNotTaken" + unit,
+                                           "ponded" + unit,
+                                           "runOff" + unit};
   const auto file = ctx.post_processing_dir() / "waterBalance.csv";
   if (ctx.start_time > 0) {
     // A restart: the reference is the first row the kept file holds (before start_time).
@@ -84,6 +86,7 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
       counted = true;
       if (const auto* r = b.scalar(kRainScalars[0])) t.rain += r->value;
       if (const auto* r = b.scalar(kRainScalars[1])) t.rain_not_taken += r->value;
+      if (const auto* r = b.scalar(kRainScalars[2])) t.run_off += r->value;
     }
   }
   if (first_wet && !counted) {
@@ -132,6 +135,9 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
       w += (1 + pw / bulk) * n * sat * vol;
     }
     t.stored += rho * w;
+    if (const FieldData* pond = b.find("pond"))
+      for (Index p = 0; p < b.n; ++p)
+        if (!b.is_lost(p)) t.ponded += pond->values[p];
     any = true;
   }
   if (!any)
@@ -143,6 +149,7 @@ WaterBalance::Totals WaterBalance::evaluate(const Snapshot& s) const {
     throw std::runtime_error(who_ + ": bodies: the liquid's inflows are counted over all two-phase bodies of the case, "
                              "so the balance needs them all; not selected: " + join(missing));
   t.stored = ranks_.sum(t.stored);  // the points' over the ranks; the inflows are the case's already
+  t.ponded = ranks_.sum(t.ponded);
   return t;
 }
 
@@ -161,7 +168,7 @@ void WaterBalance::execute(const Snapshot& s) {
   const double error = dw - inflow;
   const double tiny = std::max(1e-12 * std::abs(t.stored), std::numeric_limits<double>::min());
   const double relative = error / std::max({std::abs(dw), std::abs(inflow), tiny});
-  if (ranks_.root()) csv_.row({s.time, t.stored, dw, t.inflow_surface, t.inflow_prescribed, error, relative, t.rain, t.rain_not_taken});
+  if (ranks_.root()) csv_.row({s.time, t.stored, dw, t.inflow_surface, t.inflow_prescribed, error, relative, t.rain, t.rain_not_taken, t.ponded, t.run_off});
 }
 
 }  // namespace scree::fo

@@ -16,6 +16,10 @@
 //            t = 0): the rain that fell onto the surface under rainfall conditions, and of it
 //            what the surface did not take (ponded or run off; boundary/rainfall). The rain
 //            taken, rain - rainNotTaken, is part of I_s.
+//   ponded = sum over points of the field pond: the water standing on the surface now
+//            (rainfall's pondingDepth), outside the soil and so not in W
+//   runOff = the scalar liquidRunOff (cumulative): the water that left the surface; the
+//            surface's own balance is rainNotTaken = ponded + runOff.
 // Masses per metre of thickness in 2D (kg/m), kg in 3D. A restart takes the first row of
 // the kept file as the reference.
 //
@@ -46,6 +50,7 @@ class WaterBalance final : public FunctionObject {
     double inflow_surface = 0;     ///< I_s [kg/m]
     double inflow_prescribed = 0;  ///< I_p [kg/m]
     double rain = 0, rain_not_taken = 0;  ///< [kg/m]
+    double ponded = 0, run_off = 0;       ///< [kg/m]
   };
   /// W and the inflows of `s` (std::runtime_error naming the entry for a body that is
   /// not two-phase); W over every rank's points (collective).

@@ -390,7 +390,11 @@ INSTANTIATE_TEST_SUITE_P(Cases, Decomposed, ::testing::ValuesIn(setups()),
 // single-phase cases above: positions, both phases' velocities, the effective stress and
 // the pore pressure, and the totals of the liquid that entered, which must also match the
 // rain that fell (rho_l w L t, the inflow's independent measure, within the 2% the
-// one-rank tests of the rain hold: tests/verification/twophase).
+// one-rank tests of the rain hold: tests/verification/twophase). Where the rain ponds, the
+// pond the points carry matches too, and the surface's own balance holds over the ranks:
+// what it did not take less what ran off is the pond, within 1e-9 of the rain (the pond
+// moves between points and nodes exactly; a node shared by two ranks holds the pond's full
+// sum on both, and each rank's points gather their own shares of it).
 
 const char* kSlopeSoil =
     "twoPhase { porosity 0.487; liquidDensity 1000; liquidBulkModulus 2e7; viscosity 1e-3; hydraulicConductivity "
@@ -402,6 +406,7 @@ struct TwoPhaseVariant {
   double rain = 0;     ///< intensity [m/s] on the whole top
   double top = 0;      ///< the top's horizontal area (per metre in 2D) [m^2]
   bool slides = false; ///< the body crosses the cuts: the boxes must move with it
+  double rain_total = 0;  ///< rain that ponds: the rain's mass [kg] (the pond's balance's scale)
 };
 
 void PrintTo(const TwoPhaseVariant& v, std::ostream* os) { *os << v.v.name; }
@@ -420,6 +425,18 @@ std::vector<TwoPhaseVariant> two_phase_setups() {
         "base { type fixed; face yMin; } left { type slip; face xMin; } right { type slip; face xMax; } " + rain2,
         "value (0 -9.81);", 1e-12, 1e-9, 1e-9},
        2e-3, 2.0},
+      // The same slope under a rain of 10 K_sat that ponds on the crest (pondingDepth 5 mm)
+      // and runs off beyond it: the pond on the nodes of both sides of a cut.
+      {{"slopeRainPonds", "endTime 0.3; deltaT 1e-4; adjustTimeStep yes; maxCo 0.5; maxDeltaT 1e-3; writeInterval 1;",
+        "updateScheme USL; shapeFunction gimp;", "dimension 2; lower (0 0); upper (2.0 1.4); cellSize 0.1;",
+        "soil { type linearElastic; E 5e7; nu 0.2; rho 2650; }",
+        std::string("slope { material soil; region { type polygon; points ((0 0) (2 0) (2 0.2) (1.5 0.2) (0.9 1.1) "
+                    "(0 1.1)); } particlesPerCell 2; initialStress { type geostatic; K0 0.5; } ") +
+            kSlopeSoil + " }",
+        "base { type fixed; face yMin; } left { type slip; face xMin; } right { type slip; face xMax; } "
+        "rain { type rainfall; box { min (-1 0.15); max (3 2); } intensity 0.1; unit m/s; pondingDepth 0.005; }",
+        "value (0 -9.81);", 1e-12, 1e-9, 1e-9},
+       0, 2.0, false, 1000 * 0.1 * 2.0 * 0.3},
       // A saturated body at rest beside a single-phase block that slides at 3 m/s across
       // the cuts over a slip floor: the cuts move with the block (rebalances), and every
       // rank's grid, the pore liquid's included, is set up anew; linear shape functions.
@@ -521,12 +538,25 @@ TEST_P(DecomposedTwoPhase, FollowsTheUndecomposedRunAndCountsTheWaterOnce) {
     EXPECT_LT(dl, s.tol_v);
     EXPECT_LT(dS, s.tol_s);
     // The liquid's totals: one count of every node over the ranks.
-    for (const char* name : {"liquidInflowSurface", "liquidInflowPrescribed", "liquidRainOffered", "liquidRainNotTaken"}) {
+    for (const char* name :
+         {"liquidInflowSurface", "liquidInflowPrescribed", "liquidRainOffered", "liquidRainNotTaken", "liquidRunOff"}) {
       const auto *x = a.scalar(name), *y = b.scalar(name);
       if (k > 0 && !y) continue;  // the totals go with the first two-phase body
       ASSERT_TRUE(x && y) << name;
       std::cout << "[ " << s.name << " ] " << name << " " << x->value << " kg against " << y->value << " on one rank\n";
       EXPECT_NEAR(x->value, y->value, 1e-9 * std::max(1.0, std::fabs(y->value))) << name;
+    }
+    if (tp.rain_total > 0) {
+      double pa = 0, pb = 0;
+      for (double v : a.find("pond")->values) pa += v;
+      for (double v : b.find("pond")->values) pb += v;
+      const double not_taken = a.scalar("liquidRainNotTaken")->value, run_off = a.scalar("liquidRunOff")->value;
+      std::cout << "[ " << s.name << " ] pond " << pa << " kg against " << pb << " on one rank; not taken " << not_taken
+                << ", run off " << run_off << "\n";
+      EXPECT_GT(pb, 1e-3 * tp.rain_total) << "kg: the rain did not pond";
+      EXPECT_GT(run_off, 1e-3 * tp.rain_total) << "kg: nothing ran off";
+      EXPECT_NEAR(pa, pb, 1e-9 * tp.rain_total) << "kg: the pond";
+      EXPECT_NEAR(not_taken - run_off, pa, 1e-9 * tp.rain_total) << "kg: the surface's balance over the ranks";
     }
     if (tp.rain > 0) {
       const double rain = 1000 * tp.rain * tp.top * t_end;

@@ -70,7 +70,12 @@ const std::vector<FieldInfo>& two_phase_fields() {
        "or none falls"},
       {"pondingDuration", 1, "s",
        "how long the surface in the point's reach has not taken all the rain, without a break (0: it takes it all); "
-       "the ponding began at the time less this"}};
+       "the ponding began at the time less this"},
+      {"pond", 1, "kg",
+       "ponded water the point carries for the surface nodes in its reach between steps (per metre in 2D): its sum "
+       "over the points is the water standing on the surface (rainfall's pondingDepth)"},
+      {"pondDepth", 1, "m",
+       "depth of the water standing on the surface, the most at the surface nodes in the point's reach (0: no pond)"}};
   return fields;
 }
 
@@ -121,7 +126,8 @@ PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>&
       vertical_ = d;
     }
   set_grid(grid);
-  // Inflow through the surfaces, added by prescribed pore pressures, rain offered, rain not taken.
+  // Inflow through the surfaces, added by prescribed pore pressures, rain offered, rain not
+  // taken, the ponded water that ran off.
   totals_.resize(kTotals, exec_.device);
   totals_.copy_from_host(std::vector<Real>(kTotals, Real(0)));
 }
@@ -151,6 +157,7 @@ void PorousMedia<D>::set_grid(const GridGeometry<D>& grid) {
     f.pressure = next();
     f.volume = next();
     f.not_taken = next();
+    f.pond = next();
     cells_[s].resize(static_cast<std::size_t>(nn), exec_.device);
   }
   surface_.resize(static_cast<std::size_t>(nn), exec_.device);
@@ -167,6 +174,7 @@ void PorousMedia<D>::clear_conditions() {
   open_windows_.clear();
   host_open_.clear();
   open_masks_.resize(0, exec_.device);
+  ponds_ = false;
 }
 
 template <int D>
@@ -253,7 +261,9 @@ bool PorousMedia<D>::prepare(const Dictionary& body, BodySetup<D>& s, Real grain
   std::vector<Real> vl(n * D);
   for (std::size_t p = 0; p < n; ++p)
     for (int d = 0; d < D; ++d) vl[p * D + static_cast<std::size_t>(d)] = p < s.v.size() ? s.v[p][d] : Real(0);
-  const std::vector<Real>* initial[] = {&pw, &sat, &por, &suction, &vl, nullptr, nullptr, nullptr};
+  const std::vector<Real>* initial[] = {&pw, &sat, &por, &suction, &vl, nullptr, nullptr, nullptr, nullptr, nullptr};
+  static_assert(sizeof(initial) / sizeof(initial[0]) == kPoreColumns<D> - 2 * (D - 1),
+                "one initial column (or none) per field of two_phase_fields()");
   for (std::size_t k = 0; k < two_phase_fields().size(); ++k) {
     const FieldInfo& f = two_phase_fields()[k];
     s.extra.push_back(Col{f.name, f.unit, f.doc, f.components == 1 ? 1 : D, 0,
@@ -301,6 +311,7 @@ void PorousMedia<D>::add_condition(const HydraulicCondition* hc) {
     throw std::runtime_error("too many pore-pressure conditions (at most " + std::to_string(kMaxPorePressureLaws) +
                              " per case)");
   if (hc->has_hydraulic_law()) node_laws_.push_back(hc);
+  ponds_ = ponds_ || hc->keeps_a_pond();
   std::vector<OpenSurface> open;
   hc->open_surfaces(open);
   for (const OpenSurface& o : open) {
@@ -358,6 +369,7 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   lp.drag_per_mass = drag_per_mass_;
   lp.n_cells = nn;
   lp.totals = const_cast<Real*>(totals_.data());
+  lp.ponds = ponds_;
   return lp;
 }
 
@@ -442,6 +454,11 @@ void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatte
       parallel_for_warps(exec_, b.body->arrays().n, SurfaceScatter<D, Shape>{{pp, pass_params(b, gather_set, scatter_set),
                                                                              b.body->arrays(), sh}});
     if (halo_.sum) halo_.sum(surface_fields(scatter_set));
+    if (halo_.sum && ponds_) {  // the pond's nodal sums (cleared by the grid update, after PoreRate read them)
+      HaloFields f;
+      f.add(sets_[scatter_set].pond);
+      halo_.sum(f);
+    }
   };
   switch (shape_) {
     case ShapeKind::linear: go(ShapeLinear{inv_h}); break;
@@ -479,6 +496,9 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.damping_end = damping_end;
   u.drag_per_mass = drag_per_mass_;
   u.rho_l = bodies_.empty() ? Real(0) : bodies_.front().params.rho_l;
+  u.ponds = ponds_;
+  u.g = norm(gravity_);
+  for (int d = 0; d < D; ++d) u.up[d] = u.g > 0 ? -gravity_[d] / u.g : Real(0);
   parallel_for(exec_, grid_.num_nodes(), u);
   TwoPhaseNodes<D> g;
   g.grid = grid_;
@@ -495,6 +515,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.serial = exec_.device == Device::cpu && exec_.threads == 1;
   g.drag_per_mass = u.drag_per_mass;
   g.rho_l = u.rho_l;
+  for (int d = 0; d < D; ++d) g.up[d] = u.up[d];
   for (const HydraulicCondition* hc : node_laws_) hc->apply_hydraulic(exec_, g);
   SurfaceInflow<D> f;
   f.grid = grid_;
@@ -534,9 +555,15 @@ void PorousMedia<D>::scalars(const Body<D>* body, const std::vector<Real>& t,
                    std::string("the rain that fell onto the surface under rainfall conditions since t = 0") + per,
                    t[2]});
     out.push_back({"liquidRainNotTaken", "kg",
-                   std::string("of the rain offered, what the surface did not take (ponded or run off) since t = 0") +
+                   std::string("of the rain offered, what the surface did not take (ponded or run off) since t = 0, "
+                               "less what it took of the pond") +
                        per,
                    t[3]});
+    out.push_back({"liquidRunOff", "kg",
+                   std::string("of the water left on the surface, what ran off since t = 0 (beyond the pond's depth, "
+                               "or where the surface it stood on went away): liquidRainNotTaken less the pond") +
+                       per,
+                   t[4]});
     return;
   }
 }
@@ -554,8 +581,9 @@ Real PorousMedia<D>::max_signal_speed() const {
 
 template <int D>
 void PorousMedia<D>::restore_state(const std::vector<Real>& s) {
-  // A checkpoint of the two inflows alone restores with the rain's totals at zero.
-  if (s.size() != totals_.size() && s.size() != 2)
+  // A checkpoint of fewer totals (the two inflows alone, or without the run-off) restores with
+  // the others at zero.
+  if (s.size() > totals_.size() || s.size() < 2)
     throw std::invalid_argument("the pore liquid's state has " + std::to_string(s.size()) + " values, not " +
                                 std::to_string(totals_.size()));
   std::vector<Real> t(totals_.size(), Real(0));

@@ -129,7 +129,7 @@ class PorousMedia {
   Buffer<Real> balance_;  // per node: the liquid mass balance's inflow, then its capacity
   Real drag_per_mass_ = 0;  // PorePassParams::drag_per_mass
   Buffer<Real> cell_pressure_;  // per cell: P_c, x_c, g_c (CellPressure)
-  static constexpr std::size_t kTotals = 4;  // TwoPhaseNodes::totals
+  static constexpr std::size_t kTotals = 5;  // TwoPhaseNodes::totals
   Buffer<Real> totals_;   // the cumulative inflows (PorePassParams::totals) and the rain's (TwoPhaseNodes::totals)
   Index n_cells_ = 0;
   std::vector<PorePressureLaw> laws_;
@@ -141,6 +141,7 @@ class PorousMedia {
   std::vector<std::uint32_t> host_open_;         // ... and per node the ones selecting it
   Buffer<std::uint32_t> open_masks_;
   bool has_liquid_walls_ = false;
+  bool ponds_ = false;  // a condition keeps a pond (HydraulicCondition::keeps_a_pond)
   Halo halo_;
 };
 

@@ -138,10 +138,10 @@ TEST(MemoryEstimate, BackendBytesOfATwoPhaseCaseAreWhatItAllocates) {
            "right { type slip; face xMax; }");
   const Case c = Case::read(tc.dir(), runtime());
   const MemoryEstimate m = estimate_memory(c, runtime().registry(), Device::cpu, false);
-  // The liquid's two sets of 7 + 4 D Reals, 2 cell counts, a surface flag, 3 + D balance
+  // The liquid's two sets of 8 + 4 D Reals, 2 cell counts, a surface flag, 3 + D balance
   // Reals, 1 + 2 D reconstructed cell pressures and its wall masks, besides the grid's.
   EXPECT_DOUBLE_EQ(m.parts[0].backend_each,
-                   2 * 9 * 8 + 2 * 4.0 / 128 + 4 + 2 * 15 * 8 + 2 * 8 + 1 + 5 * 8 + 5 * 8 + 4);
+                   2 * 9 * 8 + 2 * 4.0 / 128 + 4 + 2 * 16 * 8 + 2 * 8 + 1 + 5 * 8 + 5 * 8 + 4);
   const double estimate = m.backend_bytes();
   const double actual = allocated(c);
   std::cout << "two-phase: estimate " << estimate << " bytes, allocated " << actual << " bytes\n";

@@ -45,6 +45,9 @@ struct TwoPhaseGridUpdate {
   Real mass_eps = 0;
   Real damping = 0, damping_start = 0, damping_end = 0;
   Real drag_per_mass = 0, rho_l = 0;  ///< PorePassParams::drag_per_mass and the bodies' rho_l
+  bool ponds = false;  ///< PorePassParams::ponds: the pond's surface is open, its weight a load
+  Real g = 0;          ///< |g| [m/s^2]
+  Real up[D] = {};     ///< the unit vector against gravity
 
   SCREE_HD void operator()(Index I) const {
     if (I == 0) advance_clock(control, parity);
@@ -86,6 +89,7 @@ struct TwoPhaseGridUpdate {
     bool inflow_face = false;  // an open surface node where the liquid flows in
     bool outflow_only = false; // open as a seepage face only: closed again if the liquid would enter
     Real exposed[D] = {};  // a node on the surface by its exposure alone: the exposure (surface_node)
+    Real load[D] = {};     // a pond's weight on the surface: on both phases (below)
     if (cells && ml > 0 && surface[I] && surface_node<D>(grid, cells, I, walls, mask, t, true, kSurfaceExposure, exposed)) {
       bool is_open = (mask & ~lmask) != 0;  // on a drained wall
       bool seepage = false;                 // open as a seepage face
@@ -95,9 +99,19 @@ struct TwoPhaseGridUpdate {
       // towards the surface (exposed_open_masks).
       const std::uint32_t opened = by_exposure ? exposed_open_masks<D>(grid, open_masks, I, exposed)
                                                : (open_masks ? open_masks[I] : 0u);
+      // Water standing on the node (a pond the rain left, boundary/rainfall) keeps the surface
+      // of the conditions that select it open after their time window: the pond drains into
+      // the soil as the soil takes it. Its weight is the surface's load, p_b = rho_l g d with
+      // d = P_I / (rho_l a_I . up) the pond's depth, on the liquid and on the mixture alike:
+      // -p_b a_I (the boundary term int N p_b n dGamma of both momentum equations).
+      const Real pond = ponds ? liquid.pond[I] : Real(0);
+      Real level = 0;  // a_I . up: the node's share of the surface, seen from above
+      for (int d = 0; d < D; ++d) level += liquid.area[d][I] * up[d];
+      if (pond > 0 && level > 0)
+        for (int d = 0; d < D; ++d) load[d] = -g * pond / level * liquid.area[d][I];
       for (std::uint32_t m = opened; m; m &= m - 1) {
         const int b = lowest_bit(m);
-        if (t < open[b].t_start || t >= open[b].t_end) continue;
+        if ((t < open[b].t_start || t >= open[b].t_end) && !(pond > 0 && !open[b].outflow_only)) continue;
         if (!open[b].outflow_only)
           is_open = true;
         else
@@ -127,7 +141,7 @@ struct TwoPhaseGridUpdate {
     const Real Q = nodal_drag<D>(liquid, I, drag_per_mass) / (kI > Real(1e-300) ? kI : Real(1e-300));
     Real probe = 0;  // health: both phases' nodal velocities and forces (report_nonfinite_node)
     for (int d = 0; d < D; ++d) {
-      Real fm = solid.force[d][I], fl = liquid.force[d][I] + boundary[d];
+      Real fm = solid.force[d][I] + load[d], fl = liquid.force[d][I] + boundary[d] + load[d];
       probe += vs[d] + vl[d] + fm + fl;
       fls[d] = 0;
       if (damp) {
@@ -184,6 +198,7 @@ struct TwoPhaseGridUpdate {
     liquid_other.mass_mix[I] = 0;
     liquid_other.conductance[I] = 0;
     liquid_other.not_taken[I] = 0;  // after its last reader, this step's PoreRate
+    if (ponds) liquid_other.pond[I] = 0;  // the same
     if (!(drag_per_mass > 0)) {
       liquid_other.drag[I] = 0;
       liquid_other.volume[I] = 0;

@@ -70,12 +70,16 @@ struct TwoPhaseNodes {
   /// The case's liquid totals [kg] (per metre in 2D), summed with atomic_add(.., serial):
   /// [2] the rain offered to the surface nodes under rain, rho_l |w . a_I| dt where the rain
   /// falls onto the node's share of the surface a_I; [3] of it, what the surface did not take
-  /// (ponded or run off): offered less the node's inflow, as SurfaceInflow counts it.
+  /// (ponded or run off): offered less the node's inflow, as SurfaceInflow counts it (less
+  /// than 0 where the surface takes a pond's water); [4] the ponded water that ran off
+  /// (beyond the pond's depth, or where the surface it stood on went away): the pond holds
+  /// [3] - [4].
   Real* totals = nullptr;
   /// The nodes whose shares the totals count (a decomposed run: this rank's own).
   OwnedNodes<D> owned;
   bool serial = false;
   Real drag_per_mass = 0, rho_l = 0;  ///< as TwoPhaseGridUpdate's (nodal_volume)
+  Real up[D] = {};  ///< the unit vector against gravity (0 without gravity): a pond lies level
 };
 
 class SCREE_API HydraulicCondition {
@@ -87,6 +91,10 @@ class SCREE_API HydraulicCondition {
   /// Stretches of surface the condition opens (the liquid's natural condition p_w = 0 there:
   /// ponding, rain); a two-phase body's surface is closed elsewhere.
   virtual void open_surfaces(std::vector<OpenSurface>& out) const { (void)out; }
+  /// Whether the node law keeps water on the surface from step to step (a pond: the points
+  /// near the surface then carry it, LiquidFields::pond); a case's pond is scattered and
+  /// gathered only when one of its conditions keeps one.
+  virtual bool keeps_a_pond() const { return false; }
   /// Whether apply_hydraulic() runs a law on both phases' nodal velocities after the
   /// two-phase grid update (rainfall).
   virtual bool has_hydraulic_law() const { return false; }

@@ -3,11 +3,12 @@
 //
 // Per point (extra columns, PoreColumn): p_w (compression positive) [Pa], S_l, n, suction,
 // v_l, seepage velocity w = n S_l (v_l - v_s), and where rain falls, the rain the surface in
-// the point's reach does not take and for how long it has not.
+// the point's reach does not take and for how long it has not, the ponded water the point
+// carries and the pond's depth over the surface in its reach.
 // Per node (LiquidFields): M_l = sum N rho_l V, M_lm = sum N n S_l rho_l V (the liquid's
 // mass in the mixture), liquid momentum sum N rho_l V v_l, liquid force F_l, drag
 // coefficient Q, liquid velocities, the surface's share sum V grad N (its normal), the rain
-// a surface node does not take, and the points per cell.
+// a surface node does not take, the pond it holds, and the points per cell.
 #pragma once
 
 #include <cstdint>
@@ -30,8 +31,16 @@ template <int D>
 inline constexpr int kRainNotTaken = kLiquidVelocity + 2 * D;
 template <int D>
 inline constexpr int kPondingDuration = kRainNotTaken<D> + 1;
+/// Column of the ponded water the point carries [kg; kg/m in 2D]: the points near the surface
+/// carry the surface's pond between steps (boundary/rainfall: scattered onto the surface
+/// nodes, gathered back after the rain's node law), and of the pond's depth over the surface
+/// in the point's reach [m].
 template <int D>
-inline constexpr int kPoreColumns = kPondingDuration<D> + 1;
+inline constexpr int kPond = kPondingDuration<D> + 1;
+template <int D>
+inline constexpr int kPondDepth = kPond<D> + 1;
+template <int D>
+inline constexpr int kPoreColumns = kPondDepth<D> + 1;
 
 /// The constants of a two-phase body.
 struct PoreParams {
@@ -64,6 +73,9 @@ struct LiquidFields {
   Real* volume;           ///< sum N V [m^3] (see drag_per_mass)
   Real* not_taken;        ///< rain a surface node does not take, per unit horizontal area [m/s]:
                           ///< written by the rainfall condition where the surface ponds, else 0
+  Real* pond;             ///< ponded water on a surface node [kg; kg/m in 2D]: scattered from the
+                          ///< points (SurfaceScatter), updated by the rain's node law, gathered back
+                          ///< (PoreRate)
 };
 
 /// A node's sum N V [m^3] and drag at k_rel = 1 [kg/s] (LiquidFields::volume, drag), from
@@ -77,7 +89,7 @@ SCREE_INLINE Real nodal_drag(const LiquidFields<D>& f, Index I, Real drag_per_ma
   return drag_per_mass > 0 ? f.mass_mix[I] * drag_per_mass : f.drag[I];
 }
 template <int D>
-inline constexpr int kLiquidFieldCount = 7 + 4 * D;
+inline constexpr int kLiquidFieldCount = 8 + 4 * D;
 
 /// The cell of the grid that holds x (cell (i, j) indexed as node (i, j), strides of the
 /// node counts): the points-per-cell counts and the liquid mass balance use it.

@@ -58,6 +58,12 @@ namespace scree {
 /// skeleton's share, S_l div v_s, is left as it is: it is each point's own change of volume
 /// (its J follows the same nodal velocities), which moves no liquid between points.
 ///
+/// The pond (PorePassParams::ponds): the water standing on the surface nodes after the rain's
+/// node law, P_I, returns to the points in their reach in proportion to their share of the
+/// node's liquid mass, pond_p = sum_I N_Ip rho_l V_p P_I / M_l,I with V_p = V0 det F the
+/// volume the scatter weighed M_l,I with: the shares add up to P_I, so the pond is kept whole
+/// from step to step (SurfaceScatter returns it to the surface).
+///
 /// Three passes at the points' positions x^k, before the solid pass moves them: PoreRate (the
 /// liquid velocity's G2P, r_p and the cell's moments), CellPressure (per cell: P_c, x_c,
 /// g_c), then PorePressure (p_w, the prescribed pore pressures, S_l(p_w)).
@@ -76,12 +82,21 @@ struct PoreRate : PorePass<D, Shape> {
     if (!st.inside) return;
     Vec<D> vl = Vec<D>::zero(), vpic = Vec<D>::zero(), dv = Vec<D>::zero();
     for (int d = 0; d < D; ++d) vl[d] = col(kLiquidVelocity + d, p);
-    Real div_s = 0, div_q = 0, not_taken = 0;
+    Real div_s = 0, div_q = 0, not_taken = 0, pond = 0, depth = 0;
     for_each_stencil_node(st, pp.grid, x, true, [&](Index I, Real N, const Vec<D>& gradN, const Vec<D>&) {
       const Real ml = lp.gather.mass[I];
       if (!(ml > 0)) return;
       if (N > 0) not_taken = fmax(not_taken, lp.gather.not_taken[I]);
       const Real rm = 1 / ml;
+      if (lp.ponds && N > 0) {
+        const Real P = lp.gather.pond[I];
+        if (P != 0) {
+          pond += N * P * rm;
+          Real level = 0;  // a_I . up: the node's share of the surface seen from above
+          for (int d = 0; d < D; ++d) level -= lp.gather.area[d][I] * pp.physics.gravity[d];
+          if (level > 0) depth = fmax(depth, P * lp.g / (lp.pore.rho_l * level));
+        }
+      }
       const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l
       // The seepage's test gradient: grad N_I, less N_I a_I / sum N V off the surface (above).
       const Real k = lp.surface[I] ? Real(0) : N / nodal_volume<D>(lp.gather, I, lp.drag_per_mass, lp.pore.rho_l);
@@ -100,6 +115,15 @@ struct PoreRate : PorePass<D, Shape> {
     // for how many seconds without a break.
     col(kRainNotTaken<D>, p) = not_taken;
     col(kPondingDuration<D>, p) = not_taken > 0 ? col(kPondingDuration<D>, p) + dt : Real(0);
+    if (lp.ponds) {
+      if (pond != 0) {
+        Mat<D> F;
+        for (int i = 0; i < D * D; ++i) F.a[i / D][i % D] = pa.F[i][p];
+        pond *= lp.pore.rho_l * pa.volume0[p] * det(F);
+      }
+      col(kPond<D>, p) = pond;
+      col(kPondDepth<D>, p) = depth;
+    }
     const Real n = col(kPorosity, p), S = col(kSaturation, p), pw = col(kPorePressure, p);
     const Real V = Base::volume_at(p, n);
     const Real r = -(S * div_s + div_q) * V, c = lp.pore.storage(n, S, pw) * V;

@@ -43,6 +43,9 @@ struct PorePassParams {
   /// Cumulative liquid mass [kg] since t = 0: [0] through the surfaces (SurfaceInflow),
   /// [1] added by the prescribed pore pressures. Null: not counted.
   Real* totals = nullptr;
+  /// A condition keeps a pond (HydraulicCondition::keeps_a_pond): the points carry it
+  /// (SurfaceScatter, PoreRate); the water that leaves it is added to totals[4].
+  bool ponds = false;
 };
 
 /// What every pass over a two-phase body's points holds: the solid pass's parameters (grid,

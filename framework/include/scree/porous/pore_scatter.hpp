@@ -175,10 +175,18 @@ struct MixtureScatter : PorePass<D, Shape> {
   }
 };
 
-/// The liquid's nodal field read at surface nodes alone (the closed surface's p_b): sum N V
-/// p_w, added only into the nodes SurfaceMask marked, by the points whose stencil reaches
-/// one: added by every point in MixtureScatter, it would be atomics for nodes that are never
-/// read. Weights at x^{k+1}, as MixtureScatter's.
+/// The liquid's nodal fields read at surface nodes alone, added only into the nodes
+/// SurfaceMask marked, by the points whose stencil reaches one: added by every point in
+/// MixtureScatter, they would be atomics for nodes that are never read. Weights at x^{k+1},
+/// as MixtureScatter's.
+/// - The closed surface's p_b: sum N V p_w.
+/// - The pond (PorePassParams::ponds): the water standing on the surface, which the points
+///   near it carry between steps (PoreRate gathers it back), returns to the surface nodes
+///   that can hold it, those whose share of the surface faces up: point p gives node I the
+///   share w_I / sum_J w_J of its pond, w_I = N_I max(0, a_I . up) over the marked nodes
+///   (a_I = sum V grad N, this step's). The shares add up to the point's pond, so the pond
+///   is kept whole; a point whose reach holds no such node (the surface it stood on was
+///   covered, or turned away) lets its pond run off (totals[4]).
 template <int D, class Shape>
 struct SurfaceScatter : PorePass<D, Shape> {
   using Base = PorePass<D, Shape>;
@@ -192,13 +200,31 @@ struct SurfaceScatter : PorePass<D, Shape> {
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
     active = active && st.inside;
     bool touches = false;
-    for_each_stencil_node(st, pp.grid, x, active, [&](Index I, Real, const Vec<D>&, const Vec<D>&) {
-      touches = touches || (active && lp.surface[I] != 0);
+    Real up[D] = {};
+    if (lp.ponds) {  // uniform in a launch
+      Real g2 = 0;
+      for (int d = 0; d < D; ++d) g2 += pp.physics.gravity[d] * pp.physics.gravity[d];
+      const Real inv = g2 > 0 ? 1 / sqrt(g2) : Real(0);
+      for (int d = 0; d < D; ++d) up[d] = -pp.physics.gravity[d] * inv;
+    }
+    const Real pond = active && lp.ponds ? col(kPond<D>, p) : Real(0);
+    Real level_sum = 0;  // sum_J w_J over the marked nodes facing up
+    auto level = [&](Index I) {
+      Real l = 0;
+      for (int d = 0; d < D; ++d) l += lp.scatter.area[d][I] * up[d];
+      return l > 0 ? l : Real(0);
+    };
+    for_each_stencil_node(st, pp.grid, x, active, [&](Index I, Real N, const Vec<D>&, const Vec<D>&) {
+      const bool marked = active && lp.surface[I] != 0;
+      touches = touches || marked;
+      if (marked && pond > 0) level_sum += N * level(I);
     });
+    if (pond > 0 && !(level_sum > 0) && lp.totals) atomic_add(lp.totals + 4, pond, pp.policy.serial);  // runs off
 #if defined(__CUDA_ARCH__)
     if (!__any_sync(0xffffffffu, touches)) return;  // the whole warp inside the soil (uniform)
 #endif
     active = active && touches;
+    const Real pond_per_level = level_sum > 0 ? pond / level_sum : Real(0);
     Real V = 0, pw = 0;
     if (active) {
       Mat<D> F;
@@ -227,6 +253,7 @@ struct SurfaceScatter : PorePass<D, Shape> {
 #endif
       };
       add(lp.scatter.pressure + I, N * V * pw);
+      if (lp.ponds) add(lp.scatter.pond + I, N * pond_per_level * level(I));
     });
   }
 };
