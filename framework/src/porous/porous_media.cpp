@@ -175,6 +175,7 @@ void PorousMedia<D>::clear_conditions() {
   host_open_.clear();
   open_masks_.resize(0, exec_.device);
   ponds_ = false;
+  pond_bits_ = 0;
 }
 
 template <int D>
@@ -320,6 +321,7 @@ void PorousMedia<D>::add_condition(const HydraulicCondition* hc) {
       throw std::runtime_error("too many open surfaces (ponding, rainfall: at most " +
                                std::to_string(kMaxOpenSurfaces) + " per case)");
     open_windows_.push_back(OpenSurfaceWindow{o.t_start, o.t_end, o.outflow_only ? 1 : 0});
+    if (hc->keeps_a_pond()) pond_bits_ |= std::uint32_t(1) << bit;
     if (host_open_.empty()) host_open_.assign(static_cast<std::size_t>(grid_.num_nodes()), 0u);
     for (Index I = 0; I < grid_.num_nodes(); ++I) {
       const Vec<D> x = grid_.node_position(I);
@@ -370,6 +372,8 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   lp.n_cells = nn;
   lp.totals = const_cast<Real*>(totals_.data());
   lp.ponds = ponds_;
+  lp.open_masks = open_masks_.size() ? open_masks_.data() : nullptr;
+  lp.pond_bits = pond_bits_;
   return lp;
 }
 

@@ -142,6 +142,7 @@ class PorousMedia {
   Buffer<std::uint32_t> open_masks_;
   bool has_liquid_walls_ = false;
   bool ponds_ = false;  // a condition keeps a pond (HydraulicCondition::keeps_a_pond)
+  std::uint32_t pond_bits_ = 0;  // the open surfaces of such conditions (bits of open_masks_)
   Halo halo_;
 };
 

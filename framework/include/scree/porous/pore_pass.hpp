@@ -46,6 +46,10 @@ struct PorePassParams {
   /// A condition keeps a pond (HydraulicCondition::keeps_a_pond): the points carry it
   /// (SurfaceScatter, PoreRate); the water that leaves it is added to totals[4].
   bool ponds = false;
+  /// Per node, the open surfaces selecting it (TwoPhaseGridUpdate::open_masks), and those of
+  /// the conditions that keep a pond: a pond stands only on their nodes.
+  const std::uint32_t* open_masks = nullptr;
+  std::uint32_t pond_bits = 0;
 };
 
 /// What every pass over a two-phase body's points holds: the solid pass's parameters (grid,

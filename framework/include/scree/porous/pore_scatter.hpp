@@ -182,11 +182,12 @@ struct MixtureScatter : PorePass<D, Shape> {
 /// - The closed surface's p_b: sum N V p_w.
 /// - The pond (PorePassParams::ponds): the water standing on the surface, which the points
 ///   near it carry between steps (PoreRate gathers it back), returns to the surface nodes
-///   that can hold it, those whose share of the surface faces up: point p gives node I the
-///   share w_I / sum_J w_J of its pond, w_I = N_I max(0, a_I . up) over the marked nodes
-///   (a_I = sum V grad N, this step's). The shares add up to the point's pond, so the pond
-///   is kept whole; a point whose reach holds no such node (the surface it stood on was
-///   covered, or turned away) lets its pond run off (totals[4]).
+///   that can hold it, those whose share of the surface faces up inside the region of a
+///   condition that keeps a pond: point p gives node I the share w_I / sum_J w_J of its pond,
+///   w_I = N_I max(0, a_I . up) over such marked nodes (a_I = sum V grad N, this step's).
+///   The shares add up to the point's pond, so the pond is kept whole; a point whose reach
+///   holds no such node (the surface it stood on was covered, turned away, or moved out of
+///   the rain's region) lets its pond run off (totals[4]).
 template <int D, class Shape>
 struct SurfaceScatter : PorePass<D, Shape> {
   using Base = PorePass<D, Shape>;
@@ -209,7 +210,8 @@ struct SurfaceScatter : PorePass<D, Shape> {
     }
     const Real pond = active && lp.ponds ? col(kPond<D>, p) : Real(0);
     Real level_sum = 0;  // sum_J w_J over the marked nodes facing up
-    auto level = [&](Index I) {
+    auto level = [&](Index I) {  // w_I / N_I
+      if (!lp.open_masks || !(lp.open_masks[I] & lp.pond_bits)) return Real(0);
       Real l = 0;
       for (int d = 0; d < D; ++d) l += lp.scatter.area[d][I] * up[d];
       return l > 0 ? l : Real(0);
