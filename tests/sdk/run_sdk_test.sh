@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Install Scree from the build tree into a temporary prefix, build the out-of-tree
-# neoHookean plugin against it, and run a small case with the installed scree loading
-# the plugin through SCREE_PLUGIN_PATH; then a material from a shipped parameter set
-# (#includeEtc) checked by the installed scree. Fails on any step.
+# neoHookean plugin against it as its author does while writing it (Debug: unoptimised, and
+# loaded by the optimised core all the same), and run a small case with the installed scree
+# loading the plugin through SCREE_PLUGIN_PATH; then a material from a shipped parameter set
+# (#includeEtc) checked by the installed scree. Fails on any step. (The Release build of an
+# out-of-tree material is run_muI_test.sh's.)
 #   run_sdk_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1; src=$2
@@ -11,7 +13,7 @@ trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
 cuda_args=()
 grep -q "SCREE_WITH_CUDA:BOOL=ON" "$build/CMakeCache.txt" && cuda_args=(-DCMAKE_CUDA_COMPILER=/usr/local/cuda/bin/nvcc)
-cmake -S "$src/tests/sdk/neoHookean" -B "$work/plugin" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+cmake -S "$src/tests/sdk/neoHookean" -B "$work/plugin" -G Ninja -DCMAKE_BUILD_TYPE=Debug \
       -DCMAKE_PREFIX_PATH="$work/prefix" "${cuda_args[@]}" >/dev/null
 cmake --build "$work/plugin" >/dev/null
 plugin_dir="$work/plugin/lib/scree/plugins"
