@@ -218,10 +218,12 @@ Snapshot wet(double time, std::int64_t step, double s2, double inflow_surface, d
   add_field(a, "saturation", 1, {0.5, s2}, "-");
   add_field(a, "porosity", 1, {0.4, 0.3}, "-");
   add_field(a, "volume", 1, {0.01, 0.02}, "m^3");
+  add_field(a, "pond", 1, {0.01, 0.03}, "kg");  // water standing on the surface: not in W
   a.material_type = "twoPhase";
   a.scalars = {scalar("liquidDensity", 1000, "kg/m^3"), scalar("liquidBulkModulus", 2e9, "Pa"),
                scalar("liquidInflowSurface", inflow_surface, "kg"),
-               scalar("liquidInflowPrescribed", inflow_prescribed, "kg")};
+               scalar("liquidInflowPrescribed", inflow_prescribed, "kg"), scalar("liquidRainOffered", 1.0, "kg"),
+               scalar("liquidRainNotTaken", 0.07, "kg"), scalar("liquidRunOff", 0.03, "kg")};
   s.bodies = {a};
   if (with_single) {
     auto b = make_body("right", 1, {{5, 0, 0}}, {10});
@@ -256,7 +258,9 @@ TEST(WaterBalance, StoredMassChangeInflowsAndError) {
                                            "balanceError [kg/m]",
                                            "relativeError [-]",
                                            "rain [kg/m]",
-                                           "rainNotTaken [kg/m]"};
+                                           "rainNotTaken [kg/m]",
+                                           "ponded [kg/m]",
+                                           "runOff [kg/m]"};
   EXPECT_EQ(c.header, header);
   ASSERT_EQ(c.rows.size(), 2u);
   EXPECT_NEAR(c.num(0, "stored [kg/m]"), 6.819976, 1e-9);
@@ -270,6 +274,11 @@ TEST(WaterBalance, StoredMassChangeInflowsAndError) {
   EXPECT_NEAR(c.num(1, "balanceError [kg/m]"), -3e-6, 1e-9);
   EXPECT_NEAR(c.num(1, "relativeError [-]"), -3e-6 / 0.6, 1e-9);
   EXPECT_NEAR(kW1 - kW0, 0.599997, 1e-12);
+  // The rain's columns: the scalars as given, the pond the sum of the points' field.
+  EXPECT_NEAR(c.num(1, "rain [kg/m]"), 1.0, kTol);
+  EXPECT_NEAR(c.num(1, "rainNotTaken [kg/m]"), 0.07, kTol);
+  EXPECT_NEAR(c.num(1, "ponded [kg/m]"), 0.04, kTol);
+  EXPECT_NEAR(c.num(1, "runOff [kg/m]"), 0.03, kTol);
 
   // 3D: masses in kg.
   auto f3 = make_function("waterBalance", "bodies (left);", make_context(dir.path(), "w3", 3));
@@ -324,7 +333,7 @@ TEST(WaterBalance, ErrorsForBodiesThatAreNotTwoPhase) {
   expect_error(*all, dry, {"waterBalance 'w'", "no two-phase body", "right"});
 
   Snapshot partial = wet(0, 0, 0.8, 0, 0);
-  partial.bodies[0].scalars.pop_back();  // no liquidInflowPrescribed
+  partial.bodies[0].scalars.erase(partial.bodies[0].scalars.begin() + 3);  // no liquidInflowPrescribed
   expect_error(*all, partial, {"waterBalance 'w'", "liquidInflowPrescribed", "has: liquidDensity"});
 
   // Two two-phase bodies: the case's counters come with one of them, added once; a
