@@ -101,11 +101,9 @@ struct RainfallKernel {
     if (!(ms > g.mass_eps)) return;
     if (!surface_node<D>(g.grid, g.cells, I, g.walls, g.masks ? g.masks[I] : 0u, t, true)) return;
     const Real rate = raining ? intensity(t) : Real(0);
-    Real w[D], level = 0;  // level = a_I . up, the node's share of the surface seen from above
-    for (int d = 0; d < D; ++d) {
-      w[d] = rate * dir[d] / len;
-      level += g.liquid.area[d][I] * g.up[d];
-    }
+    const Real level = level_share<D>(g.liquid, I, g.up);  // the node's share of the surface seen from above
+    Real w[D];
+    for (int d = 0; d < D; ++d) w[d] = rate * dir[d] / len;
     // The pond is offered with the rain: P over the step, falling onto the node's level share,
     // w' = w - P / (dt rho_l a_I . up) up, so that rho_l |w' . a_I| dt is the rain's offer
     // plus P. (B)-(E) then hold with w' as with the rain alone: the surface takes all of it

@@ -125,6 +125,8 @@ PorousMedia<D>::PorousMedia(HydraulicModelFactory models, const GridGeometry<D>&
       gmax = std::fabs(gravity[d]);
       vertical_ = d;
     }
+  const Real g = norm(gravity);
+  for (int d = 0; d < D; ++d) up_[d] = g > 0 ? -gravity[d] / g : Real(0);
   set_grid(grid);
   // Inflow through the surfaces, added by prescribed pore pressures, rain offered, rain not
   // taken, the ponded water that ran off.
@@ -174,7 +176,6 @@ void PorousMedia<D>::clear_conditions() {
   open_windows_.clear();
   host_open_.clear();
   open_masks_.resize(0, exec_.device);
-  ponds_ = false;
   pond_bits_ = 0;
 }
 
@@ -312,7 +313,6 @@ void PorousMedia<D>::add_condition(const HydraulicCondition* hc) {
     throw std::runtime_error("too many pore-pressure conditions (at most " + std::to_string(kMaxPorePressureLaws) +
                              " per case)");
   if (hc->has_hydraulic_law()) node_laws_.push_back(hc);
-  ponds_ = ponds_ || hc->keeps_a_pond();
   std::vector<OpenSurface> open;
   hc->open_surfaces(open);
   for (const OpenSurface& o : open) {
@@ -371,9 +371,10 @@ PorePassParams<D> PorousMedia<D>::pass_params(const PorousBody& b, int gather_se
   lp.drag_per_mass = drag_per_mass_;
   lp.n_cells = nn;
   lp.totals = const_cast<Real*>(totals_.data());
-  lp.ponds = ponds_;
+  lp.ponds = pond_bits_ != 0;
   lp.open_masks = open_masks_.size() ? open_masks_.data() : nullptr;
   lp.pond_bits = pond_bits_;
+  for (int d = 0; d < D; ++d) lp.up[d] = up_[d];
   return lp;
 }
 
@@ -458,7 +459,7 @@ void PorousMedia<D>::scatter(const PassParams<D>& pp, int gather_set, int scatte
       parallel_for_warps(exec_, b.body->arrays().n, SurfaceScatter<D, Shape>{{pp, pass_params(b, gather_set, scatter_set),
                                                                              b.body->arrays(), sh}});
     if (halo_.sum) halo_.sum(surface_fields(scatter_set));
-    if (halo_.sum && ponds_) {  // the pond's nodal sums (cleared by the grid update, after PoreRate read them)
+    if (halo_.sum && pond_bits_) {  // the pond's nodal sums (cleared by the grid update, after PoreRate read them)
       HaloFields f;
       f.add(sets_[scatter_set].pond);
       halo_.sum(f);
@@ -500,9 +501,9 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   u.damping_end = damping_end;
   u.drag_per_mass = drag_per_mass_;
   u.rho_l = bodies_.empty() ? Real(0) : bodies_.front().params.rho_l;
-  u.ponds = ponds_;
+  u.ponds = pond_bits_ != 0;
   u.g = norm(gravity_);
-  for (int d = 0; d < D; ++d) u.up[d] = u.g > 0 ? -gravity_[d] / u.g : Real(0);
+  for (int d = 0; d < D; ++d) u.up[d] = up_[d];
   parallel_for(exec_, grid_.num_nodes(), u);
   TwoPhaseNodes<D> g;
   g.grid = grid_;
@@ -519,7 +520,7 @@ void PorousMedia<D>::grid_update(int set, StepControl* control, int parity, Real
   g.serial = exec_.device == Device::cpu && exec_.threads == 1;
   g.drag_per_mass = u.drag_per_mass;
   g.rho_l = u.rho_l;
-  for (int d = 0; d < D; ++d) g.up[d] = u.up[d];
+  for (int d = 0; d < D; ++d) g.up[d] = up_[d];
   for (const HydraulicCondition* hc : node_laws_) hc->apply_hydraulic(exec_, g);
   SurfaceInflow<D> f;
   f.grid = grid_;

@@ -118,6 +118,7 @@ class PorousMedia {
   Exec exec_;
   Vec<D> gravity_;
   int vertical_ = D - 1;
+  Real up_[D] = {};  // the unit vector against gravity (0 without gravity)
   ShapeKind shape_;
   Real gimp_half_length_;
   std::vector<PorousBody> bodies_;
@@ -141,8 +142,7 @@ class PorousMedia {
   std::vector<std::uint32_t> host_open_;         // ... and per node the ones selecting it
   Buffer<std::uint32_t> open_masks_;
   bool has_liquid_walls_ = false;
-  bool ponds_ = false;  // a condition keeps a pond (HydraulicCondition::keeps_a_pond)
-  std::uint32_t pond_bits_ = 0;  // the open surfaces of such conditions (bits of open_masks_)
+  std::uint32_t pond_bits_ = 0;  // the open surfaces of the conditions that keep a pond (bits of open_masks_)
   Halo halo_;
 };
 

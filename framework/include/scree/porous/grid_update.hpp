@@ -105,10 +105,11 @@ struct TwoPhaseGridUpdate {
       // d = P_I / (rho_l a_I . up) the pond's depth, on the liquid and on the mixture alike:
       // -p_b a_I (the boundary term int N p_b n dGamma of both momentum equations).
       const Real pond = ponds ? liquid.pond[I] : Real(0);
-      Real level = 0;  // a_I . up: the node's share of the surface, seen from above
-      for (int d = 0; d < D; ++d) level += liquid.area[d][I] * up[d];
-      if (pond > 0 && level > 0)
-        for (int d = 0; d < D; ++d) load[d] = -g * pond / level * liquid.area[d][I];
+      if (pond > 0) {
+        const Real level = level_share<D>(liquid, I, up);
+        if (level > 0)
+          for (int d = 0; d < D; ++d) load[d] = -g * pond / level * liquid.area[d][I];
+      }
       for (std::uint32_t m = opened; m; m &= m - 1) {
         const int b = lowest_bit(m);
         if ((t < open[b].t_start || t >= open[b].t_end) && !(pond > 0 && !open[b].outflow_only)) continue;

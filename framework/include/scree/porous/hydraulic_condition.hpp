@@ -93,7 +93,7 @@ class SCREE_API HydraulicCondition {
   virtual void open_surfaces(std::vector<OpenSurface>& out) const { (void)out; }
   /// Whether the node law keeps water on the surface from step to step (a pond: the points
   /// near the surface then carry it, LiquidFields::pond); a case's pond is scattered and
-  /// gathered only when one of its conditions keeps one.
+  /// gathered only when one of its conditions keeps one (on the nodes of its open surfaces).
   virtual bool keeps_a_pond() const { return false; }
   /// Whether apply_hydraulic() runs a law on both phases' nodal velocities after the
   /// two-phase grid update (rainfall).

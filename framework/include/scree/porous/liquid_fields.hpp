@@ -91,6 +91,16 @@ SCREE_INLINE Real nodal_drag(const LiquidFields<D>& f, Index I, Real drag_per_ma
 template <int D>
 inline constexpr int kLiquidFieldCount = 8 + 4 * D;
 
+/// Node I's share of the surface seen from above, a_I . up [m per unit thickness in 2D; m^2
+/// in 3D], `up` the unit vector against gravity: the level area a pond on the node covers
+/// (its depth is P_I / (rho_l a_I . up)); 0 or less where the surface does not face up.
+template <int D>
+SCREE_INLINE Real level_share(const LiquidFields<D>& f, Index I, const Real* up) {
+  Real l = 0;
+  for (int d = 0; d < D; ++d) l += f.area[d][I] * up[d];
+  return l;
+}
+
 /// The cell of the grid that holds x (cell (i, j) indexed as node (i, j), strides of the
 /// node counts): the points-per-cell counts and the liquid mass balance use it.
 /// With `ci`, also the cell's integer coordinates (its lower corner is origin + ci h).

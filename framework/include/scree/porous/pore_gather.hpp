@@ -92,9 +92,8 @@ struct PoreRate : PorePass<D, Shape> {
         const Real P = lp.gather.pond[I];
         if (P != 0) {
           pond += N * P * rm;
-          Real level = 0;  // a_I . up: the node's share of the surface seen from above
-          for (int d = 0; d < D; ++d) level -= lp.gather.area[d][I] * pp.physics.gravity[d];
-          if (level > 0) depth = fmax(depth, P * lp.g / (lp.pore.rho_l * level));
+          const Real level = level_share<D>(lp.gather, I, lp.up);
+          if (level > 0) depth = fmax(depth, P / (lp.pore.rho_l * level));
         }
       }
       const Real nS = lp.gather.mass_mix[I] * rm;  // nodal n S_l = M_lm / M_l

@@ -50,6 +50,7 @@ struct PorePassParams {
   /// the conditions that keep a pond: a pond stands only on their nodes.
   const std::uint32_t* open_masks = nullptr;
   std::uint32_t pond_bits = 0;
+  Real up[3] = {};  ///< the unit vector against gravity (0 without gravity): a pond lies level
 };
 
 /// What every pass over a two-phase body's points holds: the solid pass's parameters (grid,

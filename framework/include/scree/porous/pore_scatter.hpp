@@ -201,19 +201,11 @@ struct SurfaceScatter : PorePass<D, Shape> {
     const detail::Stencil<D, Shape> st(shape, pp.grid, x);
     active = active && st.inside;
     bool touches = false;
-    Real up[D] = {};
-    if (lp.ponds) {  // uniform in a launch
-      Real g2 = 0;
-      for (int d = 0; d < D; ++d) g2 += pp.physics.gravity[d] * pp.physics.gravity[d];
-      const Real inv = g2 > 0 ? 1 / sqrt(g2) : Real(0);
-      for (int d = 0; d < D; ++d) up[d] = -pp.physics.gravity[d] * inv;
-    }
     const Real pond = active && lp.ponds ? col(kPond<D>, p) : Real(0);
     Real level_sum = 0;  // sum_J w_J over the marked nodes facing up
     auto level = [&](Index I) {  // w_I / N_I
       if (!lp.open_masks || !(lp.open_masks[I] & lp.pond_bits)) return Real(0);
-      Real l = 0;
-      for (int d = 0; d < D; ++d) l += lp.scatter.area[d][I] * up[d];
+      const Real l = level_share<D>(lp.scatter, I, lp.up);
       return l > 0 ? l : Real(0);
     };
     for_each_stencil_node(st, pp.grid, x, active, [&](Index I, Real N, const Vec<D>&, const Vec<D>&) {
