@@ -43,8 +43,6 @@ import os
 import re
 import sys
 
-import numpy as np
-
 L0 = 0.2
 RELEASE = 0.1
 G = 9.81
@@ -52,15 +50,26 @@ T_COMPARE = 0.34   # [s] a time every run reached: the factors are compared ther
 
 
 def law_lube(a):
-    a = np.asarray(a, float)
-    return np.where(a < 2.3, 1.2 * a, 1.9 * a ** (2.0 / 3.0))
+    return 1.2 * a if a < 2.3 else 1.9 * a ** (2.0 / 3.0)
 
 
 def read_csv(path):
+    """The columns of a function object's CSV by name (units dropped), as lists of floats."""
     with open(path) as f:
-        head = f.readline().strip().split(",")
-    data = np.genfromtxt(path, delimiter=",", skip_header=1, ndmin=2)
-    return {h.split(" [")[0]: data[:, i] for i, h in enumerate(head)}
+        head = [h.split(" [")[0] for h in f.readline().strip().split(",")]
+        rows = [[float(v) for v in line.split(",")] for line in f if line.strip()]
+    return {h: [r[i] for r in rows] for i, h in enumerate(head)}
+
+
+def interp(x0, x, y):
+    """y at x0, linear between the samples (x increasing), held beyond them."""
+    if x0 <= x[0]:
+        return y[0]
+    for i in range(1, len(x)):
+        if x0 <= x[i]:
+            w = (x0 - x[i - 1]) / (x[i] - x[i - 1]) if x[i] > x[i - 1] else 1.0
+            return y[i - 1] + w * (y[i] - y[i - 1])
+    return y[-1]
 
 
 def parse(case, column):
@@ -80,7 +89,7 @@ def parse(case, column):
 
 def connected_front(path, h):
     d = read_csv(path)
-    x = np.sort(d["distance"][d["particles"] > 0])
+    x = sorted(x for x, n in zip(d["distance"], d["particles"]) if n > 0)
     if len(x) == 0:
         return None
     i = 0
@@ -92,7 +101,7 @@ def connected_front(path, h):
 def at_time(t, y, t0):
     if t[-1] < t0 - 1e-9:
         return None
-    return float(np.interp(t0, t, y))
+    return float(interp(t0, t, y))
 
 
 def column_record(casedir, prefix):
@@ -133,14 +142,14 @@ def column_record(casedir, prefix):
             dc, dc0 = connected_front(surf[-1], h_mm * 1e-3), connected_front(surf[0], h_mm * 1e-3)
             rec["dconn_m"] = dc
             rec["runout_conn"] = None if dc is None else float((dc - dc0) / L0)
-    kmax = float(ke.max()) if len(ke) else 0.0
+    kmax = float(max(ke)) if len(ke) else 0.0
     rec["ke_last_over_max"] = float(ke[-1] / kmax) if kmax > 0 else None
     fin = d99[-1]
-    moving = np.where(np.abs(d99 - fin) > 0.005 * (fin - d99[0] + L0))[0]
-    t_rest = float(t[moving[-1] + 1]) if len(moving) and moving[-1] + 1 < len(t) else float(t[0])
+    moving = [i for i, d in enumerate(d99) if abs(d - fin) > 0.005 * (fin - d99[0] + L0)]
+    t_rest = float(t[moving[-1] + 1]) if moving and moving[-1] + 1 < len(t) else float(t[0])
     rec["t_rest_tau"] = float((t_rest - RELEASE) / tc)
-    recent = t >= t[-1] - 0.25 * tc
-    rec["last_quarter_tau_change"] = float(abs(d99[recent][0] - fin) / (fin - d99[0] + L0))
+    recent = next(i for i, ti in enumerate(t) if ti >= t[-1] - 0.25 * tc)
+    rec["last_quarter_tau_change"] = float(abs(d99[recent] - fin) / (fin - d99[0] + L0))
     calm = bool(rec["t_last_tau"] >= 3.5 and kmax > 0 and ke[-1] < 0.02 * kmax)
     rec["at_rest"] = calm and rec["last_quarter_tau_change"] < 0.002
     # "near rest": the same but the front still creeps by up to 1 % per 0.25 tau_c
@@ -148,8 +157,8 @@ def column_record(casedir, prefix):
     # Points that left the domain are missing from the quantiles: beyond 0.1 % of them
     # the 0.99 front is that of a smaller mass, so the column does not count.
     rec["valid"] = bool(rec["lost_fraction"] is None or rec["lost_fraction"] <= 1e-3)
-    rec["_history"] = ((t - RELEASE) / tc, (d99 - d99[0]) / L0)
-    rec["_lost"] = (t, 1.0 - n / n[0]) if n is not None and n[0] > 0 else None
+    rec["_history"] = ([(ti - RELEASE) / tc for ti in t], [(d - d99[0]) / L0 for d in d99])
+    rec["_lost"] = (t, [1.0 - ni / n[0] for ni in n]) if n is not None and n[0] > 0 else None
     return rec
 
 
@@ -169,6 +178,7 @@ def collect(folders):
 
 def fit(points):
     """Exponent and prefactor of runout = lam a^alpha through the points (a, runout)."""
+    import numpy as np
     if len(points) < 2:
         return None
     a, r = np.log([p[0] for p in points]), np.log([p[1] for p in points])
@@ -195,12 +205,25 @@ def main():
         k = (r["a"], r["cell_mm"])
         if k not in series or r["t_last_s"] > series[k]["t_last_s"]:
             series[k] = r
+    # Families of one-column cases that change one case-wide setting at every a (a factor
+    # named after the setting and the column, e.g. phic30_a4): fitted as a series too.
+    families = {}
+    for r in recs:
+        m = re.match(r"^(.+)_a\d+(?:p\d+)?$", r["factor"])
+        if m:
+            k = (r["a"], r["cell_mm"])
+            fam = families.setdefault(m.group(1), {})
+            if k not in fam or r["t_last_s"] > fam[k]["t_last_s"]:
+                fam[k] = r
     fits = {}
-    for h in sorted({k[1] for k in series}, reverse=True):
-        for lo, hi, tag in ((0, 2.3, "below"), (2.3, 1e9, "above")):
-            pts = [(a, series[(a, h)]["runout_99"]) for a in sorted(a for a, hh in series if hh == h)
-                   if lo <= a < hi and series[(a, h)]["near_rest"] and series[(a, h)]["valid"]]
-            fits[f"{h:g}mm_{tag}"] = fit(pts)
+    for name, cols in [("", series)] + sorted(families.items()):
+        for h in sorted({k[1] for k in cols}, reverse=True):
+            for lo, hi, tag in ((0, 2.3, "below"), (2.3, 1e9, "above")):
+                pts = [(a, cols[(a, h)]["runout_99"]) for a in sorted(a for a, hh in cols if hh == h)
+                       if lo <= a < hi and cols[(a, h)]["near_rest"] and cols[(a, h)]["valid"]]
+                if name and len(pts) < 2:
+                    continue
+                fits[f"{h:g}mm_{tag}" + (f"_{name}" if name else "")] = fit(pts)
 
     factor_rows = []
     for r in recs:
@@ -213,8 +236,8 @@ def main():
         tb, db = base["_history"]
         tf, df = r["_history"]
         ts = (t_star - RELEASE) / r["tau_c_s"]
-        vb, vf = float(np.interp(ts, tb, db)), float(np.interp(ts, tf, df))
-        lost = max(float(np.interp(t_star, *x["_lost"])) if x["_lost"] else 0.0 for x in (r, base))
+        vb, vf = float(interp(ts, tb, db)), float(interp(ts, tf, df))
+        lost = max(float(interp(t_star, *x["_lost"])) if x["_lost"] else 0.0 for x in (r, base))
         factor_rows.append({"a": r["a"], "factor": r["factor"] if r["factor"] != "base" else f"cells {r['cell_mm']:g} mm",
                             "case": r["case"], "column": r["column"], "compared_at_s": t_star,
                             "compared_at_tau": ts, "base_case": base["case"],
@@ -261,7 +284,8 @@ def main():
                      f"{fmt(f['lost_fraction_then'], '.2%')} |")
     lines.append("")
     lines.append("Fits of (d - d0)/L0 (0.99 front) = lambda a^alpha over the base columns at or near rest "
-                 "that lost no more than 0.1 % of their points (below: a < 2.3; above: a >= 2.3):")
+                 "that lost no more than 0.1 % of their points (below: a < 2.3; above: a >= 2.3), and over "
+                 "the columns of each family that changes one setting (its name after the cell size):")
     for k, v in fits.items():
         lines.append(f"- {k}: " + ("too few columns at rest" if v is None else
                                     f"alpha = {v['alpha']:.3f}, lambda = {v['lambda']:.3f} (a = {v['a']})"))
@@ -270,12 +294,13 @@ def main():
     print("\n".join(lines))
 
     import matplotlib
+    import numpy as np
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(1, 3, figsize=(16, 5))
     aa = np.logspace(np.log10(0.3), np.log10(20), 100)
-    ax[0].loglog(aa, law_lube(aa), "k-", lw=1, label="Lube 2005: 1.2 a; 1.9 a^(2/3)")
-    for key, ls in (("5mm_below", ":"), ("2.5mm_below", "-.")):
+    ax[0].loglog(aa, [law_lube(x) for x in aa], "k-", lw=1, label="Lube 2005: 1.2 a; 1.9 a^(2/3)")
+    for key, ls in (("5mm_below", ":"), ("2.5mm_below", "-."), ("5mm_above", "--")):
         fz = fits.get(key)
         if fz:
             ab = np.array([min(fz["a"]), max(fz["a"])])
@@ -295,6 +320,15 @@ def main():
                    label=f"a = {a:g}, {h:g} mm" + ("" if r["near_rest"] else " (stopped early)"))
         if "H_over_L0" in r and r["near_rest"]:
             ax[2].loglog([a], [r["H_over_L0"]], "o", color=c, ms=8)
+    for (name, cols), c in zip(sorted(families.items()), ("C2", "C4", "C5", "C6")):
+        pts = sorted((a, r["runout_99"]) for (a, h), r in cols.items() if r["near_rest"] and r["valid"])
+        if len(pts) < 2:
+            continue
+        ax[0].loglog([p[0] for p in pts], [p[1] for p in pts], "D", color=c, ms=6,
+                     label=f"{name} (one setting changed), at rest")
+        for (a, h), r in cols.items():
+            if r["near_rest"] and "H_over_L0" in r:
+                ax[2].loglog([a], [r["H_over_L0"]], "D", color=c, ms=6)
     for h, c in colors.items():
         ax[0].plot([], [], "o", color=c, label=f"{h:g} mm cells, 0.99 front, at (near) rest")
         ax[0].plot([], [], "^", color=c, mfc="none", label=f"{h:g} mm: stopped before rest (a lower bound)")
@@ -305,7 +339,7 @@ def main():
     ax[0].set_title("run-out")
     ax[1].axvline(3.0, color="0.6", ls=":", lw=1)
     ax[1].text(3.05, 5.6, "3 tau_c", fontsize=7, color="0.4")
-    ax[1].set_ylim(-0.2, 6.0)
+    ax[1].set_ylim(-0.2, None)
     ax[1].set_xlabel("t / sqrt(h0/g) after release")
     ax[1].set_ylabel("0.99 front: (d(t) - d0) / L0")
     ax[1].legend(fontsize=6, ncol=2)

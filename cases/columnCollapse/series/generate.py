@@ -12,7 +12,8 @@ own left wall (a roller) and gate, far enough apart that no run-out reaches the 
 slot: fewer processes share the GPU (separate processes take turns on it), and every
 column of a case steps with the same time step. What a slot holds besides the column
 (its floor, points per cell, material) can differ between columns; what mpmSchemes and
-gridDict set (cell size, PIC share, maxVolumeRatio) is the case's, so those factors are
+gridDict and controlDict set (cell size, PIC share, maxVolumeRatio, maxCo, the energy
+budget) is the case's, so those factors are
 cases of their own. A column of a combined case and the same column alone give the same
 fronts (series/README.md); a case allows at most 32 walls, so columns on the same floor
 share one floor condition.
@@ -47,7 +48,9 @@ COLUMN_FACTORS = {
     "frictional":    {"material": "sandFrictional"},
 }
 
-# The cases: name -> cell size, case-wide settings, columns (a, column factor).
+# The cases: name -> cell size, case-wide settings (picRate, maxVolumeRatio, maxCo, budget,
+# phiC: the critical friction angle),
+# columns (a, column factor).
 # Columns on the same floor are neighbours and share one floor condition.
 FACTOR_COLUMNS = [(a, f) for f in ("ppc3", "frictional", "floorFriction", "floorSlip") for a in (2, 8)]
 CASES = {
@@ -57,6 +60,29 @@ CASES = {
     "h5mm_pic100":   (0.005,  {"picRate": 100}, [(2, ""), (8, "")]),
     "h5mm_maxVR513": (0.005,  {"maxVolumeRatio": 513}, [(2, ""), (8, "")]),
     "h2.5mm_a16":    (0.0025, {}, [(16, "")]),
+    # The tall columns one to a case, so that each stops at its own end time (in h5mm the
+    # a = 16 column sets every column's), and the PIC blend's limit at a = 4.
+    "h5mm_a4":       (0.005,  {}, [(4, "")]),
+    "h5mm_a8":       (0.005,  {}, [(8, "")]),
+    "h5mm_a16":      (0.005,  {}, [(16, "")]),
+    "h2.5mm_a4":     (0.0025, {}, [(4, "")]),
+    "h5mm_pic0_a4":  (0.005,  {"picRate": 0}, [(4, "")]),
+    "h5mm_pic0_a8":  (0.005,  {"picRate": 0}, [(8, "")]),
+    "h5mm_pic100_a4": (0.005, {"picRate": 100}, [(4, "")]),
+    "h2.5mm_a1":     (0.0025, {}, [(1, "")]),
+    "h2.5mm_a2":     (0.0025, {}, [(2, "")]),
+    # The material's friction at the experiments' (their sands' angles of repose are about
+    # 30 degrees; the paper's material, fitted to Bui et al.'s aluminium rods, has 19.8).
+    "h5mm_phic30_a0p5": (0.005, {"phiC": 30}, [(0.5, "")]),
+    "h5mm_phic30_a1": (0.005, {"phiC": 30}, [(1, "")]),
+    "h5mm_phic30_a2": (0.005, {"phiC": 30}, [(2, "")]),
+    "h5mm_phic30_a4": (0.005, {"phiC": 30}, [(4, "")]),
+    "h5mm_phic30_a8": (0.005, {"phiC": 30}, [(8, "")]),
+    "h5mm_phic30_a16": (0.005, {"phiC": 30}, [(16, "")]),
+    "h2.5mm_phic30_a4": (0.0025, {"phiC": 30}, [(4, "")]),
+    # The CI's coarse tall column (tests/verification/columnCollapse/tall_column.py), with
+    # the energy budget.
+    "h20mm_a4":      (0.02,   {"budget": True}, [(4, "")]),
 }
 
 
@@ -129,13 +155,15 @@ def make_case(root, name):
         fos.append(f"    {c}_massFront {{ type runOut; frontQuantile 0.99; {common} 0.02; }}")
         fos.append(f"    {c}_surface   {{ type surfaceProfile; bodies ({c}); origin ({x:g} 0); "
                    f"binWidth {h:g}; executeControl runTime; executeInterval 0.25; }}")
+    if settings.get("budget"):
+        fos.append("    energy        { type energies; budget yes; executeControl runTime; executeInterval 0.05; }")
     write(f"{d}/system/controlDict", note + HEAD.format(cls="dictionary", obj="controlDict") + f"""
 #include "stages"
 
 endTime         {t_end:g};   // [s] release + 5 sqrt(h0/g) of the tallest column (at least 0.7 s)
 deltaT          1e-5;       // [s] the first step
 adjustTimeStep  yes;
-maxCo           0.5;        // the step follows the wave speed, dt = 0.5 h / (c + |v|), at
+maxCo           {settings.get("maxCo", 0.5):g};        // the step follows the wave speed, dt = maxCo h / (c + |v|), at
 maxDeltaT       1e-4;       // every cell size (the shipped case caps it at 1e-5 s)
 writeControl    adjustableRunTime;
 writeInterval   {t_end:g};
@@ -205,20 +233,23 @@ damping
     write(f"{d}/constant/bodies", note + HEAD.format(cls="dictionary", obj="bodies") + "\n" + "\n".join(bodies))
     write(f"{d}/constant/boundaryConditions", note + HEAD.format(cls="dictionary", obj="boundaryConditions")
           + '\n#include "../system/stages"\n\n' + "\n".join(bcs) + "\n")
-    write(f"{d}/constant/materialProperties", note + HEAD.format(cls="dictionary", obj="materialProperties") + """
+    phic = settings.get("phiC")
+    friction = (f"    criticalFrictionAngle       {phic:g};    // [deg] instead of the paper's 19.8\n"
+                if phic else "")
+    write(f"{d}/constant/materialProperties", note + HEAD.format(cls="dictionary", obj="materialProperties") + f"""
 sand
-{
+{{
     #includeEtc "materials/feng2025/table3-columnCollapse"
     integrationTolerance        1e-2;
     minSolidFraction            0.01;
-}
+{friction}}}
 
 sandFrictional
-{
+{{
     #includeEtc "materials/feng2025/table3-columnCollapse-frictional"
     integrationTolerance        1e-2;
     minSolidFraction            0.01;
-}
+{friction}}}
 """)
     return d
 
