@@ -4,7 +4,7 @@ critical friction angles, against Lube, Huppert, Sparks & Hallworth (2004): one 
 one table.
 
     cd cases/axisymmetricCollapse/series
-    /usr/bin/python3 plot_series.py [--out results]
+    /usr/bin/python3 plot_series.py [--out results] [--label "devices, dates"]
 
 Reads reference/<family>.tar.gz (each run's runOut, edge and energy CSVs and its last
 surface profile, as the runs left them; unpacked to a temporary folder) and, for the
@@ -72,6 +72,7 @@ def rest_state(run):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
+    ap.add_argument("--label", default="", help="the devices and dates of the runs, for the figure")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     data = {}
@@ -140,8 +141,8 @@ def main():
     ax[1].set_ylabel("h_inf / r0 on the axis")
     ax[1].set_title("final height")
     ax[1].legend(fontsize=8)
-    fig.suptitle("Scree axisymmetric collapse (3D, one quarter): cell size and critical friction angle "
-                 "(NVIDIA H100 and H200)", fontsize=10)
+    fig.suptitle("Scree axisymmetric collapse (3D, one quarter): cell size and critical friction angle"
+                 + (f" - {args.label}" if args.label else ""), fontsize=10)
     fig.tight_layout()
     fig.savefig(os.path.join(args.out, "series.png"), dpi=110)
 

@@ -71,8 +71,9 @@ CASES = {
     "h5mm_pic100_a4": (0.005, {"picRate": 100}, [(4, "")]),
     "h2.5mm_a1":     (0.0025, {}, [(1, "")]),
     "h2.5mm_a2":     (0.0025, {}, [(2, "")]),
-    # The material's friction at the experiments' (their sands' angles of repose are about
-    # 30 degrees; the paper's material, fitted to Bui et al.'s aluminium rods, has 19.8).
+    # The material's friction near the experiments' (natural sands and grains have friction
+    # angles near 30 degrees and above; the paper's material, fitted to Bui et al.'s
+    # aluminium rods, has 19.8).
     "h5mm_phic30_a0p5": (0.005, {"phiC": 30}, [(0.5, "")]),
     "h5mm_phic30_a1": (0.005, {"phiC": 30}, [(1, "")]),
     "h5mm_phic30_a2": (0.005, {"phiC": 30}, [(2, "")]),
