@@ -81,6 +81,8 @@ CASES = {
     "h5mm_phic30_a8": (0.005, {"phiC": 30}, [(8, "")]),
     "h5mm_phic30_a16": (0.005, {"phiC": 30}, [(16, "")]),
     "h2.5mm_phic30_a4": (0.0025, {"phiC": 30}, [(4, "")]),
+    # The floor at rest for a tall column, at cells a CPU runs (both columns in one case).
+    "h10mm_floor_a4": (0.01, {}, [(4, ""), (4, "floorFriction")]),
     # The CI's coarse tall column (tests/verification/columnCollapse/tall_column.py), with
     # the energy budget.
     "h20mm_a4":      (0.02,   {"budget": True}, [(4, "")]),
