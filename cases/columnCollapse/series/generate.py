@@ -11,9 +11,9 @@ One case holds several columns side by side, each in its own slot of the floor w
 own left wall (a roller) and gate, far enough apart that no run-out reaches the next
 slot: fewer processes share the GPU (separate processes take turns on it), and every
 column of a case steps with the same time step. What a slot holds besides the column
-(its floor, points per cell, material) can differ between columns; what mpmSchemes and
-gridDict and controlDict set (cell size, PIC share, maxVolumeRatio, maxCo, the energy
-budget) is the case's, so those factors are
+(its floor, points per cell, material) can differ between columns; what mpmSchemes,
+gridDict, controlDict and materialProperties set (cell size, PIC share, maxVolumeRatio,
+maxCo, the energy budget, the critical friction angle) is the case's, so those factors are
 cases of their own. A column of a combined case and the same column alone give the same
 fronts (series/README.md); a case allows at most 32 walls, so columns on the same floor
 share one floor condition.
@@ -49,8 +49,7 @@ COLUMN_FACTORS = {
 }
 
 # The cases: name -> cell size, case-wide settings (picRate, maxVolumeRatio, maxCo, budget,
-# phiC: the critical friction angle),
-# columns (a, column factor).
+# phiC: the critical friction angle), columns (a, column factor).
 # Columns on the same floor are neighbours and share one floor condition.
 FACTOR_COLUMNS = [(a, f) for f in ("ppc3", "frictional", "floorFriction", "floorSlip") for a in (2, 8)]
 CASES = {

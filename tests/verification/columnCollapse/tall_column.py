@@ -27,8 +27,8 @@ few points ahead of the front do not define it). Checks:
   the 2D column C-2 moved by up to 1.5 % between thread counts, so other compilers and
   machines get that room again. The factors the series found move it by more: the PIC
   blend at picRate 100 instead of 10 by -15 %, a Coulomb floor instead of the no-slip one
-  by +5 %, a frictionless floor by +20 % or more, the material's friction angle at 30
-  degrees instead of 19.8 by -38 %.
+  by +5 % (a = 2) to +19 % (a = 4), a frictionless floor by +20 % or more, the material's
+  friction angle at 30 degrees instead of 19.8 by -38 %.
 
 Exit status 0 when every check passes, 1 otherwise, with the figures printed.
 """
