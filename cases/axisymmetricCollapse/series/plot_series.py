@@ -32,6 +32,8 @@ import numpy as np  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLOT = os.path.join(HERE, "..", "..", "..", "utilities", "plot", "axisymmetric.py")
+sys.path.insert(0, os.path.dirname(PLOT))
+from axisymmetric import lube_height as _lube_height, lube_runout as _lube_runout, read_csv  # noqa: E402
 R0 = 0.05
 VARIANT = {0.5: "variants/a0.5", 1: "variants/a1", 2: ".", 4: "variants/a4", 8: "variants/a8"}
 # family -> (label, cell size [m], reference tarball or None for ../figures/summary.json)
@@ -44,11 +46,11 @@ FAMILIES = {
 
 
 def lube(a):
-    return 1.24 * a if a < 1.7 else 1.6 * math.sqrt(a)
+    return float(_lube_runout(a))
 
 
 def lube_height(a):
-    return a if a < 0.74 else 0.88 * a ** (1.0 / 6.0)
+    return float(_lube_height(a))
 
 
 def fit(pairs):
@@ -61,12 +63,8 @@ def fit(pairs):
 
 def rest_state(run):
     """The kinetic energy at the end over its peak (runOut.csv)."""
-    path = os.path.join(run, "postProcessing", "runOut", "runOut.csv")
-    with open(path) as f:
-        head = [h.split(" [")[0] for h in f.readline().strip().split(",")]
-        rows = [[float(v) for v in line.split(",")] for line in f if line.strip()]
-    k = head.index("kinetic_energy")
-    return rows[-1][k] / max(r[k] for r in rows)
+    ke = read_csv(os.path.join(run, "postProcessing", "runOut", "runOut.csv"))["kinetic_energy"]
+    return float(ke[-1] / ke.max())
 
 
 def main():
