@@ -176,6 +176,16 @@ def collect(folders):
     return recs
 
 
+def longest_runs(recs):
+    """(a, cell size) -> the column that ran longest among recs (a column run in two cases)."""
+    out = {}
+    for r in recs:
+        k = (r["a"], r["cell_mm"])
+        if k not in out or r["t_last_s"] > out[k]["t_last_s"]:
+            out[k] = r
+    return out
+
+
 def fit(points):
     """Exponent and prefactor of runout = lam a^alpha through the points (a, runout)."""
     import numpy as np
@@ -198,23 +208,11 @@ def main():
     os.makedirs(args.out, exist_ok=True)
 
     # The series: base columns; where a column ran in two cases, the longer run counts.
-    series = {}
-    for r in recs:
-        if r["factor"] != "base":
-            continue
-        k = (r["a"], r["cell_mm"])
-        if k not in series or r["t_last_s"] > series[k]["t_last_s"]:
-            series[k] = r
+    series = longest_runs(r for r in recs if r["factor"] == "base")
     # Families of one-column cases that change one case-wide setting at every a (a factor
     # named after the setting and the column, e.g. phic30_a4): fitted as a series too.
-    families = {}
-    for r in recs:
-        m = re.match(r"^(.+)_a\d+(?:p\d+)?$", r["factor"])
-        if m:
-            k = (r["a"], r["cell_mm"])
-            fam = families.setdefault(m.group(1), {})
-            if k not in fam or r["t_last_s"] > fam[k]["t_last_s"]:
-                fam[k] = r
+    family = {id(r): m.group(1) for r in recs if (m := re.match(r"^(.+)_a\d+(?:p\d+)?$", r["factor"]))}
+    families = {name: longest_runs(r for r in recs if family.get(id(r)) == name) for name in set(family.values())}
     fits = {}
     for name, cols in [("", series)] + sorted(families.items()):
         for h in sorted({k[1] for k in cols}, reverse=True):
